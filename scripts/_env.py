@@ -1,0 +1,59 @@
+"""Shared by scripts/demo and scripts/test: a virtual environment with urdftool and its test deps.
+
+Only the Python standard library is used here, so the scripts run on a fresh
+machine with nothing but Python 3.10+.
+"""
+
+from __future__ import annotations
+
+import os
+import shutil
+import subprocess
+import sys
+import venv
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent.parent
+VENV = Path(os.environ.get("URDFTOOL_VENV", ROOT / ".venv"))
+STAMP = VENV / ".urdftool-installed"
+
+
+def _bin(name: str) -> Path:
+    return VENV / ("Scripts" if os.name == "nt" else "bin") / name
+
+
+def python() -> str:
+    return str(_bin("python"))
+
+
+def ensure_system_tools() -> None:
+    """Graphviz renders `urdftool graph` PDFs/SVGs; install it where apt-get allows."""
+    if shutil.which("dot"):
+        return
+    apt = shutil.which("apt-get")
+    if apt and hasattr(os, "geteuid") and os.geteuid() == 0:
+        env = dict(os.environ, DEBIAN_FRONTEND="noninteractive")
+        subprocess.run([apt, "update", "-qq"], check=False, env=env, stdout=subprocess.DEVNULL)
+        subprocess.run([apt, "install", "-y", "-qq", "graphviz"], check=False, env=env,
+                       stdout=subprocess.DEVNULL)
+    if not shutil.which("dot"):
+        print("note: Graphviz `dot` is not installed; rendered graph formats are unavailable",
+              file=sys.stderr)
+
+
+def ensure_venv(extras: str) -> None:
+    """Create the environment and install urdftool[extras] once (again when pyproject changes)."""
+    wanted = f"{extras}:{(ROOT / 'pyproject.toml').stat().st_mtime_ns}"
+    if STAMP.exists() and STAMP.read_text() == wanted and Path(python()).exists():
+        return
+    if not Path(python()).exists():
+        print(f"creating {VENV}", file=sys.stderr)
+        venv.EnvBuilder(with_pip=True).create(VENV)
+    pip = [python(), "-m", "pip", "install", "--quiet", "--disable-pip-version-check"]
+    subprocess.run([*pip, "--upgrade", "pip"], check=True)
+    subprocess.run([*pip, "-e", f"{ROOT}[{extras}]"], check=True)
+    STAMP.write_text(wanted)
+
+
+def run(args: list[str]) -> int:
+    return subprocess.run(args, cwd=ROOT).returncode

@@ -1,0 +1,84 @@
+"""Every rule has a failing and a passing fixture; findings must match the marks.
+
+Layout: ``fixtures/rules/<CODE>/bad.<ext>`` and ``good.<ext>`` (``.urdf``,
+``.urdf.xacro``, ``.sdf``, ``.world``). In a bad fixture, each line where the
+rule must fire carries a comment ``<!-- expect: CODE -->`` (several codes may
+be listed, comma-separated); a file-level finding without a line is marked
+``<!-- expect-file: CODE -->`` anywhere. The rule must fire exactly on the
+marked lines. In a good fixture, the rule must not fire at all.
+"""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
+
+import pytest
+
+from tests.conftest import FIXTURES
+from urdftool.check import CheckOptions, check_file
+from urdftool.rules import all_rules
+
+RULES_DIR = FIXTURES / "rules"
+_EXPECT = re.compile(r"<!--\s*expect:\s*([A-Z0-9, ]+?)\s*-->")
+_EXPECT_FILE = re.compile(r"<!--\s*expect-file:\s*([A-Z0-9, ]+?)\s*-->")
+
+
+def fixture_files(kind: str) -> list[Path]:
+    return sorted(p for p in RULES_DIR.glob(f"*/{kind}.*") if not p.name.endswith((".stl", ".obj", ".dae")))
+
+
+def expected_marks(path: Path, code: str) -> tuple[set[int], bool]:
+    lines: set[int] = set()
+    file_level = False
+    for number, text in enumerate(path.read_text(encoding="utf-8", errors="replace").splitlines(), 1):
+        for match in _EXPECT.finditer(text):
+            if code in [c.strip() for c in match.group(1).split(",")]:
+                lines.add(number)
+        for match in _EXPECT_FILE.finditer(text):
+            if code in [c.strip() for c in match.group(1).split(",")]:
+                file_level = True
+    return lines, file_level
+
+
+def findings(path: Path, code: str) -> list:
+    options = CheckOptions(package_paths=(str(path.parent),))
+    return [d for r in check_file(str(path), options) for d in r.diagnostics if d.code == code]
+
+
+@pytest.mark.parametrize("path", fixture_files("bad"), ids=lambda p: p.parent.name)
+def test_bad_fixture_fires_on_marked_lines(path: Path) -> None:
+    code = path.parent.name
+    lines, file_level = expected_marks(path, code)
+    assert lines or file_level, f"{path} marks no expected finding for {code}"
+    found = findings(path, code)
+    found_lines = {d.location.line for d in found if d.location and d.location.line and
+                   Path(d.location.path).resolve() == path.resolve()}
+    assert found, f"{code} did not fire on {path}"
+    if lines:
+        assert found_lines == lines, (
+            f"{code} fired on lines {sorted(found_lines)}, fixture marks {sorted(lines)}:\n"
+            + "\n".join(f"  {d.location}: {d.message}" for d in found)
+        )
+
+
+@pytest.mark.parametrize("path", fixture_files("good"), ids=lambda p: p.parent.name)
+def test_good_fixture_is_quiet(path: Path) -> None:
+    code = path.parent.name
+    found = findings(path, code)
+    assert not found, "\n".join(f"{d.location}: {d.message}" for d in found)
+
+
+def test_every_rule_has_both_fixtures() -> None:
+    missing = []
+    for rule in all_rules():
+        folder = RULES_DIR / rule.code
+        if not list(folder.glob("bad.*")) or not list(folder.glob("good.*")):
+            missing.append(f"{rule.code} {rule.name}")
+    assert not missing, "rules without a bad and a good fixture: " + ", ".join(missing)
+
+
+def test_no_fixture_folder_without_a_rule() -> None:
+    codes = {rule.code for rule in all_rules()}
+    orphans = [p.name for p in RULES_DIR.iterdir() if p.is_dir() and p.name not in codes]
+    assert not orphans, f"fixture folders for unknown codes: {orphans}"

@@ -1,0 +1,5 @@
+"""``python -m urdftool``."""
+
+from urdftool.cli import main
+
+main()

@@ -1,0 +1,96 @@
+"""The Python API behind ``import urdftool``."""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Iterable, Mapping
+
+from urdftool.check import CheckOptions, check_file, run_rules
+from urdftool.diagnostics import Diagnostic, FileReport, Report
+from urdftool.model import Robot
+from urdftool.parse import InputError, read
+from urdftool.parse.packages import PackageResolver
+from urdftool.rules import Selection
+
+PathLike = str | os.PathLike[str]
+
+
+class LoadError(Exception):
+    """No robot could be built from the file; ``diagnostics`` say why."""
+
+    def __init__(self, message: str, diagnostics: Iterable[Diagnostic] = ()):
+        super().__init__(message)
+        self.diagnostics = tuple(diagnostics)
+
+
+def _resolver(packages: Mapping[str, PathLike] | None, package_paths: Iterable[PathLike]) -> PackageResolver:
+    return PackageResolver.create(packages, package_paths)
+
+
+def load(
+    path: PathLike,
+    xacro_args: Mapping[str, str] | None = None,
+    packages: Mapping[str, PathLike] | None = None,
+    package_paths: Iterable[PathLike] = (),
+    model: str | None = None,
+) -> Robot:
+    """Read a URDF, xacro or SDF file into a :class:`~urdftool.model.Robot`.
+
+    *packages* maps package names to folders (for ``package://``, ``$(find)``,
+    ``model://``); *package_paths* are folders scanned for ``package.xml``. For
+    files with several models (SDF worlds) *model* picks one by name (default:
+    the first). Problems found while reading are in ``robot.diagnostics``.
+
+    Raises :class:`LoadError` when no robot can be built (the file is not XML, not
+    a robot, or xacro fails) and :class:`FileNotFoundError`/:class:`ValueError`
+    when the file is missing or of unknown format.
+    """
+    try:
+        models = read(path, xacro_args, _resolver(packages, package_paths))
+    except InputError as exc:
+        if not os.path.exists(path):
+            raise FileNotFoundError(str(exc)) from exc
+        raise ValueError(str(exc)) from exc
+    chosen = [m for m in models if model is None or (m.robot and m.robot.name == model)]
+    if not chosen:
+        raise LoadError(f"{path}: no model named '{model}'")
+    first = chosen[0]
+    if first.robot is None:
+        summary = "; ".join(d.message for d in first.diagnostics[:3])
+        raise LoadError(f"{path}: cannot build a robot: {summary}", first.diagnostics)
+    return first.robot
+
+
+def check(
+    path_or_robot: PathLike | Robot,
+    select: Iterable[str] | None = None,
+    ignore: Iterable[str] | None = None,
+    xacro_args: Mapping[str, str] | None = None,
+    packages: Mapping[str, PathLike] | None = None,
+    package_paths: Iterable[PathLike] = (),
+) -> Report:
+    """Check a file (every model in it) or an already loaded robot.
+
+    *select* and *ignore* take rule codes, code prefixes or names, as on the
+    command line. Raises :class:`ValueError` for an unknown selector and
+    :class:`FileNotFoundError` for a missing file.
+    """
+    if isinstance(path_or_robot, Robot):
+        selection = Selection.of(select, ignore)
+        robot = path_or_robot
+        diags = run_rules(robot, selection)
+        return Report((FileReport(robot.path, robot.format, robot.name, tuple(diags)),))
+    options = CheckOptions(
+        select=tuple(select) if select is not None else None,
+        ignore=tuple(ignore or ()),
+        xacro_args=dict(xacro_args or {}),
+        packages={k: os.fspath(v) for k, v in (packages or {}).items()},
+        package_paths=tuple(os.fspath(p) for p in package_paths),
+    )
+    options.selection()  # raises UnknownSelector (a ValueError) early
+    try:
+        return Report(tuple(check_file(os.fspath(path_or_robot), options)))
+    except InputError as exc:
+        if not os.path.exists(path_or_robot):
+            raise FileNotFoundError(str(exc)) from exc
+        raise ValueError(str(exc)) from exc

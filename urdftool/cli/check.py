@@ -1,0 +1,85 @@
+"""``urdftool check PATH...``."""
+
+from __future__ import annotations
+
+import os
+import sys
+from collections.abc import Sequence
+
+import click
+
+from urdftool.check import check_files, default_jobs
+from urdftool.cli.common import (
+    EXIT_FINDINGS,
+    EXIT_OK,
+    InputProblem,
+    build_options,
+    is_terminal,
+    model_options,
+    selection_options,
+)
+from urdftool.discover import expand_paths
+from urdftool.parse import detect_format
+from urdftool.render import render_json, render_text
+
+#: a progress bar is shown on a terminal from this many files on
+PROGRESS_FROM = 4
+
+
+@click.command("check")
+@click.argument("paths", nargs=-1, required=True, type=click.Path())
+@model_options
+@selection_options
+@click.option("--format", "fmt", type=click.Choice(["text", "json"]), default="text", show_default=True)
+@click.option("--strict", is_flag=True, help="Warnings fail too (exit 1).")
+@click.option("-j", "--jobs", type=click.IntRange(0, 64), default=1, show_default=True,
+              help="Worker processes; 0 picks one per core.")
+@click.option("-q", "--quiet", is_flag=True, help="Text output: errors and the summary only.")
+@click.option("-o", "--output", type=click.Path(dir_okay=False), help="Write the report to this file.")
+def check_command(
+    paths: Sequence[str],
+    xacro_args: Sequence[str],
+    packages: Sequence[str],
+    package_paths: Sequence[str],
+    select: Sequence[str],
+    ignore: Sequence[str],
+    fmt: str,
+    strict: bool,
+    jobs: int,
+    quiet: bool,
+    output: str | None,
+) -> None:
+    """Load each model (files, or directories searched recursively) and report diagnostics."""
+    options = build_options(xacro_args, packages, package_paths, select, ignore)
+    for path in paths:
+        if not os.path.exists(path):
+            raise InputProblem(f"{path}: no such file or directory")
+        if os.path.isfile(path) and detect_format(path) is None:
+            raise InputProblem(
+                f"{path}: unknown format (expected .urdf, .xacro, .urdf.xacro, .sdf or .world)"
+            )
+    files = expand_paths(list(paths), options.resolver())
+    if not files:
+        raise InputProblem("no robot descriptions found in " + ", ".join(paths))
+    workers = jobs or default_jobs()
+    progress = None
+    if is_terminal() and len(files) >= PROGRESS_FROM and not quiet:
+        bar = click.progressbar(length=len(files), label="checking", file=sys.stderr)
+        bar.__enter__()
+
+        def progress(done: int, total: int) -> None:
+            bar.update(1)
+            if done == total:
+                bar.__exit__(None, None, None)
+
+    report = check_files(files, options, jobs=workers, progress=progress)
+    text = render_json(report) if fmt == "json" else render_text(
+        report, colour=output is None and sys.stdout.isatty(), quiet=quiet
+    )
+    if output:
+        from urdftool.export.write import write_text_atomic
+
+        write_text_atomic(output, text, inputs=files)
+    else:
+        click.echo(text, nl=False)
+    sys.exit(EXIT_FINDINGS if report.failed(strict) else EXIT_OK)

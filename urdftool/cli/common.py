@@ -1,0 +1,107 @@
+"""Options and helpers shared by the commands; exit codes live here."""
+
+from __future__ import annotations
+
+import os
+import sys
+from collections.abc import Callable, Sequence
+from typing import Any, TypeVar
+
+import click
+
+from urdftool.check import CheckOptions
+from urdftool.parse import InputError
+from urdftool.rules import UnknownSelector
+
+F = TypeVar("F", bound=Callable[..., Any])
+
+EXIT_OK = 0
+EXIT_FINDINGS = 1
+EXIT_USAGE = 2
+
+
+class InputProblem(click.ClickException):
+    """An input that cannot be read at all: exit code 2."""
+
+    exit_code = EXIT_USAGE
+
+    def format_message(self) -> str:
+        return self.message
+
+
+def _pairs(values: Sequence[str], sep: str, what: str) -> dict[str, str]:
+    out: dict[str, str] = {}
+    for value in values:
+        name, found, rest = value.partition(sep)
+        if not found or not name:
+            raise click.BadParameter(f"'{value}' is not {what}")
+        out[name] = rest
+    return out
+
+
+def model_options(func: F) -> F:
+    """``-a/--xacro-arg``, ``--package``, ``--package-path``."""
+    func = click.option(
+        "--package-path",
+        "package_paths",
+        multiple=True,
+        type=click.Path(file_okay=False),
+        help="Folder to scan for package.xml (and Gazebo models); repeatable.",
+    )(func)
+    func = click.option(
+        "--package",
+        "packages",
+        multiple=True,
+        metavar="NAME=DIR",
+        help="Where package NAME lives (for package://, $(find), model://); repeatable.",
+    )(func)
+    func = click.option(
+        "-a",
+        "--xacro-arg",
+        "xacro_args",
+        multiple=True,
+        metavar="NAME:=VALUE",
+        help="xacro argument; repeatable.",
+    )(func)
+    return func
+
+
+def selection_options(func: F) -> F:
+    func = click.option(
+        "--ignore", multiple=True, help="Rule codes, code prefixes or names to turn off (comma-separated)."
+    )(func)
+    func = click.option(
+        "--select", multiple=True, help="Only these rule codes, code prefixes or names (comma-separated)."
+    )(func)
+    return func
+
+
+def build_options(
+    xacro_args: Sequence[str],
+    packages: Sequence[str],
+    package_paths: Sequence[str],
+    select: Sequence[str] = (),
+    ignore: Sequence[str] = (),
+    **rule_options: Any,
+) -> CheckOptions:
+    options = CheckOptions(
+        select=tuple(select) or None,
+        ignore=tuple(ignore),
+        xacro_args=_pairs(xacro_args, ":=", "NAME:=VALUE"),
+        packages={k: os.path.abspath(v) for k, v in _pairs(packages, "=", "NAME=DIR").items()},
+        package_paths=tuple(os.path.abspath(p) for p in package_paths),
+        rule_options=rule_options,
+    )
+    try:
+        options.selection()
+    except UnknownSelector as exc:
+        raise click.BadParameter(str(exc), param_hint="--select/--ignore") from exc
+    return options
+
+
+def input_error(exc: InputError) -> InputProblem:
+    return InputProblem(str(exc))
+
+
+def is_terminal() -> bool:
+    return sys.stderr.isatty()

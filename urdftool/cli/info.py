@@ -1,0 +1,45 @@
+"""``urdftool info PATH``."""
+
+from __future__ import annotations
+
+import json
+import sys
+from collections.abc import Sequence
+
+import click
+
+from urdftool.cli.common import EXIT_FINDINGS, EXIT_OK, build_options, input_error, model_options
+from urdftool.info import format_summary, summarize
+from urdftool.parse import InputError, read
+from urdftool.render.text import render_diagnostic
+from urdftool.source import SourceIndex
+
+
+@click.command("info")
+@click.argument("path", type=click.Path())
+@model_options
+@click.option("--format", "fmt", type=click.Choice(["text", "json"]), default="text", show_default=True)
+def info_command(
+    path: str, xacro_args: Sequence[str], packages: Sequence[str], package_paths: Sequence[str], fmt: str
+) -> None:
+    """Summary: robot name, root, links, joints by type, DOF, total mass, loops, and the tree."""
+    options = build_options(xacro_args, packages, package_paths)
+    try:
+        models = read(path, options.xacro_args, options.resolver())
+    except InputError as exc:
+        raise input_error(exc) from exc
+    summaries = []
+    failed = False
+    for loaded in models:
+        if loaded.robot is None:
+            failed = True
+            sources = SourceIndex()
+            for d in loaded.diagnostics:
+                click.echo(render_diagnostic(d, sources), err=True)
+            continue
+        summaries.append(summarize(loaded.robot))
+    if fmt == "json":
+        click.echo(json.dumps(summaries if len(summaries) != 1 else summaries[0], indent=2))
+    else:
+        click.echo("\n".join(format_summary(s) for s in summaries), nl=False)
+    sys.exit(EXIT_FINDINGS if failed else EXIT_OK)

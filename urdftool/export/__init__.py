@@ -1,0 +1,1 @@
+"""Exporters: the model written for other tools (MJCF, URDF, SDF, DOT)."""

@@ -1,0 +1,281 @@
+"""The typed robot model that every rule and exporter reads.
+
+Frozen dataclasses with the field names of URDF (``link.inertial.mass``,
+``joint.limit.effort``). Units: metres, radians, kilograms, kg·m², newtons,
+newton-metres, seconds. Every node keeps the :class:`~urdftool.source.Span`
+where it was written; spans take no part in equality.
+"""
+
+from __future__ import annotations
+
+import enum
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from urdftool.model.geometry import Geometry
+from urdftool.model.pose import IDENTITY, Matrix, Pose, Vec3
+from urdftool.source import Span
+
+if TYPE_CHECKING:
+    from urdftool.diagnostics import Diagnostic
+
+Inertia3 = tuple[Vec3, Vec3, Vec3]
+
+
+class JointType(str, enum.Enum):
+    """Joint types: URDF's six, plus the extensions that real files use."""
+
+    REVOLUTE = "revolute"
+    CONTINUOUS = "continuous"
+    PRISMATIC = "prismatic"
+    FIXED = "fixed"
+    FLOATING = "floating"
+    PLANAR = "planar"
+    #: Three rotational DOF about a point (SDF ``ball``; PyBullet's URDF ``spherical``).
+    SPHERICAL = "spherical"
+    #: SDF only.
+    UNIVERSAL = "universal"
+    REVOLUTE2 = "revolute2"
+    SCREW = "screw"
+    GEARBOX = "gearbox"
+
+    @property
+    def dof(self) -> int:
+        return _DOF[self]
+
+    @property
+    def is_moving(self) -> bool:
+        return self is not JointType.FIXED
+
+
+_DOF = {
+    JointType.REVOLUTE: 1,
+    JointType.CONTINUOUS: 1,
+    JointType.PRISMATIC: 1,
+    JointType.FIXED: 0,
+    JointType.FLOATING: 6,
+    JointType.PLANAR: 3,
+    JointType.SPHERICAL: 3,
+    JointType.UNIVERSAL: 2,
+    JointType.REVOLUTE2: 2,
+    JointType.SCREW: 1,
+    JointType.GEARBOX: 1,
+}
+
+
+@dataclass(frozen=True)
+class Inertial:
+    """Mass (kg) and rotational inertia (kg·m²) about the centre of mass.
+
+    ``origin`` places the inertial frame in the link frame: its ``xyz`` is the
+    centre of mass and its ``rpy`` the orientation in which ``inertia`` is written.
+    """
+
+    mass: float
+    inertia: Inertia3
+    origin: Pose = IDENTITY
+    span: Span | None = field(default=None, compare=False)
+    mass_span: Span | None = field(default=None, compare=False)
+    inertia_span: Span | None = field(default=None, compare=False)
+
+    @property
+    def inertia_matrix(self) -> Matrix:
+        """The 3×3 tensor as written, in the inertial frame."""
+        return np.array(self.inertia, dtype=float)
+
+    @property
+    def inertia_in_link_frame(self) -> Matrix:
+        """The tensor about the centre of mass, rotated into the link frame."""
+        rot = self.origin.rotation
+        return rot @ self.inertia_matrix @ rot.T
+
+    @staticmethod
+    def tensor(ixx: float, ixy: float, ixz: float, iyy: float, iyz: float, izz: float) -> Inertia3:
+        return ((ixx, ixy, ixz), (ixy, iyy, iyz), (ixz, iyz, izz))
+
+
+@dataclass(frozen=True)
+class Material:
+    """A named colour (RGBA in 0..1) and/or texture file."""
+
+    name: str | None
+    color: tuple[float, float, float, float] | None = None
+    texture: str | None = None
+    span: Span | None = field(default=None, compare=False)
+
+
+@dataclass(frozen=True)
+class Visual:
+    geometry: Geometry | None
+    origin: Pose = IDENTITY
+    name: str | None = None
+    material: Material | None = None
+    span: Span | None = field(default=None, compare=False)
+
+
+@dataclass(frozen=True)
+class Collision:
+    geometry: Geometry | None
+    origin: Pose = IDENTITY
+    name: str | None = None
+    span: Span | None = field(default=None, compare=False)
+
+
+@dataclass(frozen=True)
+class Limit:
+    """Joint limits: position in rad or m, ``effort`` in N·m or N, ``velocity`` in rad/s or m/s.
+
+    ``None`` marks an attribute that was not written.
+    """
+
+    lower: float | None = None
+    upper: float | None = None
+    effort: float | None = None
+    velocity: float | None = None
+    span: Span | None = field(default=None, compare=False)
+
+
+@dataclass(frozen=True)
+class Dynamics:
+    """Viscous ``damping`` (N·m·s/rad or N·s/m) and Coulomb ``friction`` (N·m or N)."""
+
+    damping: float = 0.0
+    friction: float = 0.0
+    span: Span | None = field(default=None, compare=False)
+
+
+@dataclass(frozen=True)
+class Mimic:
+    """This joint follows ``joint``: ``q_self = multiplier * q_joint + offset``."""
+
+    joint: str
+    multiplier: float = 1.0
+    offset: float = 0.0
+    span: Span | None = field(default=None, compare=False)
+
+
+@dataclass(frozen=True)
+class SafetyController:
+    k_velocity: float
+    k_position: float = 0.0
+    soft_lower_limit: float = 0.0
+    soft_upper_limit: float = 0.0
+    span: Span | None = field(default=None, compare=False)
+
+
+@dataclass(frozen=True)
+class Calibration:
+    rising: float | None = None
+    falling: float | None = None
+    span: Span | None = field(default=None, compare=False)
+
+
+@dataclass(frozen=True)
+class Link:
+    name: str
+    inertial: Inertial | None = None
+    visuals: tuple[Visual, ...] = ()
+    collisions: tuple[Collision, ...] = ()
+    span: Span | None = field(default=None, compare=False)
+    #: child elements kept as written: SDF-isms (``<pose>``), PyBullet ``<contact>``
+    extensions: tuple[Extension, ...] = field(default=(), compare=False)
+
+
+@dataclass(frozen=True)
+class Joint:
+    """A joint: the child link's frame is ``origin`` in the parent link's frame at q = 0.
+
+    ``axis`` is a unit-or-not vector in the joint frame as written (default x).
+    """
+
+    name: str
+    type: JointType
+    parent: str
+    child: str
+    origin: Pose = IDENTITY
+    axis: Vec3 = (1.0, 0.0, 0.0)
+    limit: Limit | None = None
+    dynamics: Dynamics | None = None
+    mimic: Mimic | None = None
+    safety_controller: SafetyController | None = None
+    calibration: Calibration | None = None
+    span: Span | None = field(default=None, compare=False)
+    axis_span: Span | None = field(default=None, compare=False)
+    #: child elements kept as written (namespaced or SDF-only elements)
+    extensions: tuple[Extension, ...] = field(default=(), compare=False)
+
+    @property
+    def dof(self) -> int:
+        return self.type.dof
+
+
+@dataclass(frozen=True)
+class Extension:
+    """An element kept as written for rules and exporters: ``<gazebo>``,
+    ``<transmission>``, ``<ros2_control>`` or anything unknown at the top level.
+
+    ``element`` is the lxml element (its descendants carry source positions,
+    read them with :func:`urdftool.parse.locate.span_of`).
+    """
+
+    tag: str
+    attributes: Mapping[str, str]
+    element: Any = field(compare=False, repr=False)
+    span: Span | None = field(default=None, compare=False)
+
+
+@dataclass(frozen=True)
+class LoopClosure:
+    """A joint cut from a closed chain to make the rest a tree (SDF).
+
+    ``parent_anchor`` and ``child_anchor`` are the joint frame in each body's frame.
+    """
+
+    joint: Joint
+    parent_anchor: Pose
+    child_anchor: Pose
+
+
+@dataclass(frozen=True)
+class Robot:
+    """A robot as read from one file.
+
+    ``diagnostics`` are the problems found while reading it (syntax, numbers,
+    unknown elements); rules add the rest.
+    """
+
+    name: str | None
+    links: tuple[Link, ...] = ()
+    joints: tuple[Joint, ...] = ()
+    materials: tuple[Material, ...] = ()
+    extensions: tuple[Extension, ...] = ()
+    loop_closures: tuple[LoopClosure, ...] = ()
+    path: str = ""
+    format: str = "urdf"
+    span: Span | None = field(default=None, compare=False)
+    diagnostics: tuple[Diagnostic, ...] = field(default=(), compare=False)
+    #: Joint name -> value (rad or m) of a named home configuration, when known.
+    home: Mapping[str, float] | None = field(default=None, compare=False)
+
+    def link(self, name: str) -> Link | None:
+        for link in self.links:
+            if link.name == name:
+                return link
+        return None
+
+    def joint(self, name: str) -> Joint | None:
+        for joint in self.joints:
+            if joint.name == name:
+                return joint
+        return None
+
+    @property
+    def total_mass(self) -> float:
+        """Sum of link masses (kg); links without ``<inertial>`` count as 0."""
+        return float(sum(link.inertial.mass for link in self.links if link.inertial))
+
+    def extensions_named(self, tag: str) -> tuple[Extension, ...]:
+        return tuple(ext for ext in self.extensions if ext.tag == tag)

@@ -1,0 +1,121 @@
+"""Reading robot descriptions: format detection and the readers behind it."""
+
+from __future__ import annotations
+
+import dataclasses
+import os
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+
+from urdftool.diagnostics import Diagnostic
+from urdftool.model import Robot
+from urdftool.parse.packages import PackageResolver
+from urdftool.source import SourceIndex
+
+#: suffix -> format, longest first
+SUFFIXES: tuple[tuple[str, str], ...] = (
+    (".urdf.xacro", "xacro"),
+    (".xacro", "xacro"),
+    (".urdf", "urdf"),
+    (".sdf", "sdf"),
+    (".world", "sdf"),
+)
+
+
+class InputError(Exception):
+    """The input cannot be read at all (missing file, unknown format): exit code 2."""
+
+
+@dataclass
+class Loaded:
+    """One model read from one file (``robot`` is ``None`` when nothing could be built)."""
+
+    path: str
+    format: str
+    robot: Robot | None
+    diagnostics: list[Diagnostic] = field(default_factory=list)
+    #: every file read to build it (the xacro includes), the input first
+    files: list[str] = field(default_factory=list)
+
+
+def detect_format(path: str) -> str | None:
+    """``urdf``, ``xacro`` or ``sdf`` from the suffix, else from the root tag; ``None`` if neither."""
+    lower = path.lower()
+    for suffix, fmt in SUFFIXES:
+        if lower.endswith(suffix):
+            return fmt
+    try:
+        with open(path, "rb") as handle:
+            head = handle.read(4096)
+    except OSError:
+        return None
+    if b"xmlns:xacro" in head:
+        return "xacro"
+    if b"<robot" in head:
+        return "urdf"
+    if b"<sdf" in head:
+        return "sdf"
+    return None
+
+
+def read(
+    path: str | os.PathLike[str],
+    xacro_args: Mapping[str, str] | None = None,
+    resolver: PackageResolver | None = None,
+) -> list[Loaded]:
+    """Read every model in *path*. Raises :class:`InputError` when the file cannot be read."""
+    path = os.fspath(path)
+    resolver = resolver or PackageResolver.create()
+    if not os.path.exists(path):
+        raise InputError(f"{path}: no such file")
+    if os.path.isdir(path):
+        raise InputError(f"{path}: is a directory")
+    fmt = detect_format(path)
+    if fmt is None:
+        raise InputError(f"{path}: unknown format (expected .urdf, .xacro, .urdf.xacro, .sdf or .world)")
+    try:
+        if fmt == "xacro":
+            return [_read_xacro(path, xacro_args or {}, resolver)]
+        if fmt == "sdf":
+            try:
+                from urdftool.parse.sdf import read_sdf
+            except ImportError as exc:  # SDF input is being built (issue 4)
+                raise InputError(f"{path}: SDF input is not supported yet") from exc
+            return read_sdf(path, resolver)
+        return [_read_urdf(path, resolver)]
+    except OSError as exc:
+        raise InputError(f"{path}: {exc.strerror or exc}") from exc
+
+
+def _finish(path: str, fmt: str, robot: Robot | None, diagnostics: list[Diagnostic],
+            files: list[str]) -> Loaded:
+    if robot is not None:
+        robot = dataclasses.replace(robot, diagnostics=tuple(diagnostics), format=fmt, path=path)
+    return Loaded(path, fmt, robot, diagnostics, files)
+
+
+def _read_urdf(path: str, resolver: PackageResolver) -> Loaded:
+    from urdftool.parse.urdf import UrdfReader
+    from urdftool.parse.xmlio import read_file
+
+    document, problems = read_file(path)
+    if document is None:
+        return Loaded(path, "urdf", None, problems, [path])
+    reader = UrdfReader(path, SourceIndex(), resolver)
+    robot = reader.read(document.root)
+    return _finish(path, "urdf", robot, problems + reader.diagnostics, [path])
+
+
+def _read_xacro(path: str, args: Mapping[str, str], resolver: PackageResolver) -> Loaded:
+    from urdftool.parse.urdf import UrdfReader
+    from urdftool.parse.xacro import expand
+
+    result = expand(path, resolver, args)
+    if result.document is None:
+        return Loaded(path, "xacro", None, result.diagnostics, result.files)
+    reader = UrdfReader(path, SourceIndex(), resolver, expanded=True)
+    robot = reader.read(result.document.root)
+    return _finish(path, "xacro", robot, result.diagnostics + reader.diagnostics, result.files)
+
+
+__all__ = ["InputError", "Loaded", "PackageResolver", "detect_format", "read"]

@@ -1,0 +1,213 @@
+"""One resolver for ``package://``, ``$(find PKG)``, ``model://`` and relative paths.
+
+No ROS installation is needed. A package name is looked up, first match wins, in:
+
+1. ``--package NAME=DIR`` given by the user;
+2. ``--package-path DIR`` roots, scanned for ``package.xml`` (its ``<name>``) and,
+   for ``model://``, ``model.config`` folders;
+3. ``ROS_PACKAGE_PATH`` (scanned the same way) and ``AMENT_PREFIX_PATH``
+   prefixes (``share/NAME`` when the ament index lists NAME); installed cmeel
+   prefixes (``site-packages/cmeel.prefix``) count as ament prefixes, which is
+   how ``package://example-robot-data/...`` resolves from PyPI;
+4. for ``model://``, ``GZ_SIM_RESOURCE_PATH``, ``IGN_GAZEBO_RESOURCE_PATH`` and
+   ``GAZEBO_MODEL_PATH``;
+5. the input file's ancestor folders: an ancestor whose ``package.xml`` names the
+   package or whose folder name is the package name, and packages found below
+   each ancestor (up to three levels deep, nearest ancestor first, at most six
+   ancestors up).
+
+Every lookup records the places it tried, for the ``help`` of a diagnostic.
+"""
+
+from __future__ import annotations
+
+import os
+import re
+import sys
+from collections.abc import Iterable, Mapping
+from dataclasses import dataclass, field
+from pathlib import Path
+
+_NAME = re.compile(rb"<name>\s*([^<\s]+)\s*</name>")
+_SKIP_DIRS = {".git", ".hg", ".svn", "node_modules", "__pycache__", ".venv", "venv", "build", "install", "log"}
+SCAN_DEPTH = 3
+ANCESTOR_LEVELS = 6
+
+
+def package_name(package_xml: Path) -> str | None:
+    """The ``<name>`` in a ``package.xml`` (or a Gazebo ``model.config``'s folder)."""
+    try:
+        head = package_xml.read_bytes()[:65536]
+    except OSError:
+        return None
+    match = _NAME.search(head)
+    return match.group(1).decode("utf-8", "replace") if match else None
+
+
+def _scan(root: Path, depth: int, found: dict[str, Path], marker: str = "package.xml") -> None:
+    """Record ``name -> folder`` for every ``package.xml`` at most *depth* levels below *root*."""
+    try:
+        entries = sorted(os.scandir(root), key=lambda e: e.name)
+    except OSError:
+        return
+    names = {e.name for e in entries}
+    if marker in names:
+        name = package_name(root / marker) if marker == "package.xml" else root.name
+        if name and name not in found:
+            found[name] = root
+    if depth <= 0:
+        return
+    for entry in entries:
+        if entry.name in _SKIP_DIRS or entry.name.startswith("."):
+            continue
+        try:
+            is_dir = entry.is_dir(follow_symlinks=False)
+        except OSError:
+            continue
+        if is_dir:
+            _scan(Path(entry.path), depth - 1, found, marker)
+
+
+def _cmeel_prefixes() -> list[Path]:
+    out = []
+    for entry in sys.path:
+        candidate = Path(entry) / "cmeel.prefix"
+        if candidate.is_dir():
+            out.append(candidate)
+    return out
+
+
+def _env_paths(name: str, environ: Mapping[str, str]) -> list[Path]:
+    return [Path(p) for p in environ.get(name, "").split(os.pathsep) if p]
+
+
+@dataclass
+class Lookup:
+    """The result of resolving one URI or package name."""
+
+    path: str | None
+    tried: list[str] = field(default_factory=list)
+    package: str | None = None
+    #: the package itself was not found (as opposed to a missing file inside it)
+    package_missing: bool = False
+
+
+@dataclass
+class PackageResolver:
+    """Finds ROS packages and Gazebo models on disk; see the module docstring for the order."""
+
+    packages: dict[str, Path] = field(default_factory=dict)
+    package_paths: list[Path] = field(default_factory=list)
+    environ: Mapping[str, str] = field(default_factory=lambda: dict(os.environ))
+    _scanned: dict[str, dict[str, Path]] = field(default_factory=dict, repr=False)
+
+    @classmethod
+    def create(
+        cls,
+        packages: Mapping[str, str | os.PathLike[str]] | None = None,
+        package_paths: Iterable[str | os.PathLike[str]] = (),
+        environ: Mapping[str, str] | None = None,
+    ) -> PackageResolver:
+        return cls(
+            packages={k: Path(v).resolve() for k, v in (packages or {}).items()},
+            package_paths=[Path(p).resolve() for p in package_paths],
+            environ=dict(os.environ) if environ is None else dict(environ),
+        )
+
+    def _scan_root(self, root: Path, depth: int = SCAN_DEPTH, marker: str = "package.xml") -> dict[str, Path]:
+        key = f"{marker}:{depth}:{root}"
+        if key not in self._scanned:
+            found: dict[str, Path] = {}
+            _scan(root, depth, found, marker)
+            self._scanned[key] = found
+        return self._scanned[key]
+
+    def find_package(self, name: str, near: str | os.PathLike[str] | None = None) -> Lookup:
+        """The folder of package *name*; *near* is the file that asks (its ancestors are searched)."""
+        tried: list[str] = []
+        if name in self.packages:
+            return Lookup(str(self.packages[name]), tried, name)
+        tried.append("--package NAME=DIR options")
+        for root in self.package_paths + _env_paths("ROS_PACKAGE_PATH", self.environ):
+            found = self._scan_root(root)
+            if name in found:
+                return Lookup(str(found[name]), tried, name)
+            tried.append(f"packages under {root}")
+        prefixes = _env_paths("AMENT_PREFIX_PATH", self.environ) + _cmeel_prefixes()
+        for prefix in prefixes:
+            marker = prefix / "share" / "ament_index" / "resource_index" / "packages" / name
+            share = prefix / "share" / name
+            if marker.exists() and share.is_dir():
+                return Lookup(str(share), tried, name)
+            tried.append(f"ament prefix {prefix}")
+        if near is not None:
+            hit = self._find_near(name, Path(near).resolve(), tried)
+            if hit is not None:
+                return Lookup(str(hit), tried, name)
+        return Lookup(None, tried, name, package_missing=True)
+
+    def _find_near(self, name: str, start: Path, tried: list[str]) -> Path | None:
+        folder = start if start.is_dir() else start.parent
+        ancestors = [folder, *folder.parents][: ANCESTOR_LEVELS + 1]
+        for ancestor in ancestors:
+            xml = ancestor / "package.xml"
+            if ancestor.name == name or (xml.exists() and package_name(xml) == name):
+                return ancestor
+        for ancestor in ancestors:
+            found = self._scan_root(ancestor)
+            if name in found:
+                return found[name]
+            tried.append(f"packages under {ancestor}")
+        return None
+
+    def find_model(self, name: str, near: str | os.PathLike[str] | None = None) -> Lookup:
+        """The folder of Gazebo model *name* (a folder holding ``model.config``)."""
+        tried: list[str] = []
+        if name in self.packages:
+            return Lookup(str(self.packages[name]), tried, name)
+        roots = (
+            self.package_paths
+            + _env_paths("GZ_SIM_RESOURCE_PATH", self.environ)
+            + _env_paths("IGN_GAZEBO_RESOURCE_PATH", self.environ)
+            + _env_paths("GAZEBO_MODEL_PATH", self.environ)
+        )
+        if near is not None:
+            folder = Path(near).resolve()
+            folder = folder if folder.is_dir() else folder.parent
+            roots += [folder, *folder.parents][: ANCESTOR_LEVELS + 1]
+        for root in roots:
+            candidate = root / name
+            if (candidate / "model.config").exists() or (candidate / "model.sdf").exists():
+                return Lookup(str(candidate), tried, name)
+            found = self._scan_root(root, 2, "model.config")
+            if name in found:
+                return Lookup(str(found[name]), tried, name)
+            tried.append(f"models under {root}")
+        package = self.find_package(name, near)
+        if package.path:
+            return package
+        return Lookup(None, tried, name, package_missing=True)
+
+    def resolve_uri(self, uri: str, base: str | os.PathLike[str]) -> Lookup:
+        """Resolve a mesh or include URI written in the file *base*.
+
+        Accepts ``package://PKG/rel``, ``model://MODEL/rel``, ``file:///abs``,
+        absolute paths and paths relative to *base*'s folder. The returned path
+        may not exist; ``tried`` lists where it looked.
+        """
+        base_dir = Path(base).resolve().parent
+        for scheme, finder in (("package://", self.find_package), ("model://", self.find_model)):
+            if uri.startswith(scheme):
+                rest = uri[len(scheme) :].lstrip("/")
+                pkg, _, rel = rest.partition("/")
+                found = finder(pkg, base)
+                if found.path is None:
+                    return found
+                target = Path(found.path) / rel
+                found.tried.append(str(target))
+                return Lookup(str(target), found.tried, pkg)
+        if uri.startswith("file://"):
+            path = uri[len("file://") :]
+            return Lookup(path, [path])
+        target = Path(uri) if os.path.isabs(uri) else base_dir / uri
+        return Lookup(str(target), [str(target)])

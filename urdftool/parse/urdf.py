@@ -1,0 +1,623 @@
+"""URDF reader: an lxml tree (already stamped with positions) into a typed Robot.
+
+It follows urdfdom's reading of the format (the first of a repeated element
+wins, ``<axis>`` defaults to x, a missing ``<origin>`` is the identity) and
+reports everything urdfdom would refuse or silently ignore, then carries on.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+from dataclasses import dataclass, field
+
+from lxml import etree
+
+from urdftool.diagnostics import Diagnostic, Severity
+from urdftool.model import (
+    IDENTITY,
+    Box,
+    Calibration,
+    Capsule,
+    Collision,
+    Cylinder,
+    Dynamics,
+    Extension,
+    Geometry,
+    Inertial,
+    Joint,
+    JointType,
+    Limit,
+    Link,
+    Material,
+    Mesh,
+    Mimic,
+    Pose,
+    Robot,
+    SafetyController,
+    Sphere,
+    Visual,
+)
+from urdftool.parse.packages import PackageResolver
+from urdftool.parse.values import ValueReader
+from urdftool.parse.xmlio import span_of
+from urdftool.rules.suggest import did_you_mean
+from urdftool.rules.syntax import (
+    JointMissingParentOrChild,
+    MissingAttribute,
+    MissingElement,
+    NotARobot,
+    RepeatedElement,
+    RobotNameMissing,
+    UnknownAttribute,
+    UnknownElement,
+    UnknownJointType,
+)
+from urdftool.source import SRC_ATTRIBUTE, SourceIndex
+
+#: Attributes each URDF element may carry.
+ATTRIBUTES: dict[str, frozenset[str]] = {
+    "robot": frozenset({"name", "version"}),
+    "link": frozenset({"name"}),
+    "inertial": frozenset(),
+    "origin": frozenset({"xyz", "rpy"}),
+    "mass": frozenset({"value"}),
+    "inertia": frozenset({"ixx", "ixy", "ixz", "iyy", "iyz", "izz"}),
+    "visual": frozenset({"name"}),
+    "collision": frozenset({"name"}),
+    "geometry": frozenset(),
+    "box": frozenset({"size"}),
+    "cylinder": frozenset({"radius", "length"}),
+    "sphere": frozenset({"radius"}),
+    "capsule": frozenset({"radius", "length"}),
+    "mesh": frozenset({"filename", "scale"}),
+    "material": frozenset({"name"}),
+    "color": frozenset({"rgba"}),
+    "texture": frozenset({"filename"}),
+    "joint": frozenset({"name", "type"}),
+    "parent": frozenset({"link"}),
+    "child": frozenset({"link"}),
+    "axis": frozenset({"xyz"}),
+    "calibration": frozenset({"rising", "falling", "reference_position"}),
+    "dynamics": frozenset({"damping", "friction"}),
+    "limit": frozenset({"lower", "upper", "effort", "velocity"}),
+    "mimic": frozenset({"joint", "multiplier", "offset"}),
+    "safety_controller": frozenset({"soft_lower_limit", "soft_upper_limit", "k_position", "k_velocity"}),
+}
+
+#: Children each element may have; ``None`` marks a repeatable child.
+CHILDREN: dict[str, dict[str, bool]] = {
+    "link": {"inertial": False, "visual": True, "collision": True},
+    "inertial": {"origin": False, "mass": False, "inertia": False},
+    "visual": {"origin": False, "geometry": False, "material": False},
+    "collision": {"origin": False, "geometry": False},
+    "joint": {
+        "origin": False,
+        "parent": False,
+        "child": False,
+        "axis": False,
+        "calibration": False,
+        "dynamics": False,
+        "limit": False,
+        "mimic": False,
+        "safety_controller": False,
+    },
+    "material": {"color": False, "texture": False},
+}
+
+#: Top-level elements that are not URDF proper but are expected there.
+KNOWN_EXTENSIONS = frozenset({"gazebo", "transmission", "ros2_control", "sensor", "klampt", "plugin"})
+
+#: Elements that SDF or Gazebo define and that URDF loaders silently ignore.
+#: They are kept on the link or joint and judged by ``sdf-element-in-urdf``.
+SDF_ISMS = frozenset(
+    {"pose", "sensor", "self_collide", "gravity", "kinematic", "velocity_decay", "must_be_base_link"}
+)
+
+#: Simulator extensions inside a link or collision that loaders honour (PyBullet's contact block).
+LINK_EXTENSIONS = frozenset({"contact"})
+
+_URDF_TYPES = {t.value for t in (JointType.REVOLUTE, JointType.CONTINUOUS, JointType.PRISMATIC,
+                                 JointType.FIXED, JointType.FLOATING, JointType.PLANAR)}
+_SPHERICAL_NAMES = {"spherical", "ball"}
+
+
+def _is_extension_name(tag: str) -> bool:
+    """Namespaced elements (``drake:joint``, ``{ns}tag``) belong to their own tools."""
+    return tag.startswith("{") or ":" in tag
+
+
+@dataclass
+class UrdfReader:
+    """Reads one URDF document. Create, call :meth:`read`, take ``values.diagnostics``."""
+
+    path: str
+    sources: SourceIndex
+    resolver: PackageResolver
+    #: the document came out of xacro (substitutions were already expanded)
+    expanded: bool = False
+    values: ValueReader = field(init=False)
+
+    def __post_init__(self) -> None:
+        self.values = ValueReader(self.sources, check_substitutions=not self.expanded)
+
+    @property
+    def diagnostics(self) -> list[Diagnostic]:
+        return self.values.diagnostics
+
+    # -- helpers -----------------------------------------------------------------
+
+    def _report(self, diagnostic: Diagnostic) -> None:
+        self.values.diagnostics.append(diagnostic)
+
+    def _check_attributes(self, element: etree._Element, where: str) -> None:
+        allowed = ATTRIBUTES.get(element.tag)
+        if allowed is None:
+            return
+        for name in element.attrib:
+            if name == SRC_ATTRIBUTE or name.startswith("{") or ":" in name or name.startswith("xmlns"):
+                continue
+            if name not in allowed:
+                self._report(
+                    UnknownAttribute.diagnostic(
+                        f"{where}: <{element.tag}> has no attribute '{name}'"
+                        + did_you_mean(name, allowed),
+                        self.values.attr_span(element, name),
+                        element=where,
+                        data={"attribute": name, "allowed": sorted(allowed)},
+                    )
+                )
+
+    def _children(self, element: etree._Element, where: str) -> dict[str, list[etree._Element]]:
+        """Group child elements by tag, reporting unknown and repeated ones."""
+        allowed = CHILDREN.get(element.tag, {})
+        groups: dict[str, list[etree._Element]] = {}
+        for child in element:
+            if not isinstance(child.tag, str):
+                continue
+            groups.setdefault(child.tag, []).append(child)
+        for tag, items in groups.items():
+            if tag in allowed:
+                if not allowed[tag] and len(items) > 1:
+                    for extra in items[1:]:
+                        self._report(
+                            RepeatedElement.diagnostic(
+                                f"{where}: <{tag}> is repeated; the first one (line "
+                                f"{_line(items[0])}) is used and this one ignored",
+                                span_of(extra),
+                                element=f"{where}/{tag}",
+                            )
+                        )
+            elif not self._tolerated(element.tag, tag):
+                for item in items:
+                    self._report(
+                        UnknownElement.diagnostic(
+                            f"{where}: <{element.tag}> has no child <{tag}>"
+                            + did_you_mean(tag, allowed),
+                            span_of(item),
+                            element=f"{where}/{tag}",
+                        )
+                    )
+        return groups
+
+    @staticmethod
+    def _tolerated(parent: str, tag: str) -> bool:
+        if _is_extension_name(tag):
+            return True
+        if parent in ("link", "joint") and tag in SDF_ISMS:
+            return True
+        return parent in ("link", "collision") and tag in LINK_EXTENSIONS
+
+    def _origin(self, groups: dict[str, list[etree._Element]], where: str) -> Pose:
+        items = groups.get("origin")
+        if not items:
+            return IDENTITY
+        origin = items[0]
+        here = f"{where}/origin"
+        self._check_attributes(origin, here)
+        xyz = self.values.vector(origin, "xyz", here) or (0.0, 0.0, 0.0)
+        rpy = self.values.vector(origin, "rpy", here) or (0.0, 0.0, 0.0)
+        return Pose((xyz[0], xyz[1], xyz[2]), (rpy[0], rpy[1], rpy[2]))
+
+    # -- document ----------------------------------------------------------------
+
+    def read(self, root: etree._Element) -> Robot | None:
+        """The robot in *root*, or ``None`` when the root is not ``<robot>`` (reported)."""
+        if root.tag != "robot":
+            self._report(
+                NotARobot.diagnostic(
+                    f"root element is <{root.tag}>, not <robot>",
+                    span_of(root),
+                    help="urdftool reads URDF (<robot>), xacro and SDF (<sdf>) files",
+                )
+            )
+            return None
+        self._check_attributes(root, "robot")
+        name = root.get("name")
+        if not name or not name.strip():
+            self._report(
+                RobotNameMissing.diagnostic(
+                    "<robot> has no name" if name is None else "<robot> has an empty name",
+                    span_of(root),
+                    element="robot",
+                )
+            )
+            name = None
+        links: list[Link] = []
+        joints: list[Joint] = []
+        materials: list[Material] = []
+        extensions: list[Extension] = []
+        for child in root:
+            if not isinstance(child.tag, str):
+                continue
+            tag = child.tag
+            if tag == "link":
+                links.append(self._link(child))
+            elif tag == "joint":
+                joint = self._joint(child)
+                if joint is not None:
+                    joints.append(joint)
+            elif tag == "material":
+                materials.append(self._material(child, "robot/material"))
+            else:
+                if tag not in KNOWN_EXTENSIONS and not _is_extension_name(tag):
+                    self._report(
+                        UnknownElement.diagnostic(
+                            f"<robot> has no child <{tag}>"
+                            + did_you_mean(tag, ["link", "joint", "material", *KNOWN_EXTENSIONS]),
+                            span_of(child),
+                            element=f"robot/{tag}",
+                        )
+                    )
+                extensions.append(_extension(child))
+        return Robot(
+            name=name,
+            links=tuple(links),
+            joints=tuple(joints),
+            materials=tuple(materials),
+            extensions=tuple(extensions),
+            path=self.path,
+            format="urdf",
+            span=span_of(root),
+        )
+
+    # -- links -------------------------------------------------------------------
+
+    def _link(self, element: etree._Element) -> Link:
+        name = self.values.text(element, "name", "link", required=True) or ""
+        where = f"link[{name}]"
+        self._check_attributes(element, where)
+        groups = self._children(element, where)
+        inertial = self._inertial(groups["inertial"][0], where) if "inertial" in groups else None
+        visuals = tuple(self._visual(v, f"{where}/visual") for v in groups.get("visual", []))
+        collisions = tuple(self._collision(c, f"{where}/collision") for c in groups.get("collision", []))
+        extras = tuple(
+            _extension(item)
+            for tag, items in groups.items()
+            if tag not in CHILDREN["link"]
+            for item in items
+        )
+        return Link(name, inertial, visuals, collisions, span_of(element), extras)
+
+    def _inertial(self, element: etree._Element, where: str) -> Inertial | None:
+        here = f"{where}/inertial"
+        groups = self._children(element, here)
+        origin = self._origin(groups, here)
+        mass_el = groups.get("mass", [None])[0]
+        inertia_el = groups.get("inertia", [None])[0]
+        for tag, el in (("mass", mass_el), ("inertia", inertia_el)):
+            if el is None:
+                self._report(
+                    MissingElement.diagnostic(
+                        f"{here}: <inertial> has no <{tag}>", span_of(element), element=here
+                    )
+                )
+        mass = 0.0
+        if mass_el is not None:
+            self._check_attributes(mass_el, f"{here}/mass")
+            value = self.values.number(mass_el, "value", f"{here}/mass", required=True)
+            mass = value if value is not None else 0.0
+        components = dict.fromkeys(("ixx", "ixy", "ixz", "iyy", "iyz", "izz"), 0.0)
+        if inertia_el is not None:
+            self._check_attributes(inertia_el, f"{here}/inertia")
+            for key in components:
+                value = self.values.number(inertia_el, key, f"{here}/inertia", required=True)
+                if value is not None:
+                    components[key] = value
+        tensor = Inertial.tensor(**components)
+        return Inertial(
+            mass=mass,
+            inertia=tensor,
+            origin=origin,
+            span=span_of(element),
+            mass_span=span_of(mass_el) if mass_el is not None else None,
+            inertia_span=span_of(inertia_el) if inertia_el is not None else None,
+        )
+
+    def _visual(self, element: etree._Element, where: str) -> Visual:
+        self._check_attributes(element, where)
+        groups = self._children(element, where)
+        material = None
+        if "material" in groups:
+            material = self._material(groups["material"][0], f"{where}/material")
+        return Visual(
+            geometry=self._geometry(element, groups, where),
+            origin=self._origin(groups, where),
+            name=element.get("name"),
+            material=material,
+            span=span_of(element),
+        )
+
+    def _collision(self, element: etree._Element, where: str) -> Collision:
+        self._check_attributes(element, where)
+        groups = self._children(element, where)
+        return Collision(
+            geometry=self._geometry(element, groups, where),
+            origin=self._origin(groups, where),
+            name=element.get("name"),
+            span=span_of(element),
+        )
+
+    def _geometry(
+        self, parent: etree._Element, groups: dict[str, list[etree._Element]], where: str
+    ) -> Geometry | None:
+        items = groups.get("geometry")
+        if not items:
+            self._report(
+                MissingElement.diagnostic(
+                    f"{where}: <{parent.tag}> has no <geometry>", span_of(parent), element=where
+                )
+            )
+            return None
+        geometry = items[0]
+        here = f"{where}/geometry"
+        shapes = [c for c in geometry if isinstance(c.tag, str)]
+        known = [c for c in shapes if c.tag in ("box", "cylinder", "sphere", "mesh", "capsule")]
+        for other in shapes:
+            if other.tag not in ("box", "cylinder", "sphere", "mesh", "capsule"):
+                self._report(
+                    UnknownElement.diagnostic(
+                        f"{here}: <geometry> has no shape <{other.tag}>"
+                        + did_you_mean(other.tag, ["box", "cylinder", "sphere", "mesh"]),
+                        span_of(other),
+                        element=here,
+                    )
+                )
+        if not known:
+            if not shapes:
+                self._report(
+                    MissingElement.diagnostic(
+                        f"{here}: <geometry> has no shape (box, cylinder, sphere or mesh)",
+                        span_of(geometry),
+                        element=here,
+                    )
+                )
+            return None
+        for extra in known[1:]:
+            self._report(
+                RepeatedElement.diagnostic(
+                    f"{here}: <geometry> has more than one shape; <{known[0].tag}> is used, "
+                    f"<{extra.tag}> ignored",
+                    span_of(extra),
+                    element=here,
+                )
+            )
+        return self._shape(known[0], f"{here}/{known[0].tag}")
+
+    def _shape(self, shape: etree._Element, where: str) -> Geometry | None:
+        self._check_attributes(shape, where)
+        v = self.values
+        span = span_of(shape)
+        if shape.tag == "box":
+            size = v.vector(shape, "size", where, required=True)
+            return Box((size[0], size[1], size[2]), span) if size else None
+        if shape.tag == "sphere":
+            radius = v.number(shape, "radius", where, required=True)
+            return Sphere(radius, span) if radius is not None else None
+        if shape.tag in ("cylinder", "capsule"):
+            radius = v.number(shape, "radius", where, required=True)
+            length = v.number(shape, "length", where, required=True)
+            if shape.tag == "capsule":
+                self._report(
+                    UnknownElement.diagnostic(
+                        f"{where}: <capsule> is not URDF (PyBullet and MuJoCo read it; urdfdom, "
+                        "ROS and Gazebo reject it)",
+                        span,
+                        element=where,
+                        help="use a cylinder (and two spheres) for portability",
+                    )
+                )
+            if radius is None or length is None:
+                return None
+            return Cylinder(radius, length, span) if shape.tag == "cylinder" else Capsule(radius, length, span)
+        filename = v.text(shape, "filename", where, required=True)
+        if filename is None:
+            return None
+        scale = v.vector(shape, "scale", where) or (1.0, 1.0, 1.0)
+        lookup = self.resolver.resolve_uri(filename, span.path if span else self.path)
+        return Mesh(filename, lookup.path, (scale[0], scale[1], scale[2]), span)
+
+    def _material(self, element: etree._Element, where: str) -> Material:
+        name = element.get("name")
+        if where == "robot/material" and not name:
+            self._report(
+                MissingAttribute.diagnostic(
+                    "top-level <material> needs a 'name' attribute", span_of(element), element=where
+                )
+            )
+        here = f"{where}[{name}]" if where == "robot/material" else where
+        self._check_attributes(element, here)
+        groups = self._children(element, here)
+        color = None
+        texture = None
+        if "color" in groups:
+            self._check_attributes(groups["color"][0], f"{here}/color")
+            rgba = self.values.vector(groups["color"][0], "rgba", f"{here}/color", length=4, required=True)
+            color = (rgba[0], rgba[1], rgba[2], rgba[3]) if rgba else None
+        if "texture" in groups:
+            self._check_attributes(groups["texture"][0], f"{here}/texture")
+            texture = groups["texture"][0].get("filename")
+        return Material(name, color, texture, span_of(element))
+
+    # -- joints ------------------------------------------------------------------
+
+    def _joint(self, element: etree._Element) -> Joint | None:
+        v = self.values
+        name = v.text(element, "name", "joint", required=True) or ""
+        where = f"joint[{name}]"
+        self._check_attributes(element, where)
+        groups = self._children(element, where)
+        jtype = self._joint_type(element, where)
+        ends: dict[str, str] = {}
+        for role in ("parent", "child"):
+            items = groups.get(role)
+            link = None
+            if items:
+                self._check_attributes(items[0], f"{where}/{role}")
+                link = v.text(items[0], "link", f"{where}/{role}")
+            if not link:
+                self._report(
+                    JointMissingParentOrChild.diagnostic(
+                        f"joint '{name}' has no {role} link", span_of(element), element=where
+                    )
+                )
+            ends[role] = link or ""
+        axis: tuple[float, float, float] = (1.0, 0.0, 0.0)
+        axis_span = None
+        if "axis" in groups:
+            axis_el = groups["axis"][0]
+            self._check_attributes(axis_el, f"{where}/axis")
+            value = v.vector(axis_el, "xyz", f"{where}/axis")
+            if value is not None:
+                axis = (value[0], value[1], value[2])
+            axis_span = span_of(axis_el)
+        return Joint(
+            name=name,
+            type=jtype,
+            parent=ends["parent"],
+            child=ends["child"],
+            origin=self._origin(groups, where),
+            axis=axis,
+            limit=self._limit(groups, where),
+            dynamics=self._dynamics(groups, where),
+            mimic=self._mimic(groups, where),
+            safety_controller=self._safety(groups, where),
+            calibration=self._calibration(groups, where),
+            span=span_of(element),
+            axis_span=axis_span,
+            extensions=tuple(
+                _extension(item)
+                for tag, items in groups.items()
+                if tag not in CHILDREN["joint"]
+                for item in items
+            ),
+        )
+
+    def _joint_type(self, element: etree._Element, where: str) -> JointType:
+        raw = self.values.text(element, "type", where, required=True)
+        if raw is None:
+            return JointType.FIXED
+        if raw in _URDF_TYPES:
+            return JointType(raw)
+        if raw in _SPHERICAL_NAMES:
+            self._report(
+                UnknownJointType.diagnostic(
+                    f"{where}: type \"{raw}\" is not a URDF joint type (a PyBullet extension, read "
+                    "here as a ball joint; urdfdom, ROS and MuJoCo's importer reject it)",
+                    self.values.attr_span(element, "type"),
+                    element=where,
+                    help="use SDF's ball joint, or three revolute joints",
+                    data={"type": raw},
+                )
+            )
+            return JointType.SPHERICAL
+        self._report(
+            UnknownJointType.diagnostic(
+                f"{where}: unknown joint type \"{raw}\"" + did_you_mean(raw, _URDF_TYPES)
+                + " (read as fixed)",
+                self.values.attr_span(element, "type"),
+                element=where,
+                data={"type": raw},
+            )
+        )
+        return JointType.FIXED
+
+    def _single(self, groups: dict[str, list[etree._Element]], tag: str, where: str) -> etree._Element | None:
+        items = groups.get(tag)
+        if not items:
+            return None
+        self._check_attributes(items[0], f"{where}/{tag}")
+        return items[0]
+
+    def _limit(self, groups: dict[str, list[etree._Element]], where: str) -> Limit | None:
+        el = self._single(groups, "limit", where)
+        if el is None:
+            return None
+        here = f"{where}/limit"
+        n = self.values.number
+        return Limit(n(el, "lower", here), n(el, "upper", here), n(el, "effort", here),
+                     n(el, "velocity", here), span_of(el))
+
+    def _dynamics(self, groups: dict[str, list[etree._Element]], where: str) -> Dynamics | None:
+        el = self._single(groups, "dynamics", where)
+        if el is None:
+            return None
+        here = f"{where}/dynamics"
+        damping = self.values.number(el, "damping", here)
+        friction = self.values.number(el, "friction", here)
+        return Dynamics(damping or 0.0, friction or 0.0, span_of(el))
+
+    def _mimic(self, groups: dict[str, list[etree._Element]], where: str) -> Mimic | None:
+        el = self._single(groups, "mimic", where)
+        if el is None:
+            return None
+        here = f"{where}/mimic"
+        target = self.values.text(el, "joint", here, required=True)
+        if not target:
+            return None
+        multiplier = self.values.number(el, "multiplier", here)
+        offset = self.values.number(el, "offset", here)
+        return Mimic(target, 1.0 if multiplier is None else multiplier, offset or 0.0, span_of(el))
+
+    def _safety(self, groups: dict[str, list[etree._Element]], where: str) -> SafetyController | None:
+        el = self._single(groups, "safety_controller", where)
+        if el is None:
+            return None
+        here = f"{where}/safety_controller"
+        n = self.values.number
+        k_velocity = n(el, "k_velocity", here, required=True)
+        return SafetyController(
+            k_velocity or 0.0,
+            n(el, "k_position", here) or 0.0,
+            n(el, "soft_lower_limit", here) or 0.0,
+            n(el, "soft_upper_limit", here) or 0.0,
+            span_of(el),
+        )
+
+    def _calibration(self, groups: dict[str, list[etree._Element]], where: str) -> Calibration | None:
+        el = self._single(groups, "calibration", where)
+        if el is None:
+            return None
+        here = f"{where}/calibration"
+        return Calibration(self.values.number(el, "rising", here), self.values.number(el, "falling", here),
+                           span_of(el))
+
+
+def _line(element: etree._Element) -> int | str:
+    span = span_of(element)
+    return span.line if span and span.line else "?"
+
+
+def _extension(element: etree._Element) -> Extension:
+    return Extension(
+        tag=element.tag if isinstance(element.tag, str) else str(element.tag),
+        attributes={k: v for k, v in element.attrib.items() if k != SRC_ATTRIBUTE},
+        element=element,
+        span=span_of(element),
+    )
+
+
+def iter_elements(root: etree._Element) -> Iterator[etree._Element]:
+    return (e for e in root.iter() if isinstance(e.tag, str))
+
+
+__all__ = ["UrdfReader", "Severity"]

@@ -1,0 +1,145 @@
+"""Reading attribute values with located diagnostics.
+
+A malformed value never stops the reader: it is reported at the attribute's
+position and the attribute is treated as if it had not been written, so the
+rest of the file is still read and checked.
+"""
+
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass, field
+
+from lxml import etree
+
+from urdftool.diagnostics import Diagnostic
+from urdftool.parse.xmlio import span_of
+from urdftool.rules.syntax import InvalidNumber, MissingAttribute, UnexpandedSubstitution, WrongVectorLength
+from urdftool.source import SourceIndex, Span
+
+_NUMBER = re.compile(r"^[+-]?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?$")
+_SUBSTITUTION = re.compile(r"\$[({]")
+
+
+def parse_number(text: str) -> float | None:
+    """A finite decimal number, or ``None`` (no NaN, inf, underscores, commas)."""
+    text = text.strip()
+    if not _NUMBER.match(text):
+        return None
+    return float(text)
+
+
+@dataclass
+class ValueReader:
+    """Reads numbers and vectors from elements, collecting diagnostics."""
+
+    sources: SourceIndex
+    diagnostics: list[Diagnostic] = field(default_factory=list)
+    #: whether ``${…}``/``$(…)`` in values is an error (not after xacro expansion)
+    check_substitutions: bool = True
+
+    def span(self, element: etree._Element) -> Span | None:
+        return span_of(element)
+
+    def attr_span(self, element: etree._Element, attribute: str) -> Span | None:
+        span = span_of(element)
+        if span is None:
+            return None
+        return self.sources.attribute_span(span, attribute)
+
+    def text(self, element: etree._Element, attribute: str, where: str, required: bool = False) -> str | None:
+        value = element.get(attribute)
+        if value is None:
+            if required:
+                self.diagnostics.append(
+                    MissingAttribute.diagnostic(
+                        f"{where}: <{element.tag}> needs a '{attribute}' attribute",
+                        self.span(element),
+                        element=where,
+                    )
+                )
+            return None
+        if self.check_substitutions and _SUBSTITUTION.search(value):
+            self.diagnostics.append(
+                UnexpandedSubstitution.diagnostic(
+                    f"{where}: {attribute}=\"{value}\" contains an unexpanded substitution",
+                    self.attr_span(element, attribute),
+                    element=where,
+                    help="expand the file with xacro, or write the value out",
+                    data={"attribute": attribute, "value": value},
+                )
+            )
+            return None
+        return value
+
+    def number(
+        self,
+        element: etree._Element,
+        attribute: str,
+        where: str,
+        required: bool = False,
+    ) -> float | None:
+        """The attribute as a finite float; ``None`` when absent or invalid (reported)."""
+        raw = self.text(element, attribute, where, required)
+        if raw is None:
+            return None
+        value = parse_number(raw)
+        if value is None:
+            self._invalid(element, attribute, where, raw)
+        return value
+
+    def vector(
+        self,
+        element: etree._Element,
+        attribute: str,
+        where: str,
+        length: int = 3,
+        required: bool = False,
+    ) -> tuple[float, ...] | None:
+        """The attribute as *length* finite floats; ``None`` when absent or invalid (reported)."""
+        raw = self.text(element, attribute, where, required)
+        if raw is None:
+            return None
+        parts = raw.split()
+        values = [parse_number(p) for p in parts]
+        if any(v is None for v in values):
+            bad = next(p for p, v in zip(parts, values, strict=True) if v is None)
+            self._invalid(element, attribute, where, raw, bad)
+            return None
+        if len(values) != length:
+            self.diagnostics.append(
+                WrongVectorLength.diagnostic(
+                    f"{where}: {attribute}=\"{raw}\" has {len(values)} value"
+                    f"{'s' if len(values) != 1 else ''}, expected {length}",
+                    self.attr_span(element, attribute),
+                    element=where,
+                    data={"attribute": attribute, "value": raw, "expected": length, "found": len(values)},
+                )
+            )
+            return None
+        return tuple(v for v in values if v is not None)
+
+    def _invalid(self, element: etree._Element, attribute: str, where: str, raw: str, bad: str | None = None) -> None:
+        token = bad if bad is not None else raw
+        hint = _hint(token)
+        self.diagnostics.append(
+            InvalidNumber.diagnostic(
+                f"{where}: {attribute}=\"{raw}\" is not a number"
+                + (f" ('{token}')" if bad is not None and bad != raw else ""),
+                self.attr_span(element, attribute),
+                element=where,
+                help=hint,
+                data={"attribute": attribute, "value": raw},
+            )
+        )
+
+
+def _hint(token: str) -> str | None:
+    stripped = token.strip().rstrip(".,;")
+    if stripped != token.strip() and parse_number(stripped) is not None:
+        return f"did you mean {stripped}? (stray '{token.strip()[len(stripped):]}')"
+    if "," in token:
+        return "separate values with spaces, not commas"
+    if token.lower() in {"nan", "inf", "-inf", "+inf", "infinity"}:
+        return "use a finite value"
+    return None

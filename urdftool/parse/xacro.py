@@ -1,0 +1,272 @@
+"""xacro expansion in-process, without ROS, keeping the source of every element.
+
+The ``xacro`` package does the expansion. urdftool wraps three of its seams:
+
+* ``$(find PKG)`` goes through :class:`~urdftool.parse.packages.PackageResolver`
+  instead of ``ament_index``/``rospkg``;
+* every file xacro opens is first read by the safe reader (so a syntax error in
+  an included file is located in that file), and each element of it is stamped
+  with its file, line and column; the stamps ride through macro expansion, so
+  an element produced by a macro points at the line of the macro body where it
+  was written;
+* an include whose path does not exist, when exactly one file of that name
+  exists inside the package the path points into, is read from there and
+  reported as ``include-not-at-path`` (a file moved within its package is the
+  commonest cause of broken includes).
+
+The expansion is not thread-safe (xacro keeps module-level state); urdftool runs
+parallel checks in processes.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import io
+import os
+import re
+import threading
+import xml.dom.minidom
+from collections.abc import Iterator, Mapping
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+from urdftool.diagnostics import Diagnostic, Severity
+from urdftool.parse.packages import PackageResolver
+from urdftool.parse.xmlio import XmlDocument, encode_src, parse_bytes
+from urdftool.source import SRC_ATTRIBUTE, Span, element_starts
+
+_LOCK = threading.Lock()
+_XACRO_TAG = "xacro:"
+
+
+class PackageNotFoundError(Exception):
+    """``$(find PKG)`` named a package the resolver cannot find."""
+
+    def __init__(self, package: str, tried: list[str]):
+        super().__init__(f"package '{package}' not found")
+        self.package = package
+        self.tried = tried
+
+
+@dataclass
+class XacroResult:
+    """The expanded document (or ``None``) and what happened on the way."""
+
+    document: XmlDocument | None
+    diagnostics: list[Diagnostic] = field(default_factory=list)
+    #: every file read, the input first
+    files: list[str] = field(default_factory=list)
+
+
+@dataclass
+class _Session:
+    resolver: PackageResolver
+    top: str
+    diagnostics: list[Diagnostic] = field(default_factory=list)
+    files: list[str] = field(default_factory=list)
+    #: package name -> folder, for the include fallback
+    found_packages: dict[str, str] = field(default_factory=dict)
+    syntax_failed: bool = False
+
+
+def _stamp(doc: xml.dom.minidom.Document, data: bytes, path: str) -> None:
+    """Record each element's start position as an attribute (xacro's own tags excepted)."""
+    elements = [doc.documentElement, *doc.documentElement.getElementsByTagName("*")]
+    starts = element_starts(data)
+    if len(starts) != len(elements):
+        return
+    for element, (line, column) in zip(elements, starts, strict=True):
+        if not element.tagName.startswith(_XACRO_TAG):
+            element.setAttribute(SRC_ATTRIBUTE, encode_src(path, line, column))
+
+
+def _fallback(session: _Session, missing: str) -> str | None:
+    """A unique file named like *missing* inside the package its path points into."""
+    target = Path(missing).resolve()
+    for folder in session.found_packages.values():
+        root = Path(folder)
+        if root in target.parents:
+            hits = sorted(p for p in root.rglob(target.name) if p.is_file())
+            if len(hits) == 1:
+                return str(hits[0])
+    return None
+
+
+@contextlib.contextmanager
+def _patched(session: _Session) -> Iterator[None]:
+    import xacro
+    import xacro.substitution_args as subst
+
+    original_find = subst._eval_find
+    original_parse = xacro.parse
+
+    def eval_find(package: str) -> str:
+        current = xacro.filestack[-1] if xacro.filestack else session.top
+        lookup = session.resolver.find_package(package, current or session.top)
+        if lookup.path is None:
+            raise PackageNotFoundError(package, lookup.tried)
+        session.found_packages[package] = lookup.path
+        return lookup.path
+
+    def parse(inp: Any, filename: str | None = None) -> Any:
+        if inp is not None:
+            return original_parse(inp, filename)
+        assert filename is not None
+        path = os.path.join(xacro.root_dir, filename)
+        if not os.path.exists(path):
+            moved = _fallback(session, path)
+            if moved is not None:
+                _report_moved(session, path, moved)
+                path = moved
+        try:
+            with open(path, "rb") as handle:
+                data = handle.read()
+        except OSError as exc:
+            if xacro.filestack:
+                xacro.filestack.pop()
+            raise xacro.XacroException(f"{exc.strerror}: {exc.filename}", exc=exc) from exc
+        session.files.append(os.path.abspath(path))
+        checked, problems = parse_bytes(data, os.path.abspath(path), stamp=False)
+        session.diagnostics.extend(problems)
+        if checked is None:
+            session.syntax_failed = True
+            raise xacro.XacroException("XML syntax error")
+        doc = xml.dom.minidom.parseString(data)
+        _stamp(doc, data, os.path.abspath(path))
+        return doc
+
+    subst._eval_find = eval_find
+    xacro.parse = parse
+    try:
+        yield
+    finally:
+        subst._eval_find = original_find
+        xacro.parse = original_parse
+
+
+def _report_moved(session: _Session, missing: str, found: str) -> None:
+    from urdftool.rules.xacro import IncludeNotAtPath
+
+    includer = session.files[-1] if session.files else session.top
+    written = _locate_text(includer, os.path.basename(missing))
+    session.diagnostics.append(
+        IncludeNotAtPath.diagnostic(
+            f"included file {missing} does not exist; read {found}, the only file of that name "
+            "in its package",
+            written,
+            help=f"fix the include path to {found}",
+            data={"written": missing, "used": found},
+        )
+    )
+
+
+def _locate_text(path: str, needle: str) -> Span:
+    """The first line of *path* containing *needle* (the file alone when absent)."""
+    try:
+        with open(path, encoding="utf-8", errors="replace") as handle:
+            for number, line in enumerate(handle, start=1):
+                column = line.find(needle)
+                if column >= 0:
+                    return Span(path, number, column + 1)
+    except OSError:
+        pass
+    return Span(path)
+
+
+_QUOTED = re.compile(r"[\"']([^\"']+)[\"']")
+_NAME_IN_MESSAGE = re.compile(r"(?:name|macro name|symbol|property|parameters?)\s*[:\"' \[]+([\w.:-]+)")
+
+
+def _error_location(stack: list[str | None], message: str, package: str | None) -> Span:
+    """Best location for a xacro failure: the innermost file, and a line when a name in the
+    message can be found in it."""
+    files = [f for f in stack if f]
+    path = files[-1] if files else ""
+    needles: list[str] = []
+    if package:
+        needles.append(f"$(find {package})")
+    needles += _NAME_IN_MESSAGE.findall(message) + _QUOTED.findall(message)
+    for candidate in reversed(files):
+        for needle in needles:
+            span = _locate_text(candidate, needle.replace("xacro:", ""))
+            if span.line is not None:
+                return span
+    return Span(path) if path else Span("")
+
+
+def expand(
+    path: str,
+    resolver: PackageResolver,
+    args: Mapping[str, str] | None = None,
+) -> XacroResult:
+    """Expand the xacro file *path*; failures become diagnostics, never exceptions."""
+    from urdftool.rules.xacro import PackageMissing, XacroError, XacroWarning
+
+    import xacro
+
+    top = os.path.abspath(path)
+    session = _Session(resolver, top)
+    stderr = io.StringIO()
+    stack: list[str | None] = []
+    with _LOCK, _patched(session), contextlib.redirect_stderr(stderr), contextlib.redirect_stdout(stderr):
+        try:
+            xacro.all_includes = []
+            doc = xacro.process_file(top, mappings=dict(args or {}), verbosity=1)
+            text = doc.documentElement.toxml()
+        except Exception as exc:  # xacro raises many kinds; each becomes a diagnostic
+            stack = list(xacro.filestack or [top])
+            doc = None
+            text = ""
+            failure: BaseException | None = exc
+        else:
+            failure = None
+        finally:
+            xacro.filestack = None
+            xacro.macrostack = None
+    for line in stderr.getvalue().splitlines():
+        line = line.strip()
+        if line.startswith("warning:") or line.lower().startswith("deprecated"):
+            session.diagnostics.append(
+                XacroWarning.diagnostic(f"xacro: {line.removeprefix('warning:').strip()}", Span(top))
+            )
+    if failure is not None:
+        if not session.syntax_failed:
+            missing = _package_error(failure)
+            message = str(failure).strip() or type(failure).__name__
+            if missing is not None:
+                session.diagnostics.append(
+                    PackageMissing.diagnostic(
+                        f"$(find {missing.package}): package '{missing.package}' not found",
+                        _error_location(stack, message, missing.package),
+                        help="pass --package NAME=DIR or --package-path DIR; searched: "
+                        + "; ".join(missing.tried[-6:]),
+                        data={"package": missing.package, "searched": missing.tried},
+                    )
+                )
+            else:
+                session.diagnostics.append(
+                    XacroError.diagnostic(
+                        f"xacro: {message}",
+                        _error_location(stack, message, None),
+                        data={"files": [f for f in stack if f]},
+                    )
+                )
+        return XacroResult(None, session.diagnostics, session.files)
+    document, problems = parse_bytes(text.encode("utf-8"), top, stamp=False)
+    session.diagnostics.extend(problems)
+    return XacroResult(document, session.diagnostics, session.files)
+
+
+def _package_error(exc: BaseException) -> PackageNotFoundError | None:
+    seen = 0
+    current: Any = exc
+    while current is not None and seen < 10:
+        if isinstance(current, PackageNotFoundError):
+            return current
+        current = getattr(current, "exc", None) or current.__cause__ or current.__context__
+        seen += 1
+    return None
+
+
+__all__ = ["PackageNotFoundError", "Severity", "XacroResult", "expand"]

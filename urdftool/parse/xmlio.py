@@ -1,0 +1,186 @@
+"""Safe XML reading with positions.
+
+Robot descriptions arrive from CAD exporters, the internet and colleagues, so
+the reader treats them as untrusted: no DTD loading, no entity declarations
+(they are refused outright: libxml2 still expands internal entities in
+attributes even with entity resolution off), no network, a size cap, and
+libxml2's nesting cap of 256 levels. Every refusal is a located ``xml-syntax``
+diagnostic, never an exception.
+
+After parsing, every element gets a :data:`~urdftool.source.SRC_ATTRIBUTE`
+recording where its start tag was written, so spans survive any later
+transformation (xacro expansion, extraction of ``<gazebo>`` blocks).
+"""
+
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass
+
+from lxml import etree
+
+from urdftool.diagnostics import Diagnostic, Severity
+from urdftool.rules.syntax import XmlSyntax
+from urdftool.source import SRC_ATTRIBUTE, Span, element_starts
+
+#: Larger inputs are refused (the largest corpus URDF is about 1 MB).
+MAX_BYTES = 64 * 1024 * 1024
+
+_ENTITY_DECL = re.compile(rb"<!ENTITY", re.IGNORECASE)
+_DOCTYPE = re.compile(rb"<!DOCTYPE", re.IGNORECASE)
+
+
+def _parser() -> etree.XMLParser:
+    return etree.XMLParser(
+        resolve_entities=False,
+        no_network=True,
+        load_dtd=False,
+        dtd_validation=False,
+        huge_tree=False,
+        remove_blank_text=False,
+        remove_comments=True,
+        remove_pis=True,
+    )
+
+
+@dataclass
+class XmlDocument:
+    """A parsed document whose elements carry their source positions."""
+
+    root: etree._Element
+    path: str
+
+
+def encode_src(path: str, line: int, column: int) -> str:
+    return f"{line}:{column}:{path}"
+
+
+def decode_src(value: str) -> Span | None:
+    try:
+        line, column, path = value.split(":", 2)
+        return Span(path, int(line), int(column))
+    except ValueError:
+        return None
+
+
+def span_of(element: etree._Element) -> Span | None:
+    """The span recorded on *element*, or on its nearest ancestor that has one."""
+    node: etree._Element | None = element
+    while node is not None:
+        value = node.get(SRC_ATTRIBUTE)
+        if value is not None:
+            return decode_src(value)
+        node = node.getparent()
+    return None
+
+
+def line_of(data: bytes, offset: int) -> int:
+    return data.count(b"\n", 0, offset) + 1
+
+
+def parse_bytes(
+    data: bytes, path: str, stamp: bool = True
+) -> tuple[XmlDocument | None, list[Diagnostic]]:
+    """Parse *data* read from *path*; return the document or the diagnostics that stop it.
+
+    With *stamp*, every element records its position in *data*; without, the
+    document is taken to carry positions already (xacro output).
+    """
+    if len(data) > MAX_BYTES:
+        return None, [
+            XmlSyntax.diagnostic(
+                f"file is {len(data) / 1e6:.0f} MB; urdftool reads robot descriptions up to "
+                f"{MAX_BYTES // (1024 * 1024)} MiB",
+                Span(path, 1, 1),
+                help="split the description, or check that this is the file you meant",
+            )
+        ]
+    # Entity declarations can only stand in the prolog, before the root element.
+    head = data[: _first_element(data)] if _DOCTYPE.search(data) else b""
+    entity = _ENTITY_DECL.search(head)
+    if entity:
+        return None, [
+            XmlSyntax.diagnostic(
+                "entity declarations are not allowed in robot descriptions (they can expand "
+                "without bound or read other files)",
+                Span(path, line_of(data, entity.start()), 1),
+                help="replace entities with xacro properties, or write the values out",
+            )
+        ]
+    data, warnings = _tolerate_quirks(data, path)
+    try:
+        root = etree.fromstring(data, _parser())
+    except etree.XMLSyntaxError as exc:
+        line, column = exc.position if exc.position else (1, 1)
+        message = str(exc.msg or exc).split(", line ")[0]
+        return None, [XmlSyntax.diagnostic(message, Span(path, max(line, 1), max(column, 1)))]
+    except ValueError as exc:  # e.g. unsupported encoding declarations
+        return None, [XmlSyntax.diagnostic(str(exc), Span(path, 1, 1))]
+    if root is None:
+        return None, [XmlSyntax.diagnostic("document has no root element", Span(path, 1, 1))]
+    if stamp:
+        _stamp_positions(root, data, path)
+    return XmlDocument(root, path), warnings
+
+
+_DECLARED_VERSION = re.compile(rb"^(\s*<\?xml[^>]*?version\s*=\s*[\"'])([^\"']*)([\"'])")
+
+
+def _tolerate_quirks(data: bytes, path: str) -> tuple[bytes, list[Diagnostic]]:
+    """Accept, with a warning, two harmless defects that TinyXML-based loaders accept.
+
+    * an XML declaration with a version other than 1.0/1.1 (``version="0.0"``,
+      written by several exporters), read as 1.0;
+    * NUL bytes after the root element (padding left by some editors), ignored.
+    """
+    warnings: list[Diagnostic] = []
+    match = _DECLARED_VERSION.match(data)
+    if match and match.group(2) not in (b"1.0", b"1.1"):
+        version = match.group(2).decode("ascii", "replace")
+        data = data[: match.start(2)] + b"1.0" + data[match.end(2) :]
+        warnings.append(
+            XmlSyntax.diagnostic(
+                f"XML declaration has version \"{version}\"; read as 1.0",
+                Span(path, line_of(data, match.start(2)), 1),
+                severity=Severity.WARNING,
+                help='write <?xml version="1.0"?>',
+            )
+        )
+    stripped = data.rstrip(b"\0\r\n\t ")
+    if b"\0" in data[len(stripped) :]:
+        warnings.append(
+            XmlSyntax.diagnostic(
+                "file ends with NUL bytes after the root element; they are ignored",
+                Span(path, line_of(data, len(stripped)), 1),
+                severity=Severity.WARNING,
+                help="remove the trailing NUL bytes",
+            )
+        )
+        data = stripped + b"\n"
+    return data, warnings
+
+
+def _first_element(data: bytes) -> int:
+    match = re.search(rb"<[A-Za-z_]", data)
+    return match.start() if match else len(data)
+
+
+def _stamp_positions(root: etree._Element, data: bytes, path: str) -> None:
+    elements = [e for e in root.iter() if isinstance(e.tag, str)]
+    try:
+        starts = element_starts(data)
+    except Exception:  # expat disagreeing with libxml2: fall back to lxml's lines
+        starts = []
+    if len(starts) == len(elements):
+        for element, (line, column) in zip(elements, starts, strict=True):
+            element.set(SRC_ATTRIBUTE, encode_src(path, line, column))
+    else:
+        for element in elements:
+            element.set(SRC_ATTRIBUTE, encode_src(path, element.sourceline or 1, 1))
+
+
+def read_file(path: str) -> tuple[XmlDocument | None, list[Diagnostic]]:
+    """Read and parse *path*. Raises :class:`OSError` when the file cannot be read."""
+    with open(path, "rb") as handle:
+        data = handle.read(MAX_BYTES + 1)
+    return parse_bytes(data, path)

@@ -1,0 +1,61 @@
+"""Compiler-style text: ``path:line:col: severity[CODE name] message``, an excerpt, ``help:``."""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Iterable
+
+from urdftool.diagnostics import Diagnostic, Report, Severity
+from urdftool.source import SourceIndex
+
+_COLOURS = {Severity.ERROR: "\x1b[31;1m", Severity.WARNING: "\x1b[33;1m", Severity.INFO: "\x1b[36;1m"}
+_RESET = "\x1b[0m"
+_BOLD = "\x1b[1m"
+
+
+def display_path(path: str) -> str:
+    """*path* relative to the working directory when it lies below it."""
+    try:
+        rel = os.path.relpath(path)
+    except ValueError:
+        return path
+    return path if rel.startswith("..") else rel
+
+
+def render_diagnostic(d: Diagnostic, sources: SourceIndex, colour: bool = False, excerpt: bool = True) -> str:
+    sev = d.severity.value
+    if colour:
+        sev = f"{_COLOURS[d.severity]}{sev}{_RESET}"
+    where = "" if d.location is None else f"{display_path(str(d.location))}: "
+    if colour and where:
+        where = f"{_BOLD}{where}{_RESET}"
+    lines = [f"{where}{sev}[{d.code} {d.name}] {d.message}"]
+    if excerpt and d.location is not None and d.location.line is not None:
+        text = sources.line_text(d.location)
+        if text is not None:
+            gutter = f"{d.location.line:>5} | "
+            lines.append(gutter + text.rstrip().expandtabs(4))
+            if d.location.column is not None:
+                prefix = text[: d.location.column - 1].expandtabs(4)
+                lines.append(" " * (len(gutter) - 2) + "| " + " " * len(prefix) + "^")
+    if d.help:
+        lines.append(f"  help: {d.help}")
+    return "\n".join(lines)
+
+
+def render_text(report: Report, colour: bool = False, quiet: bool = False) -> str:
+    """The whole report as text; *quiet* prints only the summary line and errors."""
+    sources = SourceIndex()
+    chunks: list[str] = []
+    for file_report in report.files:
+        diags: Iterable[Diagnostic] = file_report.diagnostics
+        if quiet:
+            diags = [d for d in diags if d.severity is Severity.ERROR]
+        chunks.extend(render_diagnostic(d, sources, colour) for d in diags)
+    summary = report.summary()
+    noun = "file" if summary["files"] == 1 else "files"
+    chunks.append(
+        f"{summary['files']} {noun} checked: {summary['errors']} error(s), "
+        f"{summary['warnings']} warning(s), {summary['infos']} info"
+    )
+    return "\n\n".join(chunks) + "\n"

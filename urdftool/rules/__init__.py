@@ -1,0 +1,16 @@
+"""The rule catalogue. Importing this package registers every rule family."""
+
+from urdftool.rules import syntax, xacro  # noqa: F401  (registers rules)
+from urdftool.rules.registry import REGISTRY, CheckContext, Family, Rule, all_rules, lookup
+from urdftool.rules.selection import Selection, UnknownSelector
+
+__all__ = [
+    "REGISTRY",
+    "CheckContext",
+    "Family",
+    "Rule",
+    "Selection",
+    "UnknownSelector",
+    "all_rules",
+    "lookup",
+]

@@ -1,0 +1,78 @@
+"""``--select`` / ``--ignore``: which rules are on.
+
+Each selector is a full code (``S005``), a code prefix (``S``, ``S0``) or a rule
+name (``invalid-number``). The decision for a rule is taken by the most specific
+selector that matches it: a name or full code beats a longer prefix, which beats
+a shorter one. At equal specificity ``ignore`` wins. With no ``select``, every
+rule is selected at the lowest specificity.
+"""
+
+from __future__ import annotations
+
+import re
+from collections.abc import Iterable
+from dataclasses import dataclass
+
+from urdftool.rules.registry import REDIRECTS, Rule, all_rules
+
+#: specificity of an exact code or a rule name
+EXACT = 100
+_PREFIX = re.compile(r"^[A-Z]{1,2}[0-9]{0,2}$")
+
+
+class UnknownSelector(ValueError):
+    """A selector that names no rule, code or prefix."""
+
+
+def _specificity(selector: str, rule: type[Rule]) -> int | None:
+    """How specifically *selector* names *rule*, or ``None`` when it does not."""
+    sel = REDIRECTS.get(selector, selector)
+    if sel.lower() == rule.name or sel.upper() == rule.code:
+        return EXACT
+    if _PREFIX.match(sel.upper()) and rule.code.startswith(sel.upper()):
+        return len(sel)
+    return None
+
+
+@dataclass(frozen=True)
+class Selection:
+    select: tuple[str, ...] | None = None
+    ignore: tuple[str, ...] = ()
+
+    @classmethod
+    def of(cls, select: Iterable[str] | None = None, ignore: Iterable[str] | None = None) -> Selection:
+        """Build a selection, splitting comma-separated lists and validating every selector."""
+        sel = _split(select) if select is not None else None
+        ign = _split(ignore) if ignore is not None else ()
+        rules = all_rules()
+        for s in (*(sel or ()), *ign):
+            if not any(_specificity(s, r) is not None for r in rules):
+                raise UnknownSelector(f"'{s}' matches no rule code, prefix or name")
+        return cls(sel if sel else None, ign)
+
+    def enabled(self, rule: type[Rule]) -> bool:
+        best_select = 0 if self.select is None else None
+        for s in self.select or ():
+            spec = _specificity(s, rule)
+            if spec is not None and (best_select is None or spec > best_select):
+                best_select = spec
+        if best_select is None:
+            return False
+        best_ignore = max(
+            (spec for s in self.ignore if (spec := _specificity(s, rule)) is not None),
+            default=None,
+        )
+        return best_ignore is None or best_select > best_ignore
+
+    def enabled_code(self, code: str) -> bool:
+        from urdftool.rules.registry import REGISTRY
+
+        rule = REGISTRY.get(code)
+        return rule is not None and self.enabled(rule)
+
+
+def _split(values: Iterable[str]) -> tuple[str, ...]:
+    out: list[str] = []
+    for value in values:
+        out.extend(part.strip() for part in value.split(",") if part.strip())
+    return tuple(out)

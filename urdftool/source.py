@@ -1,0 +1,145 @@
+"""Where things were written: spans into the files the user edits.
+
+Every node of the model and every diagnostic carries a :class:`Span`. For plain
+URDF and SDF the span is the element's start tag in that file. For xacro input it
+is the ``.xacro`` file and line where the element was written (inside a macro
+body, that is the macro's definition), recovered through :class:`SourceIndex`.
+
+lxml reports only a line per element (the line where the start tag *ends*), so
+exact line and column come from a second, position-only pass with expat whose
+element starts are matched to lxml's elements in document order.
+"""
+
+from __future__ import annotations
+
+import os
+import re
+import xml.parsers.expat
+from dataclasses import dataclass, field
+
+#: Attribute that carries an element's origin through xacro expansion.
+#: Value: ``"<file index>:<line>:<column>"``; stripped before the model is built.
+SRC_ATTRIBUTE = "urdftool-src"
+
+
+@dataclass(frozen=True, order=True)
+class Span:
+    """A position in a source file: 1-based line and column (``None`` where unknown)."""
+
+    path: str
+    line: int | None = None
+    column: int | None = None
+
+    def __str__(self) -> str:
+        if self.line is None:
+            return self.path
+        if self.column is None:
+            return f"{self.path}:{self.line}"
+        return f"{self.path}:{self.line}:{self.column}"
+
+    def with_path(self, path: str) -> Span:
+        return Span(path, self.line, self.column)
+
+
+def element_starts(data: bytes) -> list[tuple[int, int]]:
+    """Return the (line, column) of every element start tag, in document order.
+
+    Columns are 1-based character columns. Only called on documents that lxml has
+    already accepted with entity expansion off, so expat sees well-formed input.
+    """
+    positions: list[tuple[int, int]] = []
+    parser = xml.parsers.expat.ParserCreate()
+    # Entity declarations were refused earlier; expat must never expand any.
+    parser.SetParamEntityParsing(xml.parsers.expat.XML_PARAM_ENTITY_PARSING_NEVER)
+    lines = data.split(b"\n")
+
+    def start(_name: str, _attrs: dict[str, str]) -> None:
+        line = parser.CurrentLineNumber
+        byte_col = parser.CurrentColumnNumber
+        raw = lines[line - 1] if line - 1 < len(lines) else b""
+        col = len(raw[:byte_col].decode("utf-8", errors="replace")) + 1
+        positions.append((line, col))
+
+    parser.StartElementHandler = start
+    parser.Parse(data, True)
+    return positions
+
+
+_ATTR_CACHE_LIMIT = 64
+
+
+@dataclass
+class SourceIndex:
+    """The texts of the files a model was read from, for locating attributes.
+
+    ``files`` lists paths by the index used in :data:`SRC_ATTRIBUTE` values.
+    """
+
+    files: list[str] = field(default_factory=list)
+    _lines: dict[str, list[str]] = field(default_factory=dict)
+
+    def add_file(self, path: str, text: str | None = None) -> int:
+        """Register *path* (and optionally its text); return its index."""
+        path = os.fspath(path)
+        if path in self.files:
+            index = self.files.index(path)
+        else:
+            self.files.append(path)
+            index = len(self.files) - 1
+        if text is not None:
+            self._lines[path] = text.split("\n")
+        return index
+
+    def lines(self, path: str) -> list[str]:
+        if path not in self._lines:
+            try:
+                with open(path, encoding="utf-8", errors="replace") as handle:
+                    self._lines[path] = handle.read().split("\n")
+            except OSError:
+                self._lines[path] = []
+        return self._lines[path]
+
+    def line_text(self, span: Span) -> str | None:
+        """The text of the span's line, or ``None`` when unavailable."""
+        if span.line is None:
+            return None
+        lines = self.lines(span.path)
+        if 0 < span.line <= len(lines):
+            return lines[span.line - 1]
+        return None
+
+    def attribute_span(self, element: Span, attribute: str) -> Span:
+        """Locate ``attribute=`` inside the start tag that begins at *element*.
+
+        Start tags may span lines; the search covers up to 20 lines and falls back
+        to the element's own span.
+        """
+        if element.line is None:
+            return element
+        lines = self.lines(element.path)
+        pattern = re.compile(r"(?<![\w:.-])" + re.escape(attribute) + r"\s*=")
+        first = element.line - 1
+        for offset in range(20):
+            index = first + offset
+            if index >= len(lines):
+                break
+            text = lines[index]
+            start = (element.column or 1) - 1 if offset == 0 else 0
+            match = pattern.search(text, start)
+            close = text.find(">", start)
+            if match and (close < 0 or match.start() < close):
+                return Span(element.path, index + 1, match.start() + 1)
+            if close >= 0:
+                break
+        return element
+
+    def decode(self, value: str) -> Span | None:
+        """Turn a :data:`SRC_ATTRIBUTE` value back into a span."""
+        try:
+            index, line, column = (int(part) for part in value.split(":"))
+            return Span(self.files[index], line, column)
+        except (ValueError, IndexError):
+            return None
+
+    def encode(self, index: int, line: int, column: int) -> str:
+        return f"{index}:{line}:{column}"
