@@ -1,0 +1,1 @@
+"""Rigid-body physics helpers in NumPy: inertia tensors, their validity, shapes' inertia."""

@@ -1,0 +1,3 @@
+"""Dynamics (D): rigid-body checks with Pinocchio (mass matrix, gravity torques)."""
+
+from __future__ import annotations

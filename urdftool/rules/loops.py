@@ -1,0 +1,3 @@
+"""Closed chains (L): loops in SDF models and links with several parents."""
+
+from __future__ import annotations

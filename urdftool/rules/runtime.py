@@ -1,0 +1,3 @@
+"""Runtime (R): verdicts of the bundled smoke simulation."""
+
+from __future__ import annotations
