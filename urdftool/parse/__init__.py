@@ -115,7 +115,10 @@ def _read_xacro(path: str, args: Mapping[str, str], resolver: PackageResolver) -
         return Loaded(path, "xacro", None, result.diagnostics, result.files)
     reader = UrdfReader(path, SourceIndex(), resolver, expanded=True)
     robot = reader.read(result.document.root)
-    return _finish(path, "xacro", robot, result.diagnostics + reader.diagnostics, result.files)
+    found = reader.diagnostics
+    if result.macro_library:  # a macro library needs no robot name (see macros-only)
+        found = [d for d in found if d.name != "robot-name-missing"]
+    return _finish(path, "xacro", robot, result.diagnostics + found, result.files)
 
 
 __all__ = ["InputError", "Loaded", "PackageResolver", "detect_format", "read"]

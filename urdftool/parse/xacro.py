@@ -33,7 +33,7 @@ from typing import Any
 
 from urdftool.diagnostics import Diagnostic, Severity
 from urdftool.parse.packages import PackageResolver
-from urdftool.parse.xmlio import XmlDocument, encode_src, parse_bytes
+from urdftool.parse.xmlio import MAX_BYTES, XmlDocument, encode_src, parse_bytes, span_of
 from urdftool.source import SRC_ATTRIBUTE, Span, element_starts
 
 _LOCK = threading.Lock()
@@ -57,6 +57,8 @@ class XacroResult:
     diagnostics: list[Diagnostic] = field(default_factory=list)
     #: every file read, the input first
     files: list[str] = field(default_factory=list)
+    #: the input is a macro library (see the ``macros-only`` rule)
+    macro_library: bool = False
 
 
 @dataclass
@@ -68,6 +70,12 @@ class _Session:
     #: package name -> folder, for the include fallback
     found_packages: dict[str, str] = field(default_factory=dict)
     syntax_failed: bool = False
+    #: names of the ``<xacro:macro>`` definitions in every file read
+    macros: list[str] = field(default_factory=list)
+    #: the input writes ``<link>`` or ``<joint>`` outside macro bodies
+    top_builds_robot: bool = False
+    #: names of the macros the input itself defines
+    top_macros: list[str] = field(default_factory=list)
 
 
 def _stamp(doc: xml.dom.minidom.Document, data: bytes, path: str) -> None:
@@ -79,6 +87,22 @@ def _stamp(doc: xml.dom.minidom.Document, data: bytes, path: str) -> None:
     for element, (line, column) in zip(elements, starts, strict=True):
         if not element.tagName.startswith(_XACRO_TAG):
             element.setAttribute(SRC_ATTRIBUTE, encode_src(path, line, column))
+
+
+def _macro_names(doc: xml.dom.minidom.Document) -> list[str]:
+    return [m.getAttribute("name") for m in doc.getElementsByTagName("xacro:macro")]
+
+
+def _builds_robot(doc: xml.dom.minidom.Document) -> bool:
+    """True when *doc* writes a ``<link>`` or ``<joint>`` outside a macro body."""
+    for tag in ("link", "joint"):
+        for element in doc.getElementsByTagName(tag):
+            node = element.parentNode
+            while node is not None and getattr(node, "tagName", "") != "xacro:macro":
+                node = node.parentNode
+            if node is None:
+                return True
+    return False
 
 
 def _fallback(session: _Session, missing: str) -> str | None:
@@ -119,9 +143,12 @@ def _patched(session: _Session) -> Iterator[None]:
             if moved is not None:
                 _report_moved(session, path, moved)
                 path = moved
+                if xacro.filestack:
+                    # Relative includes inside the moved file resolve from where it is.
+                    xacro.filestack[-1] = moved
         try:
             with open(path, "rb") as handle:
-                data = handle.read()
+                data = handle.read(MAX_BYTES + 1)
         except OSError as exc:
             if xacro.filestack:
                 xacro.filestack.pop()
@@ -134,6 +161,10 @@ def _patched(session: _Session) -> Iterator[None]:
             raise xacro.XacroException("XML syntax error")
         doc = xml.dom.minidom.parseString(data)
         _stamp(doc, data, os.path.abspath(path))
+        session.macros.extend(_macro_names(doc))
+        if len(session.files) == 1:
+            session.top_builds_robot = _builds_robot(doc)
+            session.top_macros = _macro_names(doc)
         return doc
 
     subst._eval_find = eval_find
@@ -146,19 +177,36 @@ def _patched(session: _Session) -> Iterator[None]:
 
 
 def _report_moved(session: _Session, missing: str, found: str) -> None:
+    import xacro
+
     from urdftool.rules.xacro import IncludeNotAtPath
 
-    includer = session.files[-1] if session.files else session.top
-    written = _locate_text(includer, os.path.basename(missing))
+    # xacro has already pushed the missing file; the includer is below it.
+    stack = [f for f in (xacro.filestack or []) if f]
+    includer = stack[-2] if len(stack) >= 2 else session.top
+    include = re.compile(r"""filename\s*=\s*["'][^"']*""" + re.escape(os.path.basename(missing)))
+    written = _locate_pattern(includer, include) or Span(includer)
+    package, where = _package_of(session, found)
+    better = f"$(find {package})/{where}" if package else found
     session.diagnostics.append(
         IncludeNotAtPath.diagnostic(
-            f"included file {missing} does not exist; read {found}, the only file of that name "
-            "in its package",
+            f"included file {missing} does not exist; read {found} instead, the only "
+            f"{os.path.basename(found)} in " + (f"package '{package}'" if package else "its package"),
             written,
-            help=f"fix the include path to {found}",
-            data={"written": missing, "used": found},
+            help=f"write the include as {better}",
+            data={"written": missing, "used": found, "package": package},
         )
     )
+
+
+def _package_of(session: _Session, path: str) -> tuple[str | None, str]:
+    """The found package that holds *path*, and *path* relative to its folder."""
+    target = Path(path).resolve()
+    for name, folder in session.found_packages.items():
+        root = Path(folder).resolve()
+        if root in target.parents:
+            return name, target.relative_to(root).as_posix()
+    return None, path
 
 
 def _locate_text(path: str, needle: str) -> Span:
@@ -224,16 +272,15 @@ def expand(
         finally:
             xacro.filestack = None
             xacro.macrostack = None
-    for line in stderr.getvalue().splitlines():
-        line = line.strip()
-        if line.startswith("warning:") or line.lower().startswith("deprecated"):
-            session.diagnostics.append(
-                XacroWarning.diagnostic(f"xacro: {line.removeprefix('warning:').strip()}", Span(top))
-            )
+    for message, files in _warnings(stderr.getvalue()):
+        session.diagnostics.append(
+            XacroWarning.diagnostic(f"xacro: {message}", _warning_location(message, files or [top]))
+        )
     if failure is not None:
         if not session.syntax_failed:
             missing = _package_error(failure)
-            message = str(failure).strip() or type(failure).__name__
+            lines = [line.strip() for line in str(failure).splitlines() if line.strip()]
+            message = "; ".join(lines) or type(failure).__name__
             if missing is not None:
                 session.diagnostics.append(
                     PackageMissing.diagnostic(
@@ -255,7 +302,88 @@ def expand(
         return XacroResult(None, session.diagnostics, session.files)
     document, problems = parse_bytes(text.encode("utf-8"), top, stamp=False)
     session.diagnostics.extend(problems)
-    return XacroResult(document, session.diagnostics, session.files)
+    library = document is not None and _is_macro_library(session, document.root)
+    if library and document is not None:
+        session.diagnostics.append(_macros_only(session, document))
+    return XacroResult(document, session.diagnostics, session.files, library)
+
+
+def _is_macro_library(session: _Session, root: Any) -> bool:
+    """Macros defined, no ``<link>``/``<joint>`` written outside them, none in the expansion."""
+    if not session.macros or session.top_builds_robot:
+        return False
+    return not any(child.tag in ("link", "joint") for child in root if isinstance(child.tag, str))
+
+
+def _macros_only(session: _Session, document: XmlDocument) -> Diagnostic:
+    from urdftool.rules.xacro import MacrosOnly
+
+    names = sorted(set(session.macros))
+    own = session.top_macros or names
+    shown = ", ".join(own[:5]) + (", ..." if len(own) > 5 else "")
+    return MacrosOnly.diagnostic(
+        f"macro library: defines xacro macro{'s' if len(own) != 1 else ''} {shown} and no "
+        "links; its macros are checked where a robot calls them",
+        span_of(document.root) or Span(session.top),
+        element="robot",
+        help="check the robot description that includes this file",
+        data={"macros": names},
+    )
+
+
+_WARNING_FILE = re.compile(r"^(?:in file|when processing file|included from):\s*(.+)$")
+_WARNING_MACRO = re.compile(r"^(?:when instantiating macro|instantiated from):.*\((.+)\)\s*$")
+
+
+def _warnings(stderr: str) -> list[tuple[str, list[str]]]:
+    """xacro's warnings on *stderr*, each with the files named after it (innermost first)."""
+    out: list[tuple[str, list[str]]] = []
+    for raw in stderr.splitlines():
+        line = raw.strip()
+        if line.startswith("warning:") or line.lower().startswith("deprecated"):
+            out.append((line.removeprefix("warning:").strip(), []))
+            continue
+        if not out:
+            continue
+        match = _WARNING_MACRO.match(line) or _WARNING_FILE.match(line)
+        if match and match.group(1) not in ("???", "string"):
+            out[-1][1].append(os.path.abspath(match.group(1)))
+    return out
+
+
+_NAME_ATTRIBUTE = r"""name\s*=\s*["']{}["']"""
+#: warning text -> pattern of the line that caused it ({} is the symbol)
+_SYMBOL_IN_WARNING = (
+    (re.compile(r"redefining global symbol: ([\w.]+)"), _NAME_ATTRIBUTE),
+    (re.compile(r"^([\w.]+): (?:default property value|no parent scope)"), _NAME_ATTRIBUTE),
+    (re.compile(r"unknown attribute\(s\): ([\w:.-]+)"), r"(?<![\w:.-]){}\s*="),
+)
+
+
+def _warning_location(message: str, files: list[str]) -> Span:
+    """Where a xacro warning points: the line naming its symbol, else the innermost file."""
+    for finder, template in _SYMBOL_IN_WARNING:
+        match = finder.search(message)
+        if not match:
+            continue
+        pattern = re.compile(template.format(re.escape(match.group(1))))
+        for path in files:
+            span = _locate_pattern(path, pattern)
+            if span is not None:
+                return span
+    return Span(files[0])
+
+
+def _locate_pattern(path: str, pattern: re.Pattern[str]) -> Span | None:
+    try:
+        with open(path, encoding="utf-8", errors="replace") as handle:
+            for number, line in enumerate(handle, start=1):
+                match = pattern.search(line)
+                if match:
+                    return Span(path, number, match.start() + 1)
+    except OSError:
+        pass
+    return None
 
 
 def _package_error(exc: BaseException) -> PackageNotFoundError | None:

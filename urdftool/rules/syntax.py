@@ -151,6 +151,10 @@ class EmptyRobot(_Syntax):
     severity = Severity.ERROR
 
     def check(self, ctx: CheckContext) -> Iterator[Diagnostic]:
+        from urdftool.rules.xacro import is_macro_library
+
+        if is_macro_library(ctx.robot):
+            return  # reported once as macros-only
         if not ctx.robot.links and ctx.robot.name is not None:
             yield self.diagnostic(
                 f"robot '{ctx.robot.name}' has no links", ctx.robot.span, element="robot"
@@ -307,13 +311,13 @@ class UnknownAttribute(_Syntax):
 
 @register
 class MissingAttribute(_Syntax):
-    """A required attribute or element is missing.
+    """A required attribute is missing.
 
     ## What it does
     Reports required attributes that are absent (`name` on links and joints,
-    `type` on joints, `link` on `<parent>`, `value` on `<mass>`, `filename` on
-    `<mesh>`, the six inertia components) and required child elements (a
-    `<geometry>` in a visual, `<mass>` and `<inertia>` in an inertial).
+    `type` on joints, `value` on `<mass>`, `filename` on `<mesh>`, the sizes
+    of shapes, the six inertia components, `name` on a top-level material).
+    Missing child elements are reported by `missing-element`.
 
     ## Why it matters
     urdfdom refuses the model; permissive loaders fill in zeros, which for a
@@ -321,15 +325,12 @@ class MissingAttribute(_Syntax):
 
     ## Example
     ```xml
-    <inertial> <mass value="1.2"/> </inertial>
+    <inertia ixx="0.01" ixy="0" ixz="0" iyy="0.01" iyz="0"/>
     ```
 
     ## Fix
     ```xml
-    <inertial>
-      <mass value="1.2"/>
-      <inertia ixx="0.01" ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0.002"/>
-    </inertial>
+    <inertia ixx="0.01" ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0.002"/>
     ```
     """
 

@@ -2,8 +2,13 @@
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 from urdftool.diagnostics import Severity
 from urdftool.rules.registry import Family, Rule, register
+
+if TYPE_CHECKING:
+    from urdftool.model import Robot
 
 
 class _Xacro(Rule):
@@ -122,3 +127,44 @@ class XacroWarning(_Xacro):
     code = "X004"
     name = "xacro-warning"
     severity = Severity.WARNING
+
+
+@register
+class MacrosOnly(_Xacro):
+    """The xacro file is a macro library: it defines macros and builds no robot.
+
+    ## What it does
+    Recognises a xacro file whose expansion has no links and no joints, that
+    writes no `<link>` or `<joint>` outside its macro bodies, and that defines
+    (itself or through its includes) at least one `<xacro:macro>`. It is
+    reported once, as information, instead of `robot-name-missing` and
+    `empty-robot`, which would be false alarms for such a file.
+
+    ## Why it matters
+    Sensor and inertia macro files (a Kinect, a laser scanner, `common.xacro`)
+    are meant to be included by a robot, not loaded on their own. Checking
+    them alone says nothing about a robot; the macros are checked where a
+    robot calls them.
+
+    ## Example
+    ```xml
+    <robot xmlns:xacro="http://ros.org/wiki/xacro">
+      <xacro:macro name="sick_lms100" params="name parent *origin">
+        <link name="${name}_link"/> ...
+      </xacro:macro>
+    </robot>
+    ```
+
+    ## Fix
+    Nothing to fix. Check the robot that includes the library; `urdftool check`
+    on a folder does so and skips libraries that another file includes.
+    """
+
+    code = "X005"
+    name = "macros-only"
+    severity = Severity.INFO
+
+
+def is_macro_library(robot: Robot) -> bool:
+    """True when *robot* was read from a xacro macro library (see :class:`MacrosOnly`)."""
+    return any(d.code == MacrosOnly.code for d in robot.diagnostics)
