@@ -47,3 +47,33 @@ def relative(path: str, base: Path | None) -> str:
 def seeds() -> Path:
     assert SEEDS.is_dir(), f"the seed corpus is expected beside the repository at {SEEDS}"
     return SEEDS
+
+
+def pybullet_robots() -> list[str]:
+    """pybullet_data's robot URDFs: outside random_urdfs/, with a moving joint or at least 3 links.
+
+    Counted on the raw text (not with urdftool's reader) so that files urdftool
+    rejects still belong to the set: 45 files in pybullet 3.2.x.
+    """
+    import re
+
+    assert PBD is not None, "pybullet is a test dependency"
+    out = []
+    for path in sorted(glob.glob(str(PBD / "**" / "*.urdf"), recursive=True)):
+        if "/random_urdfs/" in path.replace(os.sep, "/"):
+            continue
+        text = Path(path).read_bytes().decode("utf-8", "replace")
+        links = len(re.findall(r"<link\b", text))
+        moving = [t for t in re.findall(r"<joint\b[^>]*\btype\s*=\s*\"([^\"]+)\"", text) if t != "fixed"]
+        if moving or links >= 3:
+            out.append(path)
+    return out
+
+
+def seed_standalone_xacros() -> list[str]:
+    """The seed xacro files that no other seed xacro includes (checked on their own)."""
+    from urdftool.discover import expand_paths
+    from urdftool.parse.packages import PackageResolver
+
+    files = expand_paths([str(SEEDS)], PackageResolver.create())
+    return sorted(f for f in files if f.endswith(".xacro"))

@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import os
 from collections.abc import Callable, Iterable, Mapping, Sequence
-from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -100,6 +99,8 @@ def check_files(
             if progress:
                 progress(index + 1, len(paths))
     else:
+        from concurrent.futures import ProcessPoolExecutor
+
         with ProcessPoolExecutor(max_workers=jobs) as pool:
             for index, result in enumerate(pool.map(check_file, paths, [options] * len(paths))):
                 results.append(result)

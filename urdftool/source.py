@@ -51,11 +51,16 @@ def element_starts(data: bytes) -> list[tuple[int, int]]:
     parser = xml.parsers.expat.ParserCreate()
     # Entity declarations were refused earlier; expat must never expand any.
     parser.SetParamEntityParsing(xml.parsers.expat.XML_PARAM_ENTITY_PARSING_NEVER)
-    lines = data.split(b"\n")
+    lines = data.split(b"\n") if not data.isascii() else []
+
+    ascii_file = data.isascii()
 
     def start(_name: str, _attrs: dict[str, str]) -> None:
         line = parser.CurrentLineNumber
         byte_col = parser.CurrentColumnNumber
+        if ascii_file:
+            positions.append((line, byte_col + 1))
+            return
         raw = lines[line - 1] if line - 1 < len(lines) else b""
         col = len(raw[:byte_col].decode("utf-8", errors="replace")) + 1
         positions.append((line, col))

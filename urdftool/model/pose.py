@@ -9,18 +9,26 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
 
-import numpy as np
-import numpy.typing as npt
+# NumPy is imported inside the functions: reading and structurally checking a
+# robot must not pay its import time (a CLI cold start is dominated by it).
+if TYPE_CHECKING:
+    import numpy.typing as npt
+
+    Matrix = npt.NDArray[Any]
+else:
+    Matrix = Any
 
 Vec3 = tuple[float, float, float]
-Matrix = npt.NDArray[np.float64]
 
 ZERO3: Vec3 = (0.0, 0.0, 0.0)
 
 
 def rpy_to_matrix(rpy: Vec3) -> Matrix:
     """3×3 rotation matrix for fixed-axis roll, pitch, yaw (radians)."""
+    import numpy as np
+
     r, p, y = rpy
     cr, sr = math.cos(r), math.sin(r)
     cp, sp = math.cos(p), math.sin(p)
@@ -70,6 +78,8 @@ def matrix_to_quaternion(rotation: Matrix) -> tuple[float, float, float, float]:
 
 def quaternion_to_matrix(q: tuple[float, float, float, float]) -> Matrix:
     """Rotation matrix of a quaternion ``(w, x, y, z)`` (normalised first)."""
+    import numpy as np
+
     w, x, y, z = q
     n = math.sqrt(w * w + x * x + y * y + z * z) or 1.0
     w, x, y, z = w / n, x / n, y / n, z / n
@@ -84,6 +94,8 @@ def quaternion_to_matrix(q: tuple[float, float, float, float]) -> Matrix:
 
 def axis_angle_matrix(axis: Vec3, angle: float) -> Matrix:
     """Rotation by *angle* (radians) about the unit *axis* (Rodrigues)."""
+    import numpy as np
+
     a = np.asarray(axis, dtype=float)
     n = float(np.linalg.norm(a))
     if n == 0.0:
@@ -102,6 +114,8 @@ def axis_angle_matrix(axis: Vec3, angle: float) -> Matrix:
 
 def homogeneous(rotation: Matrix, translation: Vec3 | Matrix) -> Matrix:
     """4×4 homogeneous transform from a rotation and a translation."""
+    import numpy as np
+
     out = np.eye(4)
     out[:3, :3] = rotation
     out[:3, 3] = translation
@@ -142,6 +156,8 @@ class Pose:
         return Pose.from_matrix(self.matrix @ other.matrix)
 
     def inverse(self) -> Pose:
+        import numpy as np
+
         return Pose.from_matrix(np.linalg.inv(self.matrix))
 
 

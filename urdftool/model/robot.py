@@ -13,8 +13,6 @@ from collections.abc import Mapping
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
-import numpy as np
-
 from urdftool.model.geometry import Geometry
 from urdftool.model.pose import IDENTITY, Matrix, Pose, Vec3
 from urdftool.source import Span
@@ -84,6 +82,8 @@ class Inertial:
     @property
     def inertia_matrix(self) -> Matrix:
         """The 3×3 tensor as written, in the inertial frame."""
+        import numpy as np
+
         return np.array(self.inertia, dtype=float)
 
     @property

@@ -12,8 +12,6 @@ from collections.abc import Iterator, Mapping, Sequence
 from dataclasses import dataclass, field
 from functools import cached_property
 
-import numpy as np
-
 from urdftool.model.pose import Matrix, axis_angle_matrix, homogeneous, quaternion_to_matrix
 from urdftool.model.robot import Joint, JointType, Link, Robot
 
@@ -132,6 +130,8 @@ class KinematicTree:
         ``[qw, qx, qy, qz]``. Missing joints sit at 0; mimic joints follow their
         target. Roots sit at *base* (identity by default).
         """
+        import numpy as np
+
         q = dict(q or {})
         poses: dict[str, Matrix] = {}
         start = np.eye(4) if base is None else base
@@ -159,6 +159,8 @@ def _mimic_value(joint: Joint, q: Mapping[str, float | Sequence[float]], robot: 
 
 def joint_motion(joint: Joint, q: Mapping[str, float | Sequence[float]], robot: Robot) -> Matrix:
     """The 4×4 motion of *joint* at position ``q[joint.name]``, in the joint frame."""
+    import numpy as np
+
     if joint.type is JointType.FIXED:
         return np.eye(4)
     value: float | Sequence[float]

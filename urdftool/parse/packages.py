@@ -21,6 +21,7 @@ Every lookup records the places it tried, for the ``help`` of a diagnostic.
 
 from __future__ import annotations
 
+import functools
 import os
 import re
 import sys
@@ -68,6 +69,7 @@ def _scan(root: Path, depth: int, found: dict[str, Path], marker: str = "package
             _scan(Path(entry.path), depth - 1, found, marker)
 
 
+@functools.lru_cache(maxsize=1)
 def _cmeel_prefixes() -> list[Path]:
     out = []
     for entry in sys.path:
@@ -100,6 +102,8 @@ class PackageResolver:
     package_paths: list[Path] = field(default_factory=list)
     environ: Mapping[str, str] = field(default_factory=lambda: dict(os.environ))
     _scanned: dict[str, dict[str, Path]] = field(default_factory=dict, repr=False)
+    #: (package, folder asking) -> lookup; a robot names the same package hundreds of times
+    _found: dict[tuple[str, str], Lookup] = field(default_factory=dict, repr=False)
 
     @classmethod
     def create(
@@ -124,6 +128,13 @@ class PackageResolver:
 
     def find_package(self, name: str, near: str | os.PathLike[str] | None = None) -> Lookup:
         """The folder of package *name*; *near* is the file that asks (its ancestors are searched)."""
+        key = (name, os.path.dirname(os.path.abspath(near)) if near is not None else "")
+        if key not in self._found:
+            self._found[key] = self._find_package(name, near)
+        found = self._found[key]
+        return Lookup(found.path, list(found.tried), found.package, found.package_missing)
+
+    def _find_package(self, name: str, near: str | os.PathLike[str] | None) -> Lookup:
         tried: list[str] = []
         if name in self.packages:
             return Lookup(str(self.packages[name]), tried, name)
@@ -195,7 +206,8 @@ class PackageResolver:
         absolute paths and paths relative to *base*'s folder. The returned path
         may not exist; ``tried`` lists where it looked.
         """
-        base_dir = Path(base).resolve().parent
+        # abspath, not resolve(): no symlink walk per mesh (thousands per robot)
+        base_dir = Path(os.path.abspath(base)).parent
         for scheme, finder in (("package://", self.find_package), ("model://", self.find_model)):
             if uri.startswith(scheme):
                 rest = uri[len(scheme) :].lstrip("/")

@@ -527,6 +527,8 @@ class UrdfReader:
                     element=where,
                     help="use SDF's ball joint, or three revolute joints",
                     data={"type": raw},
+                    # A known extension that PyBullet honours: worth a warning, not an error.
+                    severity=Severity.WARNING,
                 )
             )
             return JointType.SPHERICAL
@@ -620,4 +622,4 @@ def iter_elements(root: etree._Element) -> Iterator[etree._Element]:
     return (e for e in root.iter() if isinstance(e.tag, str))
 
 
-__all__ = ["UrdfReader", "Severity"]
+__all__ = ["UrdfReader"]

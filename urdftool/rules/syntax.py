@@ -728,8 +728,9 @@ class UnknownJointType(_Syntax):
 
     ## What it does
     Reports joint types other than `revolute`, `continuous`, `prismatic`,
-    `fixed`, `floating` and `planar`. PyBullet's `spherical` extension is read
-    as a ball joint, but still reported, because no other URDF loader accepts it.
+    `fixed`, `floating` and `planar` (error; the joint is read as fixed).
+    PyBullet's `spherical` extension is read as a ball joint and reported as a
+    warning, because no other URDF loader accepts it.
 
     ## Why it matters
     urdfdom, ROS and MuJoCo refuse the model; a typo such as `revolut` makes the
