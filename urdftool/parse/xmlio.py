@@ -113,7 +113,10 @@ def parse_bytes(
     except etree.XMLSyntaxError as exc:
         line, column = exc.position if exc.position else (1, 1)
         message = str(exc.msg or exc).split(", line ")[0]
-        return None, [XmlSyntax.diagnostic(message, Span(path, max(line, 1), max(column, 1)))]
+        message, hint = _explain(message, data)
+        return None, [
+            XmlSyntax.diagnostic(message, Span(path, max(line, 1), max(column, 1)), help=hint)
+        ]
     except ValueError as exc:  # e.g. unsupported encoding declarations
         return None, [XmlSyntax.diagnostic(str(exc), Span(path, 1, 1))]
     if root is None:
@@ -158,6 +161,42 @@ def _tolerate_quirks(data: bytes, path: str) -> tuple[bytes, list[Diagnostic]]:
         )
         data = stripped + b"\n"
     return data, warnings
+
+
+_BINARY = re.compile(rb"[\x00-\x08\x0e-\x1f]")
+
+
+def _explain(message: str, data: bytes) -> tuple[str, str | None]:
+    """libxml2's message in the user's terms, and a hint, for the commonest failures."""
+    if not data.strip():
+        return "file is empty", "a URDF starts with <robot name=\"...\">"
+    head = data[:4096]
+    binary = _BINARY.search(head)
+    first_tag = head.find(b"<")
+    if binary and (first_tag < 0 or binary.start() < first_tag or len(_BINARY.findall(head)) >= 8):
+        offset = binary.start()
+        return (
+            f"file is binary data, not XML (control byte 0x{data[offset]:02x} at byte {offset})",
+            "check that this is the robot description and not a mesh or an archive",
+        )
+    if message.startswith("Excessive depth"):
+        return (
+            "elements nest deeper than 256 levels; urdftool refuses such documents",
+            "a robot description nests a few levels deep: look for unclosed or runaway elements",
+        )
+    if "Invalid bytes in character encoding" in message or "not proper UTF-8" in message:
+        return (
+            "file is not valid UTF-8 here: " + message,
+            'save the file as UTF-8, or declare its encoding: <?xml version="1.0" encoding="ISO-8859-1"?>',
+        )
+    if "Premature end of data" in message or _ends_early(data):
+        return f"file ends before the document is complete (truncated?): {message}", None
+    return message, None
+
+
+def _ends_early(data: bytes) -> bool:
+    """True when the text does not end with a closing tag (a cut-off file)."""
+    return not data.rstrip().endswith(b">") or data.rstrip().endswith(b"<")
 
 
 def _first_element(data: bytes) -> int:

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import os
+import re
 from collections.abc import Iterable
 
 from urdftool.diagnostics import Diagnostic, Report, Severity
@@ -33,14 +34,35 @@ def render_diagnostic(d: Diagnostic, sources: SourceIndex, colour: bool = False,
     if excerpt and d.location is not None and d.location.line is not None:
         text = sources.line_text(d.location)
         if text is not None:
-            gutter = f"{d.location.line:>5} | "
-            lines.append(gutter + text.rstrip().expandtabs(4))
-            if d.location.column is not None:
-                prefix = text[: d.location.column - 1].expandtabs(4)
-                lines.append(" " * (len(gutter) - 2) + "| " + " " * len(prefix) + "^")
+            lines.extend(_excerpt(text, d.location.line, d.location.column))
     if d.help:
         lines.append(f"  help: {d.help}")
     return "\n".join(lines)
+
+
+#: excerpts are cut to this many characters around the column
+EXCERPT_WIDTH = 120
+_CONTROL = re.compile(r"[\x00-\x08\x0b-\x1f\x7f]")
+
+
+def _excerpt(text: str, line: int, column: int | None) -> list[str]:
+    """The source line (control characters shown as '?', long lines cut around the
+    column) and a caret under the column."""
+    raw = text.rstrip()
+    caret = None if column is None or column > len(raw) + 1 else len(raw[: column - 1].expandtabs(4))
+    text = _CONTROL.sub("?", raw.expandtabs(4))
+    start = 0
+    if len(text) > EXCERPT_WIDTH:
+        start = max(0, min((caret or 0) - EXCERPT_WIDTH // 2, len(text) - EXCERPT_WIDTH))
+        text = ("…" if start else "") + text[start : start + EXCERPT_WIDTH] + (
+            "…" if start + EXCERPT_WIDTH < len(text) else ""
+        )
+    gutter = f"{line:>5} | "
+    out = [gutter + text]
+    if caret is not None:
+        offset = caret - start + (1 if start else 0)
+        out.append(" " * (len(gutter) - 2) + "| " + " " * offset + "^")
+    return out
 
 
 def render_text(report: Report, colour: bool = False, quiet: bool = False) -> str:
