@@ -14,12 +14,13 @@ from urdftool.cli.common import (
     EXIT_OK,
     InputProblem,
     build_options,
+    input_error,
     is_terminal,
     model_options,
     selection_options,
 )
 from urdftool.discover import expand_paths
-from urdftool.parse import detect_format
+from urdftool.parse import InputError, detect_format
 from urdftool.render import render_json, render_text
 
 #: a progress bar is shown on a terminal from this many files on
@@ -72,7 +73,10 @@ def check_command(
             if done == total:
                 bar.__exit__(None, None, None)
 
-    report = check_files(files, options, jobs=workers, progress=progress)
+    try:
+        report = check_files(files, options, jobs=workers, progress=progress)
+    except InputError as exc:  # a file found in a directory that cannot be read at all
+        raise input_error(exc) from exc
     text = render_json(report) if fmt == "json" else render_text(
         report, colour=output is None and sys.stdout.isatty(), quiet=quiet
     )
