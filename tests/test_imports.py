@@ -1,0 +1,51 @@
+"""`import urdftool` and a plain `urdftool check` of a URDF load no heavy engine.
+
+Run in fresh interpreters, since the test process itself has imported them.
+"""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+
+import pytest
+
+from tests.conftest import FIXTURES
+
+HEAVY = ("trimesh", "pinocchio", "mujoco", "pybullet")
+
+_REPORT = "import json, sys; print(json.dumps(sorted(m for m in {heavy!r} if m in sys.modules)))"
+
+
+def _heavy_modules_after(code: str) -> list[str]:
+    script = code + "\n" + _REPORT.format(heavy=HEAVY)
+    done = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, timeout=120)
+    assert done.returncode == 0, done.stderr
+    return json.loads(done.stdout.strip().splitlines()[-1])
+
+
+def test_import_urdftool_loads_no_engine() -> None:
+    assert _heavy_modules_after("import urdftool") == []
+
+
+@pytest.mark.parametrize(
+    "path",
+    [FIXTURES / "robots" / "two_link_arm.urdf", FIXTURES / "rules" / "S005" / "bad.urdf"],
+    ids=["clean-arm", "broken-arm"],
+)
+def test_check_of_a_urdf_loads_no_engine(path) -> None:
+    code = (
+        "import sys\n"
+        "from urdftool.cli import main\n"
+        "try:\n"
+        f"    main(['check', {str(path)!r}])\n"
+        "except SystemExit as exc:\n"
+        "    assert exc.code in (0, 1), exc.code\n"
+    )
+    assert _heavy_modules_after(code) == []
+
+
+def test_the_probe_sees_an_engine_when_one_is_imported() -> None:
+    """The probe itself can fail: importing an engine is noticed."""
+    assert _heavy_modules_after("import trimesh") == ["trimesh"]
