@@ -14,7 +14,7 @@ PyBullet) are imported only by the functions that need them.
 
 from __future__ import annotations
 
-from urdftool.api import LoadError, check, load
+from urdftool.api import LoadError, check, load, to_dot
 from urdftool.diagnostics import Diagnostic, FileReport, Report, Severity
 from urdftool.model import Robot
 from urdftool.source import Span
@@ -32,4 +32,5 @@ __all__ = [
     "__version__",
     "check",
     "load",
+    "to_dot",
 ]

@@ -94,3 +94,46 @@ def check(
         if not os.path.exists(path_or_robot):
             raise FileNotFoundError(str(exc)) from exc
         raise ValueError(str(exc)) from exc
+
+
+def to_dot(
+    robot_or_path: PathLike | Robot,
+    out: PathLike | None = None,
+    *,
+    rankdir: str = "TB",
+    collapse_fixed: bool = False,
+    diagnostics: bool = True,
+    select: Iterable[str] | None = None,
+    ignore: Iterable[str] | None = None,
+    keep_dot: bool = False,
+    xacro_args: Mapping[str, str] | None = None,
+    packages: Mapping[str, PathLike] | None = None,
+    package_paths: Iterable[PathLike] = (),
+    model: str | None = None,
+) -> str:
+    """The kinematic tree as Graphviz DOT text; also written to *out* when given.
+
+    *out* ending in ``.dot``/``.gv`` gets the text; ``.pdf``, ``.svg`` or ``.png``
+    is rendered with Graphviz's ``dot`` (with *keep_dot*, the text is also
+    written beside it, suffix ``.dot``). *rankdir* is TB, LR, BT or RL;
+    *collapse_fixed* merges links joined by fixed joints; *diagnostics* marks
+    links and joints with error/warning findings of the rules chosen by
+    *select*/*ignore*. The other arguments are those of :func:`load`.
+
+    Raises :class:`ValueError` for a bad option or suffix,
+    ``urdftool.export.graph.GraphvizNotFound`` when ``dot`` is needed and
+    missing, and ``GraphvizFailed`` when it fails.
+    """
+    from urdftool.export.graph import GraphOptions, dot_text, write_diagram
+
+    options = GraphOptions.of({"rankdir": rankdir, "collapse_fixed": collapse_fixed,
+                               "diagnostics": diagnostics, "select": select, "ignore": ignore})
+    if isinstance(robot_or_path, Robot):
+        robot, inputs = robot_or_path, [robot_or_path.path] if robot_or_path.path else []
+    else:
+        robot = load(robot_or_path, xacro_args, packages, package_paths, model)
+        inputs = [os.fspath(robot_or_path)]
+    text = dot_text(robot, options)
+    if out is not None:
+        write_diagram(text, out, inputs, keep_dot)
+    return text

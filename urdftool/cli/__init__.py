@@ -7,6 +7,7 @@ import click
 from urdftool import __version__
 from urdftool.cli.check import check_command
 from urdftool.cli.convert import convert_command
+from urdftool.cli.graph import graph_command
 from urdftool.cli.info import info_command
 from urdftool.cli.rule import rule_command
 
@@ -23,6 +24,7 @@ def main() -> None:
 
 main.add_command(check_command)
 main.add_command(convert_command)
+main.add_command(graph_command)
 main.add_command(info_command)
 main.add_command(rule_command)
 
