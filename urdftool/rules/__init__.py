@@ -9,6 +9,7 @@ from urdftool.rules import (  # noqa: F401  (importing registers the rules)
     loops,
     meshes,
     runtime,
+    sdf,
     syntax,
     xacro,
 )

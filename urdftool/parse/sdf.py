@@ -1,0 +1,146 @@
+"""SDF reader: an ``.sdf`` or ``.world`` file into one :class:`~urdftool.parse.Loaded` per model.
+
+A file holding a ``<model>`` yields that model. A ``<world>`` yields each of
+its ``<model>`` elements and each ``<include>`` that names a model, in file
+order; ``model://sun`` and ``model://ground_plane`` are Gazebo's standard
+light and ground plane and are recognised without their files (and not
+reported as models). Versions 1.4 to 1.11 are read with their own pose and
+axis rules; see docs/sdf.md for every decision the reader takes.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+
+from lxml import etree
+
+from urdftool.diagnostics import Diagnostic
+from urdftool.parse import Loaded
+from urdftool.parse.packages import PackageResolver
+from urdftool.parse.sdf_include import read_include
+from urdftool.parse.sdf_model import SdfModelReader, parse_version
+from urdftool.parse.sdf_values import SdfValues
+from urdftool.parse.xmlio import read_file, span_of
+from urdftool.rules.sdf import SdfModelMissing, SdfVersion
+from urdftool.rules.syntax import NotARobot
+from urdftool.source import SourceIndex
+
+OLDEST = (1, 4)
+NEWEST = (1, 11)
+
+
+def read_sdf(path: str, resolver: PackageResolver) -> list[Loaded]:
+    """Every model in the SDF file *path* (a world yields each of its models).
+
+    Raises :class:`OSError` when the file cannot be read; everything else is a
+    located diagnostic on the returned models.
+    """
+    document, problems = read_file(path)
+    if document is None:
+        return [Loaded(path, "sdf", None, problems, [path])]
+    root = document.root
+    if root.tag != "sdf":
+        problems.append(
+            NotARobot.diagnostic(
+                f"root element is <{root.tag}>, not <sdf>",
+                span_of(root),
+                help="an SDF file starts with <sdf version=\"…\">; a model.config names the SDF file to read",
+            )
+        )
+        return [Loaded(path, "sdf", None, problems, [path])]
+    version = _version(root, problems)
+    models = _read_models(root, version, path, resolver)
+    if not models and not _has_world(root):
+        problems.append(
+            SdfModelMissing.diagnostic("the SDF file holds no <model> and no <world>", span_of(root), element="sdf")
+        )
+    if not models:
+        return [Loaded(path, "sdf", None, problems, [path])]
+    # File-level findings (version, XML quirks) go with the first model.
+    first = models[0]
+    first.diagnostics[:0] = problems
+    if first.robot is not None:
+        first.robot = dataclasses.replace(first.robot, diagnostics=tuple(first.diagnostics))
+    return models
+
+
+def _has_world(root: etree._Element) -> bool:
+    return root.find("world") is not None
+
+
+def _version(root: etree._Element, problems: list[Diagnostic]) -> tuple[int, int]:
+    raw = root.get("version")
+    values = SdfValues(SourceIndex())
+    if raw is None:
+        problems.append(
+            SdfVersion.diagnostic("<sdf> has no version; read as SDF 1.11", span_of(root), element="sdf",
+                                  help='write <sdf version="1.7"> (or the version the file was written for)')
+        )
+        return NEWEST
+    version = parse_version(raw)
+    if version < OLDEST or version > NEWEST or raw.strip().count(".") != 1:
+        clamped = min(max(version, OLDEST), NEWEST)
+        problems.append(
+            SdfVersion.diagnostic(
+                f"SDF version \"{raw}\" is outside 1.4–1.11; read with the rules of {clamped[0]}.{clamped[1]}",
+                values.attr_span(root, "version"),
+                element="sdf",
+                data={"version": raw},
+            )
+        )
+        return clamped
+    return version
+
+
+def _read_models(root: etree._Element, version: tuple[int, int], path: str,
+                 resolver: PackageResolver) -> list[Loaded]:
+    out: list[Loaded] = []
+    containers = [root, *root.findall("world")]
+    for container in containers:
+        for child in container:
+            if child.tag == "model":
+                out.append(_model(child, version, path, resolver))
+            elif child.tag == "include":
+                loaded = _included(child, path, resolver)
+                if loaded is not None:
+                    out.append(loaded)
+    return out
+
+
+def _model(element: etree._Element, version: tuple[int, int], path: str, resolver: PackageResolver,
+           **overrides: object) -> Loaded:
+    reader = SdfModelReader(path, resolver)
+    robot = reader.read(element, version, **overrides)  # type: ignore[arg-type]
+    diagnostics = reader.diagnostics
+    robot = dataclasses.replace(robot, diagnostics=tuple(diagnostics))
+    return Loaded(path, "sdf", robot, diagnostics, [path, *reader.files])
+
+
+def _included(include: etree._Element, path: str, resolver: PackageResolver) -> Loaded | None:
+    """A world-level ``<include>`` as a model (``None`` for the standard sun and ground plane)."""
+    found = read_include(include, resolver, path)
+    if found.standard:
+        return None
+    if found.document is None:
+        return Loaded(path, "sdf", None, found.diagnostics, [path])
+    root = found.document.root
+    model = root.find("model") if root.tag == "sdf" else None
+    if model is None:
+        if root.tag == "sdf" and root.find("world") is None:
+            found.diagnostics.append(
+                SdfModelMissing.diagnostic(f"'{found.uri}' holds no <model>", span_of(root), element="sdf")
+            )
+        return Loaded(path, "sdf", None, found.diagnostics, [path, found.path or path]) if found.diagnostics else None
+    values = SdfValues(SourceIndex())
+    pose_el = include.find("pose")
+    name = (include.findtext("name") or "").strip() or None
+    static_el = include.find("static")
+    static = values.text_bool(include, "static", "include") if static_el is not None else None
+    world_pose = values.pose(pose_el, "include/pose").matrix if pose_el is not None else None
+    loaded = _model(model, parse_version(root.get("version")), path, resolver,
+                    name=name, world_pose=world_pose, static=static)
+    loaded.files.insert(1, found.path or path)
+    loaded.diagnostics[:0] = found.diagnostics + values.diagnostics
+    if loaded.robot is not None:
+        loaded.robot = dataclasses.replace(loaded.robot, diagnostics=tuple(loaded.diagnostics))
+    return loaded

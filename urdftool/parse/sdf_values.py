@@ -1,0 +1,136 @@
+"""Numbers written as element text, the SDF way (``<mass>1.2</mass>``, ``<pose>0 0 1 0 0 0</pose>``).
+
+URDF puts numbers in attributes; SDF puts most of them in element text. The
+reader here extends :class:`~urdftool.parse.values.ValueReader` with the same
+behaviour for text: a malformed value is reported (``invalid-number``,
+``wrong-vector-length``) at the element's position and treated as unwritten.
+"""
+
+from __future__ import annotations
+
+import math
+
+from lxml import etree
+
+from urdftool.model import Pose
+from urdftool.model.pose import Matrix, homogeneous, quaternion_to_matrix
+from urdftool.parse.values import ValueReader, parse_number
+from urdftool.parse.xmlio import span_of
+from urdftool.rules.syntax import InvalidNumber, UnexpandedSubstitution, WrongVectorLength
+
+_TRUE = {"1", "true", "True", "TRUE"}
+_FALSE = {"0", "false", "False", "FALSE"}
+
+
+class SdfValues(ValueReader):
+    """A :class:`ValueReader` that also reads numbers, vectors, booleans and poses from element text."""
+
+    def child(self, parent: etree._Element | None, tag: str) -> etree._Element | None:
+        """The first child element named *tag* (SDF keeps the first of a repeated element)."""
+        if parent is None:
+            return None
+        found = parent.find(tag)
+        return found if found is not None and isinstance(found.tag, str) else None
+
+    def raw_text(self, element: etree._Element, where: str) -> str | None:
+        text = (element.text or "").strip()
+        if self.check_substitutions and ("${" in text or "$(" in text):
+            self.diagnostics.append(
+                UnexpandedSubstitution.diagnostic(
+                    f"{where}: <{element.tag}>{text}</{element.tag}> contains an unexpanded substitution",
+                    span_of(element),
+                    element=where,
+                    help="expand the file (erb, xacro or empy) before loading it, or write the value out",
+                    data={"value": text},
+                )
+            )
+            return None
+        return text
+
+    def text_numbers(self, element: etree._Element | None, where: str, lengths: tuple[int, ...]) -> list[float] | None:
+        """The element's text as numbers, when their count is one of *lengths*; else ``None`` (reported)."""
+        if element is None:
+            return None
+        raw = self.raw_text(element, where)
+        if raw is None:
+            return None
+        parts = raw.split()
+        values = [parse_number(p) for p in parts]
+        bad = next((p for p, v in zip(parts, values, strict=True) if v is None), None)
+        if bad is not None:
+            self.diagnostics.append(
+                InvalidNumber.diagnostic(
+                    f"{where}: <{element.tag}>{raw}</{element.tag}> is not a number"
+                    + (f" ('{bad}')" if bad != raw else ""),
+                    span_of(element),
+                    element=where,
+                    help="separate values with spaces, not commas" if "," in raw else None,
+                    data={"value": raw},
+                )
+            )
+            return None
+        if len(values) not in lengths:
+            expected = " or ".join(str(n) for n in lengths)
+            self.diagnostics.append(
+                WrongVectorLength.diagnostic(
+                    f"{where}: <{element.tag}>{raw}</{element.tag}> has {len(values)} value"
+                    f"{'s' if len(values) != 1 else ''}, expected {expected}",
+                    span_of(element),
+                    element=where,
+                    data={"value": raw, "expected": list(lengths), "found": len(values)},
+                )
+            )
+            return None
+        return [v for v in values if v is not None]
+
+    def text_number(self, parent: etree._Element | None, tag: str, where: str, default: float | None = None) -> float | None:
+        """The number in child ``<tag>`` of *parent*, or *default* when absent or malformed."""
+        element = self.child(parent, tag)
+        values = self.text_numbers(element, f"{where}/{tag}", (1,))
+        return values[0] if values else default
+
+    def text_vector(self, parent: etree._Element | None, tag: str, where: str, length: int = 3) -> tuple[float, ...] | None:
+        values = self.text_numbers(self.child(parent, tag), f"{where}/{tag}", (length,))
+        return tuple(values) if values else None
+
+    def text_bool(self, parent: etree._Element | None, tag: str, where: str, default: bool = False) -> bool:
+        element = self.child(parent, tag)
+        if element is None:
+            return default
+        raw = (element.text or "").strip()
+        if raw in _TRUE:
+            return True
+        if raw in _FALSE:
+            return False
+        self.diagnostics.append(
+            InvalidNumber.diagnostic(
+                f"{where}/{tag}: <{tag}>{raw}</{tag}> is not a boolean (true, false, 1 or 0)",
+                span_of(element),
+                element=f"{where}/{tag}",
+                data={"value": raw},
+            )
+        )
+        return default
+
+    def pose(self, element: etree._Element | None, where: str) -> Pose:
+        """A ``<pose>`` element as a :class:`Pose` (identity when absent or malformed).
+
+        Reads ``x y z roll pitch yaw`` (radians, or degrees with ``degrees="true"``)
+        and, with ``rotation_format="quat_xyzw"`` (SDF 1.9+), ``x y z qx qy qz qw``.
+        """
+        if element is None:
+            return Pose()
+        quaternion = element.get("rotation_format", "euler_rpy") == "quat_xyzw"
+        values = self.text_numbers(element, where, (7,) if quaternion else (6,))
+        if values is None:
+            return Pose()
+        xyz = (values[0], values[1], values[2])
+        if quaternion:
+            qx, qy, qz, qw = values[3:7]
+            rotation: Matrix = quaternion_to_matrix((qw, qx, qy, qz))
+            return Pose.from_matrix(homogeneous(rotation, xyz))
+        rpy = (values[3], values[4], values[5])
+        if element.get("degrees", "false") in _TRUE:
+            rpy = (math.radians(rpy[0]), math.radians(rpy[1]), math.radians(rpy[2]))
+        return Pose(xyz, rpy)
+
