@@ -19,6 +19,7 @@ from urdftool.cli.common import (
     model_options,
     selection_options,
 )
+from urdftool.diagnostics import Report
 from urdftool.discover import expand_paths
 from urdftool.parse import InputError, detect_format
 from urdftool.render import render_json, render_text
@@ -37,6 +38,7 @@ PROGRESS_FROM = 4
               help="Worker processes; 0 picks one per core.")
 @click.option("-q", "--quiet", is_flag=True, help="Text output: errors and the summary only.")
 @click.option("-o", "--output", type=click.Path(dir_okay=False), help="Write the report to this file.")
+@click.option("--model", "model_name", help="For files with several models (SDF worlds): check only this one.")
 def check_command(
     paths: Sequence[str],
     xacro_args: Sequence[str],
@@ -49,6 +51,7 @@ def check_command(
     jobs: int,
     quiet: bool,
     output: str | None,
+    model_name: str | None,
 ) -> None:
     """Load each model (files, or directories searched recursively) and report diagnostics."""
     options = build_options(xacro_args, packages, package_paths, select, ignore)
@@ -77,6 +80,10 @@ def check_command(
         report = check_files(files, options, jobs=workers, progress=progress)
     except InputError as exc:  # a file found in a directory that cannot be read at all
         raise input_error(exc) from exc
+    if model_name is not None:
+        report = Report(tuple(f for f in report.files if f.robot == model_name))
+        if not report.files:
+            raise InputProblem(f"no model named '{model_name}' in " + ", ".join(paths))
     text = render_json(report) if fmt == "json" else render_text(
         report, colour=output is None and sys.stdout.isatty(), quiet=quiet
     )

@@ -8,7 +8,7 @@ from collections.abc import Sequence
 
 import click
 
-from urdftool.cli.common import EXIT_FINDINGS, EXIT_OK, build_options, input_error, model_options
+from urdftool.cli.common import EXIT_FINDINGS, EXIT_OK, InputProblem, build_options, input_error, model_options
 from urdftool.info import format_summary, summarize
 from urdftool.parse import InputError, read
 from urdftool.render.text import render_diagnostic
@@ -19,8 +19,10 @@ from urdftool.source import SourceIndex
 @click.argument("path", type=click.Path())
 @model_options
 @click.option("--format", "fmt", type=click.Choice(["text", "json"]), default="text", show_default=True)
+@click.option("--model", "model_name", help="For files with several models (SDF worlds): which one.")
 def info_command(
-    path: str, xacro_args: Sequence[str], packages: Sequence[str], package_paths: Sequence[str], fmt: str
+    path: str, xacro_args: Sequence[str], packages: Sequence[str], package_paths: Sequence[str], fmt: str,
+    model_name: str | None = None,
 ) -> None:
     """Summary: robot name, root, links, joints by type, DOF, total mass, loops, and the tree."""
     options = build_options(xacro_args, packages, package_paths)
@@ -28,6 +30,10 @@ def info_command(
         models = read(path, options.xacro_args, options.resolver())
     except InputError as exc:
         raise input_error(exc) from exc
+    if model_name is not None:
+        models = [m for m in models if m.robot is not None and m.robot.name == model_name]
+        if not models:
+            raise InputProblem(f"{path}: no model named '{model_name}'")
     summaries = []
     failed = False
     for loaded in models:
