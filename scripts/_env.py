@@ -26,19 +26,27 @@ def python() -> str:
     return str(_bin("python"))
 
 
+#: program -> Debian package: Graphviz renders `urdftool graph` PDFs/SVGs/PNGs; poppler's
+#: pdftoppm lets the tests look inside the rendered PDFs.
+SYSTEM_TOOLS = {"dot": "graphviz", "pdftoppm": "poppler-utils"}
+
+
 def ensure_system_tools() -> None:
-    """Graphviz renders `urdftool graph` PDFs/SVGs; install it where apt-get allows."""
-    if shutil.which("dot"):
+    """Install the programs of SYSTEM_TOOLS that are missing, where apt-get allows."""
+    missing = [tool for tool in SYSTEM_TOOLS if not shutil.which(tool)]
+    if not missing:
         return
     apt = shutil.which("apt-get")
     if apt and hasattr(os, "geteuid") and os.geteuid() == 0:
         env = dict(os.environ, DEBIAN_FRONTEND="noninteractive")
+        packages = sorted({SYSTEM_TOOLS[tool] for tool in missing})
         subprocess.run([apt, "update", "-qq"], check=False, env=env, stdout=subprocess.DEVNULL)
-        subprocess.run([apt, "install", "-y", "-qq", "graphviz"], check=False, env=env,
+        subprocess.run([apt, "install", "-y", "-qq", *packages], check=False, env=env,
                        stdout=subprocess.DEVNULL)
-    if not shutil.which("dot"):
-        print("note: Graphviz `dot` is not installed; rendered graph formats are unavailable",
-              file=sys.stderr)
+    for tool in SYSTEM_TOOLS:
+        if not shutil.which(tool):
+            print(f"note: `{tool}` ({SYSTEM_TOOLS[tool]}) is not installed; the graph tests "
+                  "that need it will fail", file=sys.stderr)
 
 
 def ensure_venv(extras: str) -> None:

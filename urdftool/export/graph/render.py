@@ -68,6 +68,13 @@ def _stamp() -> bytes:
     return time.strftime("%Y%m%d%H%M%S", time.gmtime(epoch)).encode()
 
 
+def _file_mode() -> int:
+    """The mode a plain ``open()`` would give: 0o666 less the umask (mkstemp makes 0o600)."""
+    umask = os.umask(0)
+    os.umask(umask)
+    return 0o666 & ~umask
+
+
 def _normalise(fmt: str, path: str) -> None:
     if fmt != "pdf":
         return
@@ -120,6 +127,7 @@ def render_files(
             raise GraphvizFailed(messages or f"dot exited with status {run.returncode}")
         for target, (tmp, fmt) in temporary.items():
             _normalise(fmt, tmp)
+            os.chmod(tmp, _file_mode())  # a diagram is for sharing, not private
             os.replace(tmp, target)
         return [line for line in messages.splitlines() if line.strip()]
     finally:
