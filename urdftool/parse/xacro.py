@@ -226,16 +226,33 @@ _QUOTED = re.compile(r"[\"']([^\"']+)[\"']")
 _NAME_IN_MESSAGE = re.compile(r"(?:name|macro name|symbol|property|parameters?)\s*[:\"' \[]+([\w.:-]+)")
 
 
-def _error_location(stack: list[str | None], message: str, package: str | None) -> Span:
+_ARG_IN_MESSAGE = re.compile(r"substitution argument (\w+)")
+_PATH_IN_MESSAGE = re.compile(r"(/[^\s'\"]+\.[\w]+)")
+
+
+def _error_help(message: str) -> str | None:
+    args = _ARG_IN_MESSAGE.findall(message)
+    if args:
+        return f"pass it with -a {args[0]}:=VALUE, or declare <xacro:arg name=\"{args[0]}\" default=\"...\"/>"
+    return None
+
+
+def _error_location(
+    stack: list[str | None], message: str, package: str | None, read: list[str] | None = None
+) -> Span:
     """Best location for a xacro failure: the innermost file, and a line when a name in the
-    message can be found in it."""
+    message can be found in it or, failing that, in another file read (a macro body is
+    expanded where it is called, so the culprit may sit in an included file)."""
     files = [f for f in stack if f]
     path = files[-1] if files else ""
     needles: list[str] = []
     if package:
         needles.append(f"$(find {package})")
+    needles += [f"$(arg {name})" for name in _ARG_IN_MESSAGE.findall(message)]
     needles += _NAME_IN_MESSAGE.findall(message) + _QUOTED.findall(message)
-    for candidate in reversed(files):
+    needles += [os.path.basename(p) for p in _PATH_IN_MESSAGE.findall(message)]
+    candidates = list(reversed(files)) + [f for f in reversed(read or []) if f not in files]
+    for candidate in candidates:
         for needle in needles:
             span = _locate_text(candidate, needle.replace("xacro:", ""))
             if span.line is not None:
@@ -285,7 +302,7 @@ def expand(
                 session.diagnostics.append(
                     PackageMissing.diagnostic(
                         f"$(find {missing.package}): package '{missing.package}' not found",
-                        _error_location(stack, message, missing.package),
+                        _error_location(stack, message, missing.package, session.files),
                         help="pass --package NAME=DIR or --package-path DIR; searched: "
                         + "; ".join(missing.tried[-6:]),
                         data={"package": missing.package, "searched": missing.tried},
@@ -295,7 +312,8 @@ def expand(
                 session.diagnostics.append(
                     XacroError.diagnostic(
                         f"xacro: {message}",
-                        _error_location(stack, message, None),
+                        _error_location(stack, message, None, session.files),
+                        help=_error_help(message),
                         data={"files": [f for f in stack if f]},
                     )
                 )
