@@ -18,6 +18,10 @@ from urdftool.model.pose import Matrix
 #: inequality as met; absorbs rounding in tensors written with a few digits.
 RELATIVE_TOLERANCE = 1e-6
 
+#: The smallest principal moment (kg·m²) MuJoCo accepts in a full tensor
+#: (``mjEPS``); below it, a tensor is numerically zero in any engine.
+MIN_MOMENT = 1e-14
+
 
 def principal_moments(tensor: Matrix) -> tuple[Matrix, Matrix]:
     """Eigenvalues (ascending) and eigenvectors (columns) of the symmetric part of *tensor*."""
@@ -40,13 +44,17 @@ class InertiaVerdict:
         return self.positive_definite and self.triangle_violation is None
 
 
-def assess(tensor: Matrix, rel_tol: float = RELATIVE_TOLERANCE) -> InertiaVerdict:
-    """Positive-definiteness and triangle inequalities, with a tolerance relative to the trace."""
+def assess(tensor: Matrix, rel_tol: float = RELATIVE_TOLERANCE, abs_tol: float = 0.0) -> InertiaVerdict:
+    """Positive-definiteness and triangle inequalities, with a tolerance relative to the trace.
+
+    A principal moment counts as positive when it exceeds both ``rel_tol``
+    times the trace and ``abs_tol`` (kg·m²; :data:`MIN_MOMENT` is MuJoCo's floor).
+    """
     values, _ = principal_moments(tensor)
     a, b, c = (float(v) for v in values)
     scale = max(abs(a) + abs(b) + abs(c), 1e-300)
     tol = rel_tol * scale
-    positive = a > tol
+    positive = a > tol and a > abs_tol
     violation = None
     if a + b < c - tol:  # c is the largest, so this is the only inequality that can fail
         violation = (a, b, c)

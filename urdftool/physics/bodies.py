@@ -1,0 +1,140 @@
+"""Rigid bodies: links welded together by fixed joints, as simulators merge them.
+
+Gazebo lumps links joined by fixed joints into one body, MuJoCo's URDF import
+fuses them (``fusestatic``), Pinocchio and Drake weld them. What a simulator can
+or cannot integrate is therefore decided per *rigid body*, not per link: a
+massless link fixed to a heavy one is carried by it, a massless link on a
+moving joint has nothing to carry it.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from functools import cached_property
+
+import numpy as np
+
+from urdftool.model import KinematicTree, Link
+from urdftool.model.pose import Matrix, Pose
+from urdftool.physics.inertia import shift_to_point
+
+#: Masses (kg) and principal moments (kg·m²) at or below this count as zero:
+#: MuJoCo's ``mjMINVAL``, the smallest value its compiler accepts for a moving body.
+MIN_VALUE = 1e-15
+
+
+@dataclass(frozen=True)
+class RigidBody:
+    """Links welded by fixed joints.
+
+    ``head`` is the link whose parent joint moves (or the root); ``links`` holds
+    the head first, then the welded links below it, each with its pose in the
+    head's frame.
+    """
+
+    head: str
+    links: tuple[tuple[Link, Pose], ...]
+    #: name of the moving joint above the head, ``None`` for the root body
+    joint: str | None
+
+    @property
+    def moves(self) -> bool:
+        return self.joint is not None
+
+    @cached_property
+    def mass(self) -> float:
+        """Total mass (kg) of the links that declare one (missing ``<inertial>`` counts 0)."""
+        return float(sum(link.inertial.mass for link, _ in self.links if link.inertial))
+
+    def composite_inertia(self) -> Matrix:
+        """Inertia (kg·m²) of the welded links about their common centre of mass, head frame."""
+        parts: list[tuple[float, Matrix, Matrix]] = []
+        for link, pose in self.links:
+            if link.inertial is None or link.inertial.mass <= 0:
+                continue
+            rotation = pose.rotation
+            com = rotation @ np.asarray(link.inertial.origin.xyz) + np.asarray(pose.xyz)
+            tensor = rotation @ link.inertial.inertia_in_link_frame @ rotation.T
+            parts.append((link.inertial.mass, com, tensor))
+        total = sum(m for m, _, _ in parts)
+        if total <= 0:
+            return np.zeros((3, 3))
+        center = sum((m * c for m, c, _ in parts), np.zeros(3)) / total
+        return sum((shift_to_point(t, m, c - center) for m, c, t in parts), np.zeros((3, 3)))
+
+
+def rigid_bodies(tree: KinematicTree) -> list[RigidBody]:
+    """Every rigid body of the tree, heads in depth-first order from the roots."""
+    links = {link.name: link for link in tree.robot.links}
+    bodies: list[RigidBody] = []
+    for _, link, joint in tree.walk():
+        if joint is not None and not joint.type.is_moving:
+            continue
+        members = _welded(tree, links, link)
+        bodies.append(RigidBody(link.name, members, joint.name if joint is not None else None))
+    return bodies
+
+
+def _welded(tree: KinematicTree, links: dict[str, Link], head: Link) -> tuple[tuple[Link, Pose], ...]:
+    """*head* and every link below it reached through fixed joints only, with poses in head's frame."""
+    out: list[tuple[Link, Pose]] = []
+    stack: list[tuple[Link, Pose]] = [(head, Pose())]
+    while stack:  # the tree view has no cycles, so this ends
+        link, pose = stack.pop()
+        out.append((link, pose))
+        for joint in reversed(tree.child_joints.get(link.name, [])):
+            child = links.get(joint.child)
+            if child is not None and not joint.type.is_moving:
+                stack.append((child, pose.compose(joint.origin)))
+    return tuple(out)
+
+
+def body_of(bodies: list[RigidBody]) -> dict[str, RigidBody]:
+    """Link name -> the rigid body it belongs to."""
+    return {link.name: body for body in bodies for link, _ in body.links}
+
+
+@dataclass(frozen=True)
+class MassRole:
+    """Why a link needs mass, and how bad it is when it has none.
+
+    ``severity`` is ``"error"`` when nothing carries the link (it heads a
+    moving body without mass), ``"warning"`` when it collides but is welded to
+    a body with mass.
+    """
+
+    why: str
+    severity: str
+    joint: str | None
+    carrier: str | None
+    carrier_mass: float | None
+
+
+def mass_role(link: Link, body: RigidBody | None) -> MassRole | None:
+    """Whether the massless *link* needs mass, given the rigid *body* it belongs to.
+
+    ``None`` when it is fine without: a link of a massless root body (the
+    world, a footprint, a static object in PyBullet's convention), or a link
+    without collision geometry welded to a body that has mass.
+    """
+    if body is None:
+        return None
+    collides = any(c.geometry is not None for c in link.collisions)
+    if body.moves and body.mass <= MIN_VALUE and (link.name == body.head or collides):
+        return MassRole(
+            f"moves with joint '{body.joint}' and nothing welded to it has mass",
+            "error", body.joint, None, None,
+        )
+    if collides and body.mass > MIN_VALUE:
+        carrier = heaviest(body)
+        return MassRole(
+            f"has collision geometry; it is welded to '{carrier}' ({body.mass:.3g} kg in all), "
+            "which carries it without its weight",
+            "warning", body.joint, carrier, body.mass,
+        )
+    return None
+
+
+def heaviest(body: RigidBody) -> str:
+    """Name of the heaviest link of *body* (the one that carries the others)."""
+    return max(body.links, key=lambda item: item[0].inertial.mass if item[0].inertial else 0.0)[0].name

@@ -1,0 +1,83 @@
+"""Numbers and tensors written the way a robot description writes them, for messages.
+
+Also the values a finding suggests: a mass for a massless link from its
+geometry, a valid tensor for a link from its geometry at its mass.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+from urdftool.model import Link
+from urdftool.model.pose import Matrix
+from urdftool.physics.inertia import assess
+from urdftool.physics.linkmass import TYPICAL_DENSITY, geometry_sources, geometry_tensor
+
+#: Entries below this (kg·m²) print and count as zero.
+ZERO_TENSOR = 1e-15
+
+
+def fmt(value: float) -> str:
+    """A number with three significant digits, as a URDF author would write it."""
+    return f"{value:.3g}"
+
+
+def fmt_tensor(tensor: Matrix) -> str:
+    """``ixx=… iyy=… izz=…`` plus the non-zero products of inertia, in kg·m²."""
+    t = np.asarray(tensor, dtype=float)
+    scale = max(float(np.abs(t).max()), ZERO_TENSOR)
+    diagonal = (t[0, 0], t[1, 1], t[2, 2])
+    if np.allclose(diagonal, diagonal[0], rtol=1e-3, atol=0):
+        text = f"ixx=iyy=izz={fmt(diagonal[0])}"
+    elif abs(diagonal[0] - diagonal[1]) <= 1e-3 * scale:
+        text = f"ixx=iyy={fmt(diagonal[0])} izz={fmt(diagonal[2])}"
+    else:
+        text = f"ixx={fmt(diagonal[0])} iyy={fmt(diagonal[1])} izz={fmt(diagonal[2])}"
+    for name, (i, j) in (("ixy", (0, 1)), ("ixz", (0, 2)), ("iyz", (1, 2))):
+        if abs(t[i, j]) > 1e-6 * scale:
+            text += f" {name}={fmt(t[i, j])}"
+    return text
+
+
+def tensor_data(tensor: Matrix) -> dict[str, Any]:
+    """The six URDF components of a tensor, for a finding's ``data``."""
+    t = np.asarray(tensor, dtype=float)
+    return {"inertia": {"ixx": t[0, 0], "ixy": t[0, 1], "ixz": t[0, 2],
+                        "iyy": t[1, 1], "iyz": t[1, 2], "izz": t[2, 2]}}
+
+
+def is_zero_tensor(tensor: Matrix) -> bool:
+    """True for a tensor written as all zeros: a deliberate point mass.
+
+    Exactly zero, not "small": ``ixz="1.35e-20"`` with zero moments is numeric
+    residue from a converter, and MuJoCo refuses it as not positive definite.
+    """
+    return not np.any(np.asarray(tensor, dtype=float))
+
+
+def suggested_mass(link: Link) -> str | None:
+    """A help text with the mass the link's geometry would have at a typical density, if measurable."""
+    for source, solid in geometry_sources(link):
+        mass = solid.volume * TYPICAL_DENSITY
+        tensor = solid.inertia_for_mass(mass)
+        return (
+            f"its {source} geometry ({solid.label}) would weigh {fmt(mass)} kg at "
+            f"{TYPICAL_DENSITY:.0f} kg/m³, with {fmt_tensor(tensor)} in the link frame"
+        )
+    return None
+
+
+def valid_tensor_help(link: Link) -> str | None:
+    """A help text with the tensor of the link's geometry at its mass, in the inertial frame."""
+    if link.inertial is None or link.inertial.mass <= 0:
+        return None
+    for source, solid in geometry_sources(link):
+        computed = geometry_tensor(link, solid)
+        if computed is not None and assess(computed).valid:
+            return (
+                f"a uniform {solid.label} ({source} geometry) of {fmt(link.inertial.mass)} kg has, "
+                f"in the inertial frame, {fmt_tensor(computed)}"
+            )
+    return None

@@ -1,0 +1,130 @@
+"""What a link's geometry says about its mass properties, for comparing with its ``<inertial>``.
+
+For each link there are up to two descriptions of its shape: the collision
+geometry (what simulators use) and the visual geometry (often the full CAD
+part). Each gives, at uniform density, a volume, a centroid, an inertia and
+bounds in the link frame. Collision geometry is often simplified (a sphere at
+the foot of a leg, a box around a camera), so rules that judge the declared
+values against geometry ask both and trust the one that agrees best.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Iterator
+from dataclasses import dataclass
+
+import numpy as np
+
+from urdftool.model import Collision, Link, Visual
+from urdftool.model.pose import Matrix
+from urdftool.physics.inertia import principal_moments
+from urdftool.physics.massprops import SolidProperties, combine, geometry_properties, place, rotate_into
+
+#: Density (kg/m³) used to suggest a mass for a massless link: a solid of
+#: plastic, or a hollow aluminium part, which is what most robot links weigh.
+TYPICAL_DENSITY = 1000.0
+
+
+def link_solid(elements: tuple[Collision, ...] | tuple[Visual, ...]) -> SolidProperties | None:
+    """The combined uniform-density solid of a link's collision or visual elements (link frame).
+
+    ``None`` when any element's volume cannot be known (an unresolved or
+    unreadable mesh, a plane): a partial shape would mislead.
+    """
+    parts: list[SolidProperties] = []
+    for element in elements:
+        solid = geometry_properties(element.geometry)
+        if solid is None:
+            return None
+        parts.append(place(solid, element.origin))
+    return combine(parts)
+
+
+def geometry_sources(link: Link) -> Iterator[tuple[str, SolidProperties]]:
+    """``("collision", solid)`` then ``("visual", solid)``, lazily, skipping what cannot be measured.
+
+    The visual solid is skipped when the visual elements are the same shapes
+    as the collision ones (common in hand-written URDF).
+    """
+    collision = link_solid(link.collisions) if link.collisions else None
+    if collision is not None:
+        yield "collision", collision
+    if link.visuals and _shapes(link.visuals) != _shapes(link.collisions):
+        visual = link_solid(link.visuals)
+        if visual is not None:
+            yield "visual", visual
+
+
+def _shapes(elements: tuple[Collision, ...] | tuple[Visual, ...]) -> list[tuple[object, object]]:
+    return [(e.geometry, e.origin) for e in elements]
+
+
+@dataclass(frozen=True)
+class InertiaComparison:
+    """The declared tensor against a uniform solid of the declared mass, both in the inertial frame.
+
+    ``ratio`` is trace(declared) / trace(computed): how many times larger the
+    declared inertia is overall. ``worst`` is the largest factor between
+    matching principal moments (sorted), ≥ 1.
+    """
+
+    source: str
+    solid: SolidProperties
+    computed: Matrix
+    ratio: float
+    worst: float
+
+    @property
+    def factor(self) -> float:
+        """The overall disagreement as a factor ≥ 1, whichever way round."""
+        return max(self.ratio, 1.0 / self.ratio) if self.ratio > 0 else math.inf
+
+
+def geometry_tensor(link: Link, solid: SolidProperties) -> Matrix | None:
+    """The inertia (kg·m²) of *solid* at the link's declared mass, about its centroid, in the inertial frame."""
+    inertial = link.inertial
+    if inertial is None or inertial.mass <= 0 or solid.volume <= 0:
+        return None
+    return rotate_into(solid.inertia_for_mass(inertial.mass), inertial.origin)
+
+
+def compare_inertia(link: Link, source: str, solid: SolidProperties) -> InertiaComparison | None:
+    """Compare *link*'s declared inertia with *solid* at the declared mass; ``None`` if not comparable."""
+    computed = geometry_tensor(link, solid)
+    if computed is None or link.inertial is None:
+        return None
+    inertial = link.inertial
+    declared = inertial.inertia_matrix
+    computed_trace = float(np.trace(computed))
+    declared_trace = float(np.trace(declared))
+    if computed_trace <= 0 or declared_trace <= 0:
+        return None
+    declared_moments, _ = principal_moments(declared)
+    computed_moments, _ = principal_moments(computed)
+    worst = 1.0
+    for d, c in zip(declared_moments, computed_moments):
+        if d <= 0 or c <= 0:
+            worst = math.inf
+            break
+        worst = max(worst, d / c, c / d)
+    return InertiaComparison(source, solid, computed, declared_trace / computed_trace, worst)
+
+
+def density(link: Link, solid: SolidProperties) -> float | None:
+    """Declared mass / geometric volume (kg/m³), or ``None`` without a positive mass."""
+    if link.inertial is None or link.inertial.mass <= 0 or solid.volume <= 0:
+        return None
+    return link.inertial.mass / solid.volume
+
+
+def distance_outside(point: Matrix, solid: SolidProperties) -> float:
+    """How far (m) *point* lies outside the solid's axis-aligned bounds in the link frame (0 inside)."""
+    below = np.maximum(solid.bounds_min - point, 0.0)
+    above = np.maximum(point - solid.bounds_max, 0.0)
+    return float(np.linalg.norm(np.maximum(below, above)))
+
+
+def bounds_diagonal(solid: SolidProperties) -> float:
+    """Length (m) of the diagonal of the solid's bounds: the size of the part."""
+    return float(np.linalg.norm(solid.bounds_max - solid.bounds_min))
