@@ -88,9 +88,12 @@ def check_command(
         report, colour=output is None and sys.stdout.isatty(), quiet=quiet
     )
     if output:
-        from urdftool.export.write import write_text_atomic
+        from urdftool.export.write import OutputError, write_text_atomic
 
-        write_text_atomic(output, text, inputs=files)
+        try:
+            write_text_atomic(output, text, inputs=files)
+        except OutputError as exc:
+            raise InputProblem(str(exc)) from exc
     else:
         click.echo(text, nl=False)
     sys.exit(EXIT_FINDINGS if report.failed(strict) else EXIT_OK)
