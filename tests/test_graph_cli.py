@@ -135,9 +135,9 @@ def test_findings_are_marked_but_do_not_fail_the_drawing(tmp_path: Path) -> None
     ],
 )
 def test_usage_errors_exit_2(
-    robot_file: Path, tmp_path: Path, args: list[str], message: str
+    robot_file: Path, tmp_path: Path, args: list[str], message: str, monkeypatch: pytest.MonkeyPatch
 ) -> None:
-    os.chdir(tmp_path)
+    monkeypatch.chdir(tmp_path)
     result = graph(robot_file, *args)
     assert result.exit_code == 2 and message in result.output
     assert [p.name for p in tmp_path.iterdir()] == ["two_link.urdf"]
