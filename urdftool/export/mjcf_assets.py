@@ -1,0 +1,147 @@
+"""Mesh assets for MJCF: which files MuJoCo reads as they are, which are converted, and their names.
+
+MuJoCo reads binary STL, OBJ and MSH. Every other mesh trimesh can load (DAE,
+ASCII STL, PLY, ...) is converted to binary STL in ``assets/`` beside OUT.
+With ``copy_assets`` the readable meshes are copied there too; otherwise they
+are referenced by their path relative to OUT's folder.
+
+Asset files and ``<mesh>`` names carry a hash of the file's content, so two
+files that share a name (``visual/x.stl``, ``collision/x.stl``) never collide
+and two copies of one mesh become one asset. A mesh used at two scales is two
+``<mesh>`` elements (MuJoCo scales meshes, not geoms).
+"""
+
+from __future__ import annotations
+
+import hashlib
+import os
+import re
+import struct
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from urdftool.model import Mesh
+from urdftool.model.pose import Vec3
+
+ASSETS_DIR = "assets"
+#: Suffixes MuJoCo's compiler reads itself.
+NATIVE_SUFFIXES = (".stl", ".obj", ".msh")
+
+
+class MeshUnavailable(Exception):
+    """The mesh file is missing or neither MuJoCo nor trimesh can read it."""
+
+
+@dataclass(frozen=True)
+class MeshAsset:
+    """One ``<mesh>`` element: its name, file (relative to OUT's folder, or absolute) and scale."""
+
+    name: str
+    file: str
+    scale: Vec3
+
+
+def _sha(data: bytes) -> str:
+    return hashlib.sha256(data).hexdigest()
+
+
+def _safe_stem(path: str) -> str:
+    stem = Path(path).name.split(".")[0] or "mesh"
+    return re.sub(r"[^A-Za-z0-9_-]", "_", stem)
+
+
+def is_binary_stl(data: bytes) -> bool:
+    """A binary STL has exactly 84 + 50 × (triangle count) bytes; ASCII STL does not."""
+    if len(data) < 84:
+        return False
+    (count,) = struct.unpack_from("<I", data, 80)
+    return len(data) == 84 + 50 * count
+
+
+def binary_stl(vertices: np.ndarray, faces: np.ndarray) -> bytes:
+    """A deterministic binary STL (zero header, float32 normals and vertices)."""
+    triangles = np.asarray(vertices, dtype=np.float64)[np.asarray(faces, dtype=np.int64)]
+    normals = np.cross(triangles[:, 1] - triangles[:, 0], triangles[:, 2] - triangles[:, 0])
+    lengths = np.linalg.norm(normals, axis=1, keepdims=True)
+    normals = np.divide(normals, lengths, out=np.zeros_like(normals), where=lengths > 0)
+    record = np.zeros(len(faces), dtype=[("n", "<f4", 3), ("v", "<f4", (3, 3)), ("a", "<u2")])
+    record["n"] = normals
+    record["v"] = triangles
+    return b"\0" * 80 + struct.pack("<I", len(faces)) + record.tobytes()
+
+
+def convert_to_stl(path: str) -> bytes:
+    """Load *path* with trimesh (scenes flattened with their transforms) and write binary STL."""
+    from urdftool.backends.meshes import MeshError, load_trimesh
+
+    try:
+        mesh = load_trimesh(path)
+    except MeshError as exc:
+        raise MeshUnavailable(f"trimesh cannot read it ({exc})") from exc
+    return binary_stl(mesh.vertices, mesh.faces)
+
+
+@dataclass
+class AssetPlan:
+    """Collects the meshes of one export: ``<mesh>`` elements and files to write under OUT's folder."""
+
+    out_dir: Path | None
+    copy: bool = False
+    meshes: list[MeshAsset] = field(default_factory=list)
+    files: dict[str, bytes] = field(default_factory=dict)
+    #: (source content hash, scale) -> mesh name
+    _by_content: dict[tuple[str, Vec3], str] = field(default_factory=dict)
+    #: resolved path -> (content hash, file reference for MJCF)
+    _by_path: dict[str, tuple[str, str]] = field(default_factory=dict)
+
+    def mesh_name(self, mesh: Mesh) -> str:
+        """The ``<mesh>`` name for this geometry, adding the asset on first use.
+
+        Raises :class:`MeshUnavailable` when the file cannot be carried.
+        """
+        if mesh.resolved is None:
+            raise MeshUnavailable(f"'{mesh.filename}' did not resolve to a file")
+        content, reference = self._file_for(mesh.resolved)
+        key = (content, tuple(float(s) for s in mesh.scale))
+        if key in self._by_content:
+            return self._by_content[key]
+        base = f"{_safe_stem(mesh.resolved)}-{content[:8]}"
+        taken = {m.name for m in self.meshes}
+        name, n = base, 1
+        while name in taken:
+            n += 1
+            name = f"{base}-s{n}"
+        self._by_content[key] = name
+        self.meshes.append(MeshAsset(name, reference, key[1]))  # type: ignore[arg-type]
+        return name
+
+    def _file_for(self, path: str) -> tuple[str, str]:
+        if path in self._by_path:
+            return self._by_path[path]
+        try:
+            data = Path(path).read_bytes()
+        except OSError as exc:
+            raise MeshUnavailable(f"cannot read '{path}' ({exc.strerror or exc})") from exc
+        content = _sha(data)
+        suffix = Path(path).suffix.lower()
+        native = suffix in NATIVE_SUFFIXES and (suffix != ".stl" or is_binary_stl(data))
+        if native and not self.copy:
+            reference = self._reference(path)
+        else:
+            payload = data if native else convert_to_stl(path)
+            out_suffix = suffix if native else ".stl"
+            reference = f"{ASSETS_DIR}/{_safe_stem(path)}-{_sha(payload)[:12]}{out_suffix}"
+            self.files[reference] = payload
+        self._by_path[path] = (content, reference)
+        return content, reference
+
+    def _reference(self, path: str) -> str:
+        """*path* relative to OUT's folder (forward slashes), or absolute when there is no OUT."""
+        if self.out_dir is None:
+            return Path(path).resolve().as_posix()
+        try:
+            return Path(os.path.relpath(Path(path).resolve(), self.out_dir.resolve())).as_posix()
+        except ValueError:  # another drive on Windows
+            return Path(path).resolve().as_posix()

@@ -1,0 +1,194 @@
+"""Actuators, equality constraints (mimic joints, loop closures), the home keyframe, the scene.
+
+Position actuators (``--actuators position``) get ``kp = effort / E`` with E =
+0.1 rad for hinges and 0.01 m for slides (the full effort at that error), and
+``kv = 2 sqrt(kp I)``, critical damping for I, the inertia (kg·m²) or mass (kg)
+the joint moves at the zero configuration. Motors take ``ctrl`` in N·m or N
+within ±effort. Joints without a positive effort get no actuator, nor do mimic
+followers (their equality drives them).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping, Sequence
+
+import numpy as np
+from lxml import etree
+
+from urdftool.diagnostics import Diagnostic, Severity
+from urdftool.export.mjcf_bodies import MjJoint, clamp, unit_axis
+from urdftool.export.mjcf_format import num, pose_attributes, vec
+from urdftool.model import Inertial, Joint, JointType, KinematicTree, LoopClosure, Robot
+from urdftool.model.pose import Matrix
+from urdftool.rules.conversion import ConversionDropped
+
+#: Position error (rad, m) at which a position actuator applies the full effort.
+SATURATION_ERROR = {"hinge": 0.1, "slide": 0.01}
+
+
+def _effort(joint: Joint) -> float | None:
+    effort = joint.limit.effort if joint.limit else None
+    return effort if effort is not None and 0 < effort < math.inf else None
+
+
+def actuated_joints(robot: Robot, joints: Sequence[MjJoint]) -> list[tuple[MjJoint, Joint, float]]:
+    """1-DOF source joints with a positive effort that are not mimic followers."""
+    out = []
+    for mj in joints:
+        source = robot.joint(mj.source) if mj.source else None
+        if source is None or mj.kind not in ("hinge", "slide") or mj.name != source.name:
+            continue
+        effort = _effort(source)
+        if effort is not None and source.mimic is None:
+            out.append((mj, source, effort))
+    return out
+
+
+def moved_inertia(tree: KinematicTree, inertials: Mapping[str, Inertial | None], joint: Joint) -> float:
+    """Inertia (kg·m²) about a hinge's axis, or mass (kg) along a slide, of everything it moves at q = 0."""
+    poses = tree.forward_kinematics()
+    frame = poses[joint.child]
+    axis = frame[:3, :3] @ np.asarray(unit_axis(joint))
+    anchor = frame[:3, 3]
+    total = 0.0
+    for _, link, _ in tree.walk(joint.child):
+        inertial = inertials.get(link.name)
+        if inertial is None:
+            continue
+        if joint.type is JointType.PRISMATIC:
+            total += inertial.mass
+            continue
+        pose: Matrix = poses[link.name] @ inertial.origin.matrix
+        rot = pose[:3, :3]
+        offset = pose[:3, 3] - anchor
+        perpendicular = offset - float(offset @ axis) * axis
+        total += float(axis @ (rot @ inertial.inertia_matrix @ rot.T) @ axis)
+        total += inertial.mass * float(perpendicular @ perpendicular)
+    return total
+
+
+def write_actuators(root: etree._Element, robot: Robot, tree: KinematicTree, joints: Sequence[MjJoint],
+                    inertials: Mapping[str, Inertial | None], mode: str) -> None:
+    if mode == "none":
+        return
+    actuated = actuated_joints(robot, joints)
+    if not actuated:
+        return
+    section = etree.SubElement(root, "actuator")
+    for mj, source, effort in actuated:
+        if mode == "motor":
+            etree.SubElement(section, "motor", {"name": mj.name, "joint": mj.name,
+                                                "ctrlrange": vec((-effort, effort))})
+            continue
+        kp = effort / SATURATION_ERROR[mj.kind]
+        kv = 2.0 * math.sqrt(kp * moved_inertia(tree, inertials, source))
+        attrs = {"name": mj.name, "joint": mj.name, "kp": num(kp), "kv": num(kv),
+                 "forcerange": vec((-effort, effort))}
+        if mj.range is not None:
+            attrs["ctrlrange"] = vec(mj.range)
+        etree.SubElement(section, "position", attrs)
+
+
+def loop_sites(robot: Robot) -> dict[str, list[dict[str, str]]]:
+    """Sites marking each loop closure's joint frame in its parent and child bodies."""
+    sites: dict[str, list[dict[str, str]]] = {}
+    for closure in robot.loop_closures:
+        joint = closure.joint
+        sites.setdefault(joint.parent, []).append(
+            {"name": f"{joint.name}_parent", **pose_attributes(closure.parent_anchor)})
+        sites.setdefault(joint.child, []).append(
+            {"name": f"{joint.name}_child", **pose_attributes(closure.child_anchor)})
+    return sites
+
+
+def write_equality(root: etree._Element, robot: Robot, joints: Sequence[MjJoint],
+                   diagnostics: list[Diagnostic]) -> None:
+    """Mimic joints as ``<joint>`` equalities (follower = offset + multiplier · leader), loops as
+    ``<connect>`` or ``<weld>`` between the sites of the cut joint."""
+    exported = {mj.name for mj in joints}
+    items: list[tuple[str, dict[str, str]]] = []
+    for mj in joints:
+        source = robot.joint(mj.source) if mj.source else None
+        if source is None or source.mimic is None or mj.name != source.name:
+            continue
+        mimic = source.mimic
+        if mimic.joint not in exported:
+            diagnostics.append(ConversionDropped.diagnostic(
+                f"joint '{source.name}': mimics '{mimic.joint}', which is not an exported joint",
+                mimic.span or source.span, element=f"joint[{source.name}]/mimic",
+                data={"element": f"joint[{source.name}]/mimic", "reason": "mimic target missing"}))
+            continue
+        items.append(("joint", {"name": f"{source.name}_mimic", "joint1": source.name,
+                                "joint2": mimic.joint,
+                                "polycoef": vec((mimic.offset, mimic.multiplier, 0, 0, 0))}))
+    for closure in robot.loop_closures:
+        item = _closure(closure, diagnostics)
+        if item is not None:
+            items.append(item)
+    if items:
+        section = etree.SubElement(root, "equality")
+        for tag, attrs in items:
+            etree.SubElement(section, tag, attrs)
+
+
+def _closure(closure: LoopClosure, diagnostics: list[Diagnostic]) -> tuple[str, dict[str, str]] | None:
+    joint = closure.joint
+    sites = {"name": joint.name, "site1": f"{joint.name}_parent", "site2": f"{joint.name}_child"}
+    where = f"joint[{joint.name}]"
+    if joint.type is JointType.FIXED:
+        return ("weld", sites)
+    if joint.type in (JointType.SPHERICAL, JointType.REVOLUTE, JointType.CONTINUOUS,
+                      JointType.UNIVERSAL, JointType.REVOLUTE2):
+        if joint.type is not JointType.SPHERICAL:
+            diagnostics.append(ConversionDropped.diagnostic(
+                f"{where}: the loop is closed with a point constraint (connect); the cut "
+                f"{joint.type.value} joint's axis alignment is not enforced", joint.span,
+                element=where, severity=Severity.INFO,
+                data={"element": where, "reason": "connect keeps the anchor, not the axis"}))
+        return ("connect", sites)
+    diagnostics.append(ConversionDropped.diagnostic(
+        f"{where}: a {joint.type.value} joint closing a loop has no MJCF equality; the loop is open",
+        joint.span, element=where, data={"element": where, "reason": "no equality for this joint type"}))
+    return None
+
+
+def home_qpos(robot: Robot, joints: Sequence[MjJoint]) -> list[float]:
+    """The home keyframe's qpos: zero (or the robot's home) clamped into limits; mimic
+    followers at offset + multiplier × leader."""
+    values = {mj.name: mj.home for mj in joints}
+    qpos: list[float] = []
+    for mj in joints:
+        source = robot.joint(mj.source) if mj.source else None
+        if source is not None and source.mimic is not None and mj.name == source.name:
+            leader = values.get(source.mimic.joint, (0.0,))
+            value = source.mimic.offset + source.mimic.multiplier * leader[0]
+            qpos.append(clamp(value, mj.range))
+        else:
+            qpos.extend(mj.home)
+    return qpos
+
+
+def write_keyframe(root: etree._Element, robot: Robot, joints: Sequence[MjJoint]) -> None:
+    qpos = home_qpos(robot, joints)
+    if not qpos:
+        return
+    section = etree.SubElement(root, "keyframe")
+    etree.SubElement(section, "key", {"name": "home", "qpos": vec(qpos)})
+
+
+def write_scene(root: etree._Element, worldbody: etree._Element) -> None:
+    """A checkered ground plane at z = 0 and a directional light."""
+    asset = root.find("asset")
+    if asset is None:
+        asset = etree.Element("asset")
+        root.insert(list(root).index(worldbody), asset)
+    etree.SubElement(asset, "texture", {"name": "groundplane", "type": "2d", "builtin": "checker",
+                                        "rgb1": "0.2 0.3 0.4", "rgb2": "0.1 0.2 0.3",
+                                        "width": "300", "height": "300"})
+    etree.SubElement(asset, "material", {"name": "groundplane", "texture": "groundplane",
+                                         "texrepeat": "5 5", "reflectance": "0.2"})
+    worldbody.insert(0, etree.Element("geom", {"name": "floor", "type": "plane", "size": "0 0 0.05",
+                                               "material": "groundplane"}))
+    worldbody.insert(0, etree.Element("light", {"name": "sun", "pos": "0 0 3", "dir": "0 0 -1",
+                                                "directional": "true"}))

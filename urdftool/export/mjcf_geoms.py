@@ -1,0 +1,120 @@
+"""Visual and collision geoms of one link.
+
+Visual geoms use the default class ``visual`` (group 2, contype and
+conaffinity 0: seen, never touched) with their material colour; collision
+geoms use the class ``collision`` (group 3). Sizes follow MJCF: half extents
+for boxes, radius and half length for cylinders and capsules.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+
+from lxml import etree
+
+from urdftool.diagnostics import Diagnostic, Severity
+from urdftool.export.mjcf_assets import AssetPlan, MeshUnavailable
+from urdftool.export.mjcf_format import num, pose_attributes, vec
+from urdftool.model import Box, Capsule, Cylinder, Ellipsoid, Geometry, Link, Material, Mesh, Plane, Robot, Sphere
+from urdftool.model.pose import Pose
+from urdftool.rules.conversion import ConversionDropped, MeshNotExportable
+
+VISUAL_CLASS = "visual"
+COLLISION_CLASS = "collision"
+VISUAL_GROUP = 2
+COLLISION_GROUP = 3
+
+
+def shape_attributes(geometry: Geometry, mesh_name: Callable[[Mesh], str]) -> dict[str, str]:
+    """``type`` and ``size`` (or ``mesh``) of a geometry. Raises :class:`MeshUnavailable`."""
+    if isinstance(geometry, Box):
+        return {"type": "box", "size": vec(s / 2 for s in geometry.size)}
+    if isinstance(geometry, Cylinder):
+        return {"type": "cylinder", "size": vec((geometry.radius, geometry.length / 2))}
+    if isinstance(geometry, Capsule):
+        return {"type": "capsule", "size": vec((geometry.radius, geometry.length / 2))}
+    if isinstance(geometry, Sphere):
+        return {"type": "sphere", "size": num(geometry.radius)}
+    if isinstance(geometry, Ellipsoid):
+        return {"type": "ellipsoid", "size": vec(geometry.radii)}
+    if isinstance(geometry, Plane):
+        return {"type": "plane", "size": vec((geometry.size[0] / 2, geometry.size[1] / 2, 1.0))}
+    return {"type": "mesh", "mesh": mesh_name(geometry)}
+
+
+def _degenerate(geometry: Geometry) -> bool:
+    """Shapes MuJoCo refuses: zero or negative sizes."""
+    if isinstance(geometry, Box):
+        return min(geometry.size) <= 0
+    if isinstance(geometry, (Cylinder, Capsule)):
+        return geometry.radius <= 0 or geometry.length < 0 or (
+            isinstance(geometry, Cylinder) and geometry.length <= 0)
+    if isinstance(geometry, Sphere):
+        return geometry.radius <= 0
+    if isinstance(geometry, Ellipsoid):
+        return min(geometry.radii) <= 0
+    return False
+
+
+class GeomWriter:
+    """Writes a link's geoms into its body, collecting what could not be carried."""
+
+    def __init__(self, robot: Robot, assets: AssetPlan, diagnostics: list[Diagnostic]):
+        self.assets = assets
+        self.diagnostics = diagnostics
+        self.materials = {m.name: m for m in robot.materials if m.name}
+
+    def write(self, body: etree._Element, link: Link, moving: bool) -> None:
+        for index, visual in enumerate(link.visuals):
+            where = f"link[{link.name}]/visual[{index}]"
+            attrs = self._shape(visual.geometry, visual.origin, where, moving, visual.span)
+            if attrs is None:
+                continue
+            colour = self._colour(visual.material, where)
+            if colour is not None:
+                attrs["rgba"] = vec(colour)
+            etree.SubElement(body, "geom", {"class": VISUAL_CLASS, **attrs})
+        for index, collision in enumerate(link.collisions):
+            where = f"link[{link.name}]/collision[{index}]"
+            attrs = self._shape(collision.geometry, collision.origin, where, moving, collision.span)
+            if attrs is not None:
+                etree.SubElement(body, "geom", {"class": COLLISION_CLASS, **attrs})
+
+    def _shape(self, geometry: Geometry | None, origin: Pose, where: str, moving: bool,
+               span) -> dict[str, str] | None:  # type: ignore[no-untyped-def]
+        if geometry is None:
+            return None
+        location = geometry.span or span
+        if _degenerate(geometry):
+            self._drop(f"{where}: {geometry.kind} with a zero or negative size", location, where)
+            return None
+        if isinstance(geometry, Plane) and moving:
+            self._drop(f"{where}: MuJoCo allows planes only on static bodies", location, where)
+            return None
+        try:
+            attrs = shape_attributes(geometry, self.assets.mesh_name)
+        except MeshUnavailable as exc:
+            role = "collision shape" if "/collision" in where else "visual"
+            self.diagnostics.append(MeshNotExportable.diagnostic(
+                f"{where}: mesh left out ({role}): {exc}", location, element=where,
+                data={"filename": getattr(geometry, "filename", None), "role": role}))
+            return None
+        return {**attrs, **pose_attributes(origin)}
+
+    def _colour(self, material: Material | None, where: str) -> tuple[float, ...] | None:
+        if material is None:
+            return None
+        named = self.materials.get(material.name) if material.name else None
+        colour = material.color or (named.color if named else None)
+        texture = material.texture or (named.texture if named else None)
+        if texture:
+            self.diagnostics.append(ConversionDropped.diagnostic(
+                f"{where}: texture '{texture}' is not carried (only the colour is)",
+                material.span, element=f"{where}/material", severity=Severity.INFO,
+                data={"element": "texture", "reason": "textures are not exported"}))
+        return colour
+
+    def _drop(self, message: str, location, where: str) -> None:  # type: ignore[no-untyped-def]
+        self.diagnostics.append(ConversionDropped.diagnostic(
+            message + "; the geom is left out", location, element=where,
+            data={"element": where, "reason": message}))
