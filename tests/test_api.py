@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import shutil
 from pathlib import Path
 
 import pytest
@@ -48,29 +49,40 @@ def test_load_keeps_reader_findings_on_the_robot() -> None:
 
 
 def test_load_xacro_with_args_and_packages(tmp_path: Path) -> None:
+    # A package name of this test's own, four levels down: no ancestor scan finds it.
+    name = "urdftool_api_test_" + tmp_path.name.replace("-", "_")
+    package = tmp_path / "src" / "a" / "b" / name
+    package.mkdir(parents=True)
+    (package / "package.xml").write_text(
+        f"<package><name>{name}</name></package>", encoding="utf-8"
+    )
+    shutil.copy(X002 / "wheel.xacro", package / "wheel.xacro")
     top = tmp_path / "cart.urdf.xacro"
     top.write_text(
         '<?xml version="1.0"?>\n<robot name="cart" xmlns:xacro="http://www.ros.org/wiki/xacro">\n'
         '  <xacro:arg name="side" default="left"/>\n'
-        '  <xacro:include filename="$(find x002_cart_description)/wheel.xacro"/>\n'
+        f'  <xacro:include filename="$(find {name})/wheel.xacro"/>\n'
         '  <link name="base"/>\n'
         '  <xacro:wheel side="$(arg side)" y="0.2"/>\n</robot>\n',
         encoding="utf-8",
     )
-    robot = urdftool.load(top, xacro_args={"side": "right"}, packages={"x002_cart_description": X002})
+    robot = urdftool.load(top, xacro_args={"side": "right"}, packages={name: package})
     assert robot.format == "xacro"
     assert {link.name for link in robot.links} == {"base", "right_wheel"}
     wheel = robot.link("right_wheel")
-    assert wheel.span is not None and Path(wheel.span.path).name == "wheel.xacro"
+    assert wheel.span is not None and wheel.span.path == str(package / "wheel.xacro")
+    assert urdftool.load(top, package_paths=[tmp_path / "src"]).link("left_wheel") is not None
     with pytest.raises(LoadError) as failure:
-        urdftool.load(top)  # the package is nowhere near tmp_path
+        urdftool.load(top)
     assert [d.name for d in failure.value.diagnostics] == ["package-not-found"]
 
 
 def test_load_example_robot_data_package_uri() -> None:
     assert ERD is not None
     robot = urdftool.load(ERD / "ur_description" / "urdf" / "ur5_robot.urdf")
-    meshes = [v.geometry for link in robot.links for v in link.visuals if hasattr(v.geometry, "resolved")]
+    meshes = [
+        v.geometry for link in robot.links for v in link.visuals if hasattr(v.geometry, "resolved")
+    ]
     assert meshes and all(m.resolved and Path(m.resolved).is_file() for m in meshes)
 
 
@@ -79,7 +91,9 @@ def test_load_example_robot_data_package_uri() -> None:
     [(b"\x00\x01\x02 garbage", "S001"), (b"<mujoco model='m'/>", "S002"), (b"<robot", "S001")],
     ids=["binary", "not-a-robot", "truncated"],
 )
-def test_load_garbage_raises_load_error_with_diagnostics(tmp_path: Path, content: bytes, code: str) -> None:
+def test_load_garbage_raises_load_error_with_diagnostics(
+    tmp_path: Path, content: bytes, code: str
+) -> None:
     path = tmp_path / "broken.urdf"
     path.write_bytes(content)
     with pytest.raises(LoadError) as failure:
@@ -104,7 +118,10 @@ def test_load_unknown_format_raises_value_error(tmp_path: Path) -> None:
 
 def test_load_macro_library_is_a_robot_without_links() -> None:
     robot = urdftool.load(SEEDS / "uos_tools/uos_common_urdf/urdf/sick_s300.urdf.xacro")
-    assert robot.links == () and sorted(d.name for d in robot.diagnostics) == ["include-not-at-path", "macros-only"]
+    assert robot.links == () and sorted(d.name for d in robot.diagnostics) == [
+        "include-not-at-path",
+        "macros-only",
+    ]
 
 
 # -- check --------------------------------------------------------------------------------
@@ -138,7 +155,9 @@ def test_check_ignore(ignore: list[str]) -> None:
 
 
 def test_check_select_by_name() -> None:
-    report = urdftool.check(FIXTURES / "rules" / "S011" / "bad.urdf", select=["duplicate-link-name"])
+    report = urdftool.check(
+        FIXTURES / "rules" / "S011" / "bad.urdf", select=["duplicate-link-name"]
+    )
     assert [d.code for d in report.diagnostics] == ["S011"]
 
 
@@ -150,7 +169,9 @@ def test_check_model_rules_on_a_robot() -> None:
 
 
 def test_check_xacro_options(tmp_path: Path) -> None:
-    report = urdftool.check(X002 / "good.urdf.xacro", select=["X"], packages={"x002_cart_description": X002})
+    report = urdftool.check(
+        X002 / "good.urdf.xacro", select=["X"], packages={"x002_cart_description": X002}
+    )
     assert report.ok
 
 

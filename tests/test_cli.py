@@ -20,7 +20,9 @@ ATTRIBUTES = FIXTURES / "rules" / "S009" / "bad.urdf"  # two unknown-attribute w
 
 def run(*args: str | Path) -> Result:
     result = CliRunner().invoke(main, [str(a) for a in args])
-    assert result.exception is None or isinstance(result.exception, SystemExit), repr(result.exception)
+    assert result.exception is None or isinstance(result.exception, SystemExit), repr(
+        result.exception
+    )
     assert "Traceback" not in result.output
     return result
 
@@ -67,10 +69,22 @@ def test_warnings_fail_only_with_strict() -> None:
         (["rule", "Z999"], "no rule"),
         (["rule", "not-a-rule"], "no rule"),
     ],
-    ids=["missing-file", "unknown-format", "unknown-select", "unknown-ignore", "unknown-output-format",
-         "bad-package", "no-paths", "info-missing-file", "rule-unknown-code", "rule-unknown-name"],
+    ids=[
+        "missing-file",
+        "unknown-format",
+        "unknown-select",
+        "unknown-ignore",
+        "unknown-output-format",
+        "bad-package",
+        "no-paths",
+        "info-missing-file",
+        "rule-unknown-code",
+        "rule-unknown-name",
+    ],
 )
-def test_usage_errors_exit_2(args: list[str], fragment: str, monkeypatch: pytest.MonkeyPatch) -> None:
+def test_usage_errors_exit_2(
+    args: list[str], fragment: str, monkeypatch: pytest.MonkeyPatch
+) -> None:
     monkeypatch.chdir(ROOT)
     result = run(*args)
     assert result.exit_code == 2, result.output
@@ -113,7 +127,11 @@ def test_ignored_errors_no_longer_fail() -> None:
 
 def test_most_specific_selector_wins() -> None:
     """--select S --ignore S0 --select S005: the exact code beats the longer prefix."""
-    found = set(codes(json_report("--select", "S", "--ignore", "S0", "--select", "S005", FIXTURES / "rules")))
+    found = set(
+        codes(
+            json_report("--select", "S", "--ignore", "S0", "--select", "S005", FIXTURES / "rules")
+        )
+    )
     assert {c for c in found if c.startswith("S0")} == {"S005"}
     assert not {c for c in found if not c.startswith("S")}
 
@@ -125,10 +143,15 @@ def test_text_format_is_compiler_style(monkeypatch: pytest.MonkeyPatch) -> None:
     monkeypatch.chdir(ROOT)
     result = run("check", "fixtures/rules/S005/bad.urdf")
     lines = result.output.splitlines()
-    head = ("fixtures/rules/S005/bad.urdf:19:13: error[S005 invalid-number] "
-            "joint[shoulder]/origin: xyz=\"0 0.07, 0\" is not a number ('0.07,')")
+    head = (
+        "fixtures/rules/S005/bad.urdf:19:13: error[S005 invalid-number] "
+        "joint[shoulder]/origin: xyz=\"0 0.07, 0\" is not a number ('0.07,')"
+    )
     at = lines.index(head)
-    assert lines[at + 1] == '   19 |     <origin xyz="0 0.07, 0" rpy="0 -1.57. 0"/> <!-- expect: S005 -->'
+    assert (
+        lines[at + 1]
+        == '   19 |     <origin xyz="0 0.07, 0" rpy="0 -1.57. 0"/> <!-- expect: S005 -->'
+    )
     assert lines[at + 2] == "      |             ^"
     assert lines[at + 3] == "  help: did you mean 0.07? (stray ',')"
     assert lines[-1] == "1 file checked: 4 error(s), 0 warning(s), 0 info"
@@ -169,7 +192,8 @@ def test_several_paths_in_order() -> None:
 
 
 def test_parallel_jobs_give_the_same_report(tmp_path: Path) -> None:
-    copy = tmp_path / "rules"
+    # Deep enough that the fixture packages inside stay out of sibling tests' ancestor scans.
+    copy = tmp_path / "a" / "b" / "rules"
     shutil.copytree(FIXTURES / "rules", copy)
     one = run("check", "--format", "json", "--select", "S,X", "-j", "1", copy)
     two = run("check", "--format", "json", "--select", "S,X", "-j", "2", copy)
@@ -185,7 +209,9 @@ def test_output_file_is_written_atomically_and_identically(tmp_path: Path) -> No
     assert first == run("check", "--format", "json", NUMBERS).output.encode("utf-8")
     assert run("check", "--format", "json", "-o", out, NUMBERS).exit_code == 1
     assert out.read_bytes() == first
-    assert sorted(p.name for p in out.parent.iterdir()) == ["report.json"]  # no temporary left behind
+    assert sorted(p.name for p in out.parent.iterdir()) == [
+        "report.json"
+    ]  # no temporary left behind
 
 
 def test_output_never_replaces_an_input(tmp_path: Path) -> None:
@@ -201,7 +227,9 @@ def test_xacro_options_reach_check() -> None:
     fixture = FIXTURES / "rules" / "X002" / "good.urdf.xacro"
     assert run("check", "--select", "X", fixture).exit_code == 0
     elsewhere = FIXTURES / "rules" / "X002"
-    result = run("check", "--select", "X", "--package", f"x002_cart_description={elsewhere}", fixture)
+    result = run(
+        "check", "--select", "X", "--package", f"x002_cart_description={elsewhere}", fixture
+    )
     assert result.exit_code == 0
 
 
@@ -215,8 +243,11 @@ def test_info_text() -> None:
     assert lines[0].split() == ["robot:", "two_link_arm"]
     assert "joints:      2 (2 revolute)" in lines
     assert "DOF:         2" in lines and "total mass:  4 kg" in lines
-    assert lines[-3:] == ["  base [2 kg]", "    upper_arm [1 kg]  <- shoulder (revolute)",
-                          "      forearm [1 kg]  <- elbow (revolute)"]
+    assert lines[-3:] == [
+        "  base [2 kg]",
+        "    upper_arm [1 kg]  <- shoulder (revolute)",
+        "      forearm [1 kg]  <- elbow (revolute)",
+    ]
 
 
 def test_info_json() -> None:
@@ -228,11 +259,16 @@ def test_info_json() -> None:
     assert summary["joints_by_type"] == {"revolute": 2}
     assert summary["total_mass"] == pytest.approx(4.0)
     assert [(row["depth"], row["link"], row["joint"]) for row in summary["tree"]] == [
-        (0, "base", None), (1, "upper_arm", "shoulder"), (2, "forearm", "elbow")]
+        (0, "base", None),
+        (1, "upper_arm", "shoulder"),
+        (2, "forearm", "elbow"),
+    ]
 
 
 def test_info_of_a_seed_xacro() -> None:
-    result = run("info", "--format", "json", SEEDS / "gazebo_ros_demos/rrbot_description/urdf/rrbot.xacro")
+    result = run(
+        "info", "--format", "json", SEEDS / "gazebo_ros_demos/rrbot_description/urdf/rrbot.xacro"
+    )
     assert result.exit_code == 0
     assert json.loads(result.output)["robot"] == "rrbot"
 
@@ -257,4 +293,6 @@ def test_rule_by_code_or_name(key: str) -> None:
 def test_rule_catalogue() -> None:
     result = run("rule", "--all")
     assert result.exit_code == 0
-    assert any(line.startswith("X005") and "macros-only" in line for line in result.output.splitlines())
+    assert any(
+        line.startswith("X005") and "macros-only" in line for line in result.output.splitlines()
+    )

@@ -39,7 +39,7 @@ EXTERNAL_ENTITY = b"""<?xml version="1.0"?>
 
 
 def _oversized() -> bytes:
-    body = b"<robot name=\"big\">\n" + b"  <link name=\"l\"/>\n" * (MAX_BYTES // 18 + 1) + b"</robot>\n"
+    body = b'<robot name="big">\n' + b'  <link name="l"/>\n' * (MAX_BYTES // 18 + 1) + b"</robot>\n"
     assert len(body) > MAX_BYTES
     return body
 
@@ -48,11 +48,19 @@ def _oversized() -> bytes:
 CASES: dict[str, tuple[Callable[[], bytes], int, str]] = {
     "billion-laughs": (lambda: BILLION_LAUGHS, 3, "entity"),
     "external-entity": (lambda: EXTERNAL_ENTITY, 3, "entity"),
-    "deep-nesting": (lambda: b"<robot name=\"deep\">\n" + b"<a>" * 300 + b"</a>" * 300 + b"\n</robot>\n", 2, "256"),
+    "deep-nesting": (
+        lambda: b'<robot name="deep">\n' + b"<a>" * 300 + b"</a>" * 300 + b"\n</robot>\n",
+        2,
+        "256",
+    ),
     "over-size-cap": (_oversized, 1, "MiB"),
     "binary-garbage": (lambda: bytes(range(256)) * 16, 1, "binary"),
     "empty": (lambda: b"", 1, "empty"),
-    "not-utf8": (lambda: '<robot name="Bräu">\n  <link name="base"/>\n</robot>\n'.encode("latin-1"), 1, "UTF-8"),
+    "not-utf8": (
+        lambda: '<robot name="Bräu">\n  <link name="base"/>\n</robot>\n'.encode("latin-1"),
+        1,
+        "UTF-8",
+    ),
     "truncated": (lambda: ARM[: len(ARM) // 2], 20, "truncated"),
 }
 

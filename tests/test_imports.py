@@ -20,7 +20,9 @@ _REPORT = "import json, sys; print(json.dumps(sorted(m for m in {heavy!r} if m i
 
 def _heavy_modules_after(code: str) -> list[str]:
     script = code + "\n" + _REPORT.format(heavy=HEAVY)
-    done = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, timeout=120)
+    done = subprocess.run(
+        [sys.executable, "-c", script], capture_output=True, text=True, timeout=120
+    )
     assert done.returncode == 0, done.stderr
     return json.loads(done.stdout.strip().splitlines()[-1])
 

@@ -27,7 +27,10 @@ def _report(*args: str) -> dict[str, Any]:
 
 
 def _errors(document: dict[str, Any]) -> list[str]:
-    return [f"{'/'.join(map(str, e.absolute_path))}: {e.message}" for e in VALIDATOR.iter_errors(document)]
+    return [
+        f"{'/'.join(map(str, e.absolute_path))}: {e.message}"
+        for e in VALIDATOR.iter_errors(document)
+    ]
 
 
 def test_schema_is_a_valid_draft_2020_12_schema() -> None:
@@ -41,7 +44,9 @@ def test_contract_example_validates() -> None:
     assert block, "CONTRACTS.md has no JSON report example"
     example = block.group(1)
     for fmt, severity in (("urdf", "error"), ("xacro", "warning"), ("sdf", "info")):
-        document = json.loads(example.replace("urdf|xacro|sdf", fmt).replace("error|warning|info", severity))
+        document = json.loads(
+            example.replace("urdf|xacro|sdf", fmt).replace("error|warning|info", severity)
+        )
         assert not _errors(document)
 
 

@@ -108,7 +108,9 @@ def no_ros_env(monkeypatch: pytest.MonkeyPatch) -> None:
 # -- source mapping ------------------------------------------------------------------
 
 
-def test_finding_in_macro_body_of_included_file_points_there(tmp_path: Path, pkg: str, no_ros_env: None) -> None:
+def test_finding_in_macro_body_of_included_file_points_there(
+    tmp_path: Path, pkg: str, no_ros_env: None
+) -> None:
     package = make_package(tmp_path / "ws" / "src" / "a" / "b", pkg)
     cart = make_cart(tmp_path / "robot", pkg)
     found = findings(cart, packages={pkg: str(package)})
@@ -117,26 +119,39 @@ def test_finding_in_macro_body_of_included_file_points_there(tmp_path: Path, pkg
     # one per macro call, both at the rpy attribute of the macro body
     assert lengths and all(Path(d.location.path).resolve() == wheel for d in lengths)
     assert {(d.location.line, d.location.column) for d in lengths} == {(WHEEL_ORIGIN_LINE, 30)}
-    assert {d.element for d in lengths} == {"joint[left_wheel_joint]/origin", "joint[right_wheel_joint]/origin"}
+    assert {d.element for d in lengths} == {
+        "joint[left_wheel_joint]/origin",
+        "joint[right_wheel_joint]/origin",
+    }
 
 
-def test_model_rule_finding_from_macro_points_at_macro_body(tmp_path: Path, pkg: str, no_ros_env: None) -> None:
+def test_model_rule_finding_from_macro_points_at_macro_body(
+    tmp_path: Path, pkg: str, no_ros_env: None
+) -> None:
     """Both wheels get the same link name; duplicate-link-name points at the macro's <link>."""
     package = make_package(tmp_path / "pkgs", pkg, link="wheel")
     cart = make_cart(tmp_path / "robot", pkg)
-    found = [d for d in findings(cart, packages={pkg: str(package)}) if d.name == "duplicate-link-name"]
+    found = [
+        d for d in findings(cart, packages={pkg: str(package)}) if d.name == "duplicate-link-name"
+    ]
     assert len(found) == 1
     assert Path(found[0].location.path).resolve() == (package / "urdf" / "wheel.xacro").resolve()
     assert found[0].location.line == WHEEL_LINK_LINE
 
 
-def test_element_written_in_the_top_file_points_at_the_top_file(tmp_path: Path, pkg: str, no_ros_env: None) -> None:
+def test_element_written_in_the_top_file_points_at_the_top_file(
+    tmp_path: Path, pkg: str, no_ros_env: None
+) -> None:
     package = make_package(tmp_path / "pkgs", pkg)
     cart = make_cart(tmp_path / "robot", pkg)
     robot = urdftool.load(cart, packages={pkg: package})
     base = robot.link("base")
     assert base is not None and base.span is not None
-    assert (Path(base.span.path).resolve(), base.span.line, base.span.column) == (cart.resolve(), 4, 3)
+    assert (Path(base.span.path).resolve(), base.span.line, base.span.column) == (
+        cart.resolve(),
+        4,
+        3,
+    )
     left = robot.link("left_wheel")
     assert left is not None and left.span is not None
     assert Path(left.span.path).name == "wheel.xacro" and left.span.line == WHEEL_LINK_LINE
@@ -179,7 +194,9 @@ def test_missing_xacro_arg_is_a_located_xacro_error(tmp_path: Path) -> None:
 def test_cli_xacro_arg(tmp_path: Path, flag: str) -> None:
     path = tmp_path / "arm.urdf.xacro"
     path.write_text(ARG_XACRO, encoding="utf-8")
-    result = CliRunner().invoke(main, ["info", "--format", "json", str(path), flag, "mass:=3", flag, "prefix:=r_"])
+    result = CliRunner().invoke(
+        main, ["info", "--format", "json", str(path), flag, "mass:=3", flag, "prefix:=r_"]
+    )
     assert result.exit_code == 0, result.output
     summary = json.loads(result.output)
     assert summary["total_mass"] == 3.0 and summary["root"] == "r_base"
@@ -203,7 +220,9 @@ def _resolved(found: list[Diagnostic]) -> bool:
     return "package-not-found" not in {d.name for d in found}
 
 
-def test_unknown_package_is_reported_with_where_it_looked(tmp_path: Path, pkg: str, no_ros_env: None) -> None:
+def test_unknown_package_is_reported_with_where_it_looked(
+    tmp_path: Path, pkg: str, no_ros_env: None
+) -> None:
     _, cart = _layout(tmp_path, pkg)
     (found,) = [d for d in findings(cart) if d.name == "package-not-found"]
     assert found.location is not None
@@ -222,13 +241,17 @@ def test_package_path_option(tmp_path: Path, pkg: str, no_ros_env: None) -> None
     assert _resolved(findings(cart, package_paths=(str(tmp_path / "ws" / "src"),)))
 
 
-def test_ros_package_path(tmp_path: Path, pkg: str, no_ros_env: None, monkeypatch: pytest.MonkeyPatch) -> None:
+def test_ros_package_path(
+    tmp_path: Path, pkg: str, no_ros_env: None, monkeypatch: pytest.MonkeyPatch
+) -> None:
     _, cart = _layout(tmp_path, pkg)
     monkeypatch.setenv("ROS_PACKAGE_PATH", f"/nonexistent:{tmp_path / 'ws' / 'src'}")
     assert _resolved(findings(cart))
 
 
-def test_ament_prefix_path(tmp_path: Path, pkg: str, no_ros_env: None, monkeypatch: pytest.MonkeyPatch) -> None:
+def test_ament_prefix_path(
+    tmp_path: Path, pkg: str, no_ros_env: None, monkeypatch: pytest.MonkeyPatch
+) -> None:
     cart = make_cart(tmp_path / "robot", pkg)
     prefix = tmp_path / "install" / "prefix" / "here"
     make_package(prefix / "share", pkg)
@@ -256,7 +279,9 @@ def test_cli_package_flags(tmp_path: Path, pkg: str, no_ros_env: None) -> None:
         assert result.exit_code == 0, result.output
 
 
-def test_resolution_order(tmp_path: Path, pkg: str, no_ros_env: None, monkeypatch: pytest.MonkeyPatch) -> None:
+def test_resolution_order(
+    tmp_path: Path, pkg: str, no_ros_env: None, monkeypatch: pytest.MonkeyPatch
+) -> None:
     """--package beats --package-path, which beats ROS_PACKAGE_PATH, which beats ancestors."""
     sources = {}
     for origin in ("option", "path", "env", "near"):
@@ -269,14 +294,18 @@ def test_resolution_order(tmp_path: Path, pkg: str, no_ros_env: None, monkeypatc
         return {link.name for link in robot.links} - {"base"}
 
     assert wheel_links(packages={pkg: sources["option"]}, package_paths=[tmp_path / "path"]) == {
-        "option_left_wheel", "option_right_wheel"}
+        "option_left_wheel",
+        "option_right_wheel",
+    }
     assert wheel_links(package_paths=[tmp_path / "path"]) == {"path_left_wheel", "path_right_wheel"}
     assert wheel_links() == {"env_left_wheel", "env_right_wheel"}
     monkeypatch.delenv("ROS_PACKAGE_PATH")
     assert wheel_links() == {"near_left_wheel", "near_right_wheel"}
 
 
-def test_package_uri_of_a_mesh_resolves_with_the_same_resolver(tmp_path: Path, pkg: str, no_ros_env: None) -> None:
+def test_package_uri_of_a_mesh_resolves_with_the_same_resolver(
+    tmp_path: Path, pkg: str, no_ros_env: None
+) -> None:
     package = make_package(tmp_path / "pkgs", pkg)
     (package / "meshes").mkdir()
     (package / "meshes" / "base.stl").write_bytes(b"solid base\nendsolid base\n")
@@ -289,18 +318,25 @@ def test_package_uri_of_a_mesh_resolves_with_the_same_resolver(tmp_path: Path, p
     )
     robot = urdftool.load(robot_file, packages={pkg: package})
     mesh = robot.links[0].visuals[0].geometry
-    assert mesh.resolved is not None and Path(mesh.resolved).resolve() == (package / "meshes" / "base.stl").resolve()
+    assert (
+        mesh.resolved is not None
+        and Path(mesh.resolved).resolve() == (package / "meshes" / "base.stl").resolve()
+    )
 
 
 # -- located xacro errors --------------------------------------------------------------
 
 
-def test_undefined_property_in_included_macro_is_located_there(tmp_path: Path, pkg: str, no_ros_env: None) -> None:
+def test_undefined_property_in_included_macro_is_located_there(
+    tmp_path: Path, pkg: str, no_ros_env: None
+) -> None:
     package = make_package(tmp_path / "pkgs", pkg, link="${side}_wheel_${wheel_typo}")
     cart = make_cart(tmp_path / "robot", pkg)
     (found,) = [d for d in findings(cart, packages={pkg: str(package)}) if d.name == "xacro-error"]
     assert "wheel_typo" in found.message
-    assert Path(found.location.path).name == "wheel.xacro" and found.location.line == WHEEL_LINK_LINE
+    assert (
+        Path(found.location.path).name == "wheel.xacro" and found.location.line == WHEEL_LINK_LINE
+    )
 
 
 def test_missing_include_is_located_at_the_include(tmp_path: Path) -> None:
@@ -331,8 +367,13 @@ def test_unknown_macro_is_located_at_the_call(tmp_path: Path) -> None:
 KINECT = "uos_tools/uos_common_urdf/urdf/kinect.urdf.xacro"
 MACRO_LIBRARIES = {
     f"uos_tools/uos_common_urdf/urdf/{name}"
-    for name in ("imu.gazebo.urdf.xacro", "inras_radar.urdf.xacro", "sick_lms100.urdf.xacro",
-                 "sick_lms200.urdf.xacro", "sick_s300.urdf.xacro")
+    for name in (
+        "imu.gazebo.urdf.xacro",
+        "inras_radar.urdf.xacro",
+        "sick_lms100.urdf.xacro",
+        "sick_lms200.urdf.xacro",
+        "sick_s300.urdf.xacro",
+    )
 }
 
 
@@ -344,9 +385,12 @@ def standalone_seed_xacros() -> list[str]:
 def test_sixteen_standalone_seed_xacros() -> None:
     found = standalone_seed_xacros()
     assert len(found) == 16, found
-    assert KINECT in found and MACRO_LIBRARIES <= set(found)
-    for fragment in ("learning_ros/mobot_urdf/urdf/casters.xacro", "uos_tools/uos_common_urdf/urdf/common.xacro",
-                     "gazebo_ros_demos/rrbot_description/urdf/materials.xacro"):
+    assert KINECT in found and set(found) >= MACRO_LIBRARIES
+    for fragment in (
+        "learning_ros/mobot_urdf/urdf/casters.xacro",
+        "uos_tools/uos_common_urdf/urdf/common.xacro",
+        "gazebo_ros_demos/rrbot_description/urdf/materials.xacro",
+    ):
         assert fragment not in found
 
 
@@ -372,18 +416,26 @@ def test_seed_xacro_expands_without_flags(rel: str, no_ros_env: None) -> None:
 def test_directory_check_of_the_seeds_skips_fragments(tmp_path: Path) -> None:
     # A copy without SDF worlds and meshes: this test is about which xacro files are read.
     copy = tmp_path / "seeds"
-    shutil.copytree(SEEDS, copy, ignore=shutil.ignore_patterns("*.sdf", "*.world", "*.stl", "*.STL", "*.dae"))
+    shutil.copytree(
+        SEEDS, copy, ignore=shutil.ignore_patterns("*.sdf", "*.world", "*.stl", "*.STL", "*.dae")
+    )
     result = CliRunner().invoke(main, ["check", "--format", "json", "--select", "X,S", str(copy)])
     assert result.exit_code == 1, result.output  # kinect.urdf.xacro's xacro-error
     report = json.loads(result.output)
     checked = sorted(str(Path(f["path"]).relative_to(copy)) for f in report["files"])
     assert [p for p in checked if p.endswith(".xacro")] == standalone_seed_xacros()
-    failures = [(f["path"], d["name"]) for f in report["files"] for d in f["diagnostics"]
-                if d["name"] in ("xacro-error", "package-not-found")]
+    failures = [
+        (f["path"], d["name"])
+        for f in report["files"]
+        for d in f["diagnostics"]
+        if d["name"] in ("xacro-error", "package-not-found")
+    ]
     assert failures == [(str(copy / KINECT), "xacro-error")]
 
 
 def test_fragment_named_explicitly_is_checked(no_ros_env: None) -> None:
     """Fragments are skipped only in directory walks; named on the command line they are read."""
-    files = expand_paths([str(SEEDS / "learning_ros/mobot_urdf/urdf/casters.xacro")], PackageResolver.create())
+    files = expand_paths(
+        [str(SEEDS / "learning_ros/mobot_urdf/urdf/casters.xacro")], PackageResolver.create()
+    )
     assert len(files) == 1

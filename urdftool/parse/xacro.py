@@ -80,7 +80,10 @@ class _Session:
 
 def _stamp(doc: xml.dom.minidom.Document, data: bytes, path: str) -> None:
     """Record each element's start position as an attribute (xacro's own tags excepted)."""
-    elements = [doc.documentElement, *doc.documentElement.getElementsByTagName("*")]
+    root = doc.documentElement
+    if root is None:
+        return
+    elements = [root, *root.getElementsByTagName("*")]
     starts = element_starts(data)
     if len(starts) != len(elements):
         return
@@ -191,7 +194,8 @@ def _report_moved(session: _Session, missing: str, found: str) -> None:
     session.diagnostics.append(
         IncludeNotAtPath.diagnostic(
             f"included file {missing} does not exist; read {found} instead, the only "
-            f"{os.path.basename(found)} in " + (f"package '{package}'" if package else "its package"),
+            f"{os.path.basename(found)} in "
+            + (f"package '{package}'" if package else "its package"),
             written,
             help=f"write the include as {better}",
             data={"written": missing, "used": found, "package": package},
@@ -233,7 +237,8 @@ _PATH_IN_MESSAGE = re.compile(r"(/[^\s'\"]+\.[\w]+)")
 def _error_help(message: str) -> str | None:
     args = _ARG_IN_MESSAGE.findall(message)
     if args:
-        return f"pass it with -a {args[0]}:=VALUE, or declare <xacro:arg name=\"{args[0]}\" default=\"...\"/>"
+        name = args[0]
+        return f'pass it with -a {name}:=VALUE, or declare <xacro:arg name="{name}" default="..."/>'
     return None
 
 

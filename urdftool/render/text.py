@@ -49,7 +49,9 @@ def _excerpt(text: str, line: int, column: int | None) -> list[str]:
     """The source line (control characters shown as '?', long lines cut around the
     column) and a caret under the column."""
     raw = text.rstrip()
-    caret = None if column is None or column > len(raw) + 1 else len(raw[: column - 1].expandtabs(4))
+    caret = None
+    if column is not None and column <= len(raw) + 1:
+        caret = len(raw[: column - 1].expandtabs(4))
     text = _CONTROL.sub("?", raw.expandtabs(4))
     start = 0
     if len(text) > EXCERPT_WIDTH:
