@@ -113,6 +113,8 @@ class LimitMissingEffortOrVelocity(_Joints):
     severity = Severity.ERROR
 
     def check(self, ctx: CheckContext) -> Iterator[Diagnostic]:
+        if ctx.robot.format == "sdf":
+            return  # SDF: an unwritten effort or velocity means unlimited (the spec's -1)
         for joint in ctx.robot.joints:
             limit = joint.limit
             if limit is None:
