@@ -63,6 +63,8 @@ class _RawJoint:
     child: str
     scope: str
     version: tuple[int, int]
+    #: the joint's key in the frame graph (its name, unless a link took it)
+    key: str = ""
 
 
 @dataclass
@@ -167,8 +169,11 @@ class SdfModelReader:
                     )
                 )
             ends[role] = _scoped(scope, text) if text else ""
-        self.joints.append(_RawJoint(name, element, ends["parent"], ends["child"], scope, version))
-        self._pose_node(element, name, "joint", scope, ends["child"] or scope + MODEL_FRAME, ends["child"], version)
+        # A joint named like a link is refused by libsdformat (one namespace for
+        # frames) but common in converted URDF; its frame gets a private key.
+        key = name if name not in self.graph.nodes else f"{name}\x00joint"
+        self.joints.append(_RawJoint(name, element, ends["parent"], ends["child"], scope, version, key))
+        self._pose_node(element, key, "joint", scope, ends["child"] or scope + MODEL_FRAME, ends["child"], version)
 
     def _collect_frame(self, element: etree._Element, scope: str, version: tuple[int, int]) -> None:
         name = scope + (self.values.text(element, "name", "frame", required=True) or "")
@@ -249,7 +254,7 @@ class SdfModelReader:
         where = f"joint[{raw.name}]"
         details = joint_details(self.values, raw.element, where, raw.version)
         parent, child = self._end_link(raw.parent), self._end_link(raw.child)
-        joint_frame = self.graph.pose_in_model(raw.name)
+        joint_frame = self.graph.pose_in_model(raw.key or raw.name)
         axis = self._axis_in_model(details.axis, details.axis_frame, joint_frame, raw, where)
         return Joint(
             name=raw.name, type=details.type, parent=parent, child=child,

@@ -1,0 +1,183 @@
+"""SDF input: the corpora load, and poses, axes, frames, includes and worlds mean what the spec says."""
+
+from __future__ import annotations
+
+import glob
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+from click.testing import CliRunner
+
+from tests.conftest import ERD, FIXTURES, PBD, SEEDS
+from urdftool.check import CheckOptions, check_file
+from urdftool.cli import main
+from urdftool.model import JointType, KinematicTree
+from urdftool.parse import read
+from urdftool.parse.packages import PackageResolver
+
+SDF_DIR = FIXTURES / "robots" / "sdf"
+CASSIE = sorted(glob.glob(str(ERD / "cassie_description" / "robots" / "*.sdf"))) if ERD else []
+PYBULLET_SDFS = sorted(glob.glob(str(PBD / "**" / "*.sdf"), recursive=True)) if PBD else []
+SEED_FILES = [
+    "hyundai_ngv/m_robot_gazebo/worlds/m_robot.world",
+    "go_chase_it/my_robot/worlds/UdacityOffice.world",
+    "go_chase_it/my_robot/worlds/empty.world",
+    "hyundai_ngv/models/Capstone_Map/model.sdf",
+    "go_chase_it/models/my_ball/model.sdf",
+]
+
+
+#: Genuine errors in the corpora, by file name: what is wrong with the files themselves.
+GENUINE = {
+    # the foot-reference links' principal moments 9.31e-07 + 9.49e-07 < 9.4e-06 kg·m²
+    "cassie.sdf": {"I005"},
+    # collision meshes at the absolute path /meshes/link_0.stl, which does not exist
+    "kuka_with_gripper.sdf": {"M002"},
+    "kuka_with_gripper2.sdf": {"M002"},
+    # meshes/coarse/ is not shipped with pybullet_data
+    "kuka_world.sdf": {"M002"},
+    "model2.sdf": {"M002"},
+    # the stadium OBJ parts have degenerate faces the mesh reader cannot load
+    "stadium.sdf": {"M003"},
+    "stadium_no_collision.sdf": {"M003"},
+    # suv, fire_hydrant, pine_tree and radio_tower come from Gazebo's online model database
+    "UdacityOffice.world": {"M001"},
+}
+
+
+def _errors(path: str) -> list[str]:
+    """Error findings other than the genuine ones listed above."""
+    allowed = GENUINE.get(Path(path).name, set())
+    reports = check_file(path, CheckOptions())
+    return [f"{d.location}: {d.code} {d.message}" for r in reports for d in r.diagnostics
+            if d.severity.value == "error" and d.code not in allowed]
+
+
+def test_corpus_counts() -> None:
+    assert len(CASSIE) == 5
+    assert len(PYBULLET_SDFS) >= 15
+
+
+@pytest.mark.parametrize("path", PYBULLET_SDFS, ids=lambda p: str(Path(p).relative_to(PBD)))
+def test_pybullet_sdf_loads_without_errors(path: str) -> None:
+    models = read(path)
+    assert models and all(m.robot is not None and m.robot.links for m in models)
+    assert _errors(path) == []
+
+
+@pytest.mark.parametrize("path", CASSIE, ids=lambda p: Path(p).name)
+def test_cassie_loads_with_its_loops(path: str) -> None:
+    (loaded,) = read(path)
+    robot = loaded.robot
+    assert robot is not None and robot.name == "cassie"
+    tree = KinematicTree.of(robot)
+    assert not tree.cycle_joints and len(tree.roots) == 1
+    # each leg closes at least the achilles/heel-spring and plantar-rod linkages
+    assert len(robot.loop_closures) >= 4
+    assert {lc.joint.name for lc in robot.loop_closures}.isdisjoint({j.name for j in robot.joints})
+    assert _errors(path) == []
+
+
+@pytest.mark.parametrize("relative", SEED_FILES)
+def test_seed_worlds_and_models_load_and_check(relative: str) -> None:
+    path = str(SEEDS / relative)
+    models = read(path)
+    assert models
+    assert _errors(path) == []
+
+
+def test_world_reports_each_model_and_skips_standard_ones() -> None:
+    models = read(str(SDF_DIR / "static_world.world"))
+    assert [m.robot.name for m in models if m.robot] == ["shelf", "cart"]
+    shelf = models[0].robot
+    assert shelf is not None
+    # static: every free link is welded to the world at the model's pose in the world
+    fk = KinematicTree.of(shelf).forward_kinematics()
+    assert KinematicTree.of(shelf).roots == ["world"]
+    np.testing.assert_allclose(fk["board"][:3, 3], [2, 0, 0.5])
+    np.testing.assert_allclose(fk["post"][:3, 3], [2, 0, 0])
+
+
+def test_seed_world_include_resolves_the_map_with_its_include_pose() -> None:
+    (loaded,) = read(str(SEEDS / "hyundai_ngv/m_robot_gazebo/worlds/m_robot.world"))
+    robot = loaded.robot
+    assert robot is not None and robot.name == "Capstone_Map2"
+    assert any(f.endswith("Capstone_Map/model.sdf") for f in loaded.files)
+    joint = next(j for j in robot.joints if j.child == "Wall_0")
+    # include pose (0, -2, 0) replaces the model's own pose; Wall_0 sits at (0, 2.42, 0) in the model
+    np.testing.assert_allclose(joint.origin.xyz, [0, 0.42, 0], atol=1e-12)
+    assert robot.link("Wall_0").span.path.endswith("Capstone_Map/model.sdf")
+
+
+def test_sdf_14_axis_is_in_the_model_frame() -> None:
+    robot = read(str(SDF_DIR / "v14_axis_model_frame.sdf"))[0].robot
+    hinge = robot.joint("hinge")
+    # the model's x axis, seen from a link yawed by +90°, is its -y axis
+    np.testing.assert_allclose(hinge.axis, [0, -1, 0], atol=1e-12)
+
+
+def test_sdf_16_axis_in_joint_frame_and_offset_joint_moves_the_link_frame() -> None:
+    robot = read(str(SDF_DIR / "v16_axis_joint_frame.sdf"))[0].robot
+    hinge = robot.joint("hinge")
+    np.testing.assert_allclose(hinge.axis, [1, 0, 0], atol=1e-12)
+    # the joint sits 0.5 m along the yawed link's x: the link frame moves there,
+    # and the inertial (written at the same point) is now at the frame's origin
+    np.testing.assert_allclose(hinge.origin.xyz, [0, 0.5, 1], atol=1e-12)
+    np.testing.assert_allclose(robot.link("arm").inertial.origin.xyz, [0, 0, 0], atol=1e-12)
+    # turning the hinge turns the link about the joint's point
+    fk = KinematicTree.of(robot).forward_kinematics({"hinge": 0.3})
+    np.testing.assert_allclose(fk["arm"][:3, 3], [0, 0.5, 1], atol=1e-12)
+
+
+def test_nested_model_degrees_and_frames() -> None:
+    robot = read(str(SDF_DIR / "nested_degrees.sdf"))[0].robot
+    assert [link.name for link in robot.links] == ["base", "gripper::palm"]
+    mount = robot.joint("mount")
+    np.testing.assert_allclose(mount.origin.xyz, [0, 0, 0.5], atol=1e-12)
+    np.testing.assert_allclose(mount.origin.rpy, [0, 0, math.pi / 2], atol=1e-12)
+    (frame,) = [e for e in robot.extensions if e.tag == "frame"]
+    assert frame.attributes["attached_to"] == "gripper::palm"
+    assert frame.attributes["name"] == "gripper::tcp"
+
+
+def test_bad_numbers_are_located_and_do_not_stop_reading(tmp_path: Path) -> None:
+    path = tmp_path / "bad.sdf"
+    path.write_text(
+        '<sdf version="1.7">\n<model name="m">\n<link name="a">\n'
+        "<inertial><mass>1.2,</mass></inertial>\n</link>\n"
+        '<link name="b"><pose>0 0 1 0 0</pose></link>\n</model>\n</sdf>\n'
+    )
+    (loaded,) = read(str(path))
+    found = {(d.code, d.location.line) for d in loaded.diagnostics}
+    assert ("S005", 4) in found and ("S006", 6) in found
+    assert loaded.robot is not None and loaded.robot.link("a").inertial.mass == 1.0  # the spec's default
+
+
+def test_model_include_through_gz_resource_path(tmp_path: Path) -> None:
+    crate = FIXTURES / "rules" / "S103" / "models"
+    world = FIXTURES / "rules" / "S103" / "good.world"
+    copied = tmp_path / "w.world"
+    copied.write_text(world.read_text())
+    missing = read(str(copied), resolver=PackageResolver.create(environ={}))
+    assert any(d.code == "S103" for m in missing for d in m.diagnostics)
+    found = read(str(copied), resolver=PackageResolver.create(environ={"GZ_SIM_RESOURCE_PATH": str(crate)}))
+    assert [m.robot.name for m in found if m.robot] == ["crate"]
+
+
+def test_cli_model_option_picks_one_model() -> None:
+    world = str(SDF_DIR / "static_world.world")
+    result = CliRunner().invoke(main, ["info", world, "--model", "cart", "--format", "json"])
+    assert result.exit_code == 0, result.output
+    assert '"robot": "cart"' in result.output and "shelf" not in result.output
+    result = CliRunner().invoke(main, ["check", world, "--model", "nope"])
+    assert result.exit_code == 2
+    result = CliRunner().invoke(main, ["check", world, "--model", "shelf", "--format", "json"])
+    assert result.exit_code in (0, 1) and '"robot": "shelf"' in result.output and '"cart"' not in result.output
+
+
+def test_joint_types_are_read() -> None:
+    robot = read(CASSIE[0])[0].robot  # cassie.sdf: ball, gearbox, prismatic, revolute
+    types = {j.type for j in robot.joints} | {lc.joint.type for lc in robot.loop_closures}
+    assert {JointType.SPHERICAL, JointType.GEARBOX, JointType.PRISMATIC, JointType.REVOLUTE} <= types
