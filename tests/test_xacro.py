@@ -439,3 +439,18 @@ def test_fragment_named_explicitly_is_checked(no_ros_env: None) -> None:
         [str(SEEDS / "learning_ros/mobot_urdf/urdf/casters.xacro")], PackageResolver.create()
     )
     assert len(files) == 1
+
+
+@pytest.mark.parametrize("robot", ["burger", "waffle", "waffle_pi"])
+def test_turtlebot3_urdf_files_are_xacro_and_are_expanded(robot: str, no_ros_env: None) -> None:
+    """turtlebot3 ships xacro under .urdf names; they are read through xacro and said so."""
+    path = SEEDS / "turtlebot3" / "turtlebot3_description" / "urdf" / f"turtlebot3_{robot}.urdf"
+    found = findings(path)
+    lines = path.read_text(encoding="utf-8").splitlines()
+    first = next(n for n, text in enumerate(lines, 1) if text.strip().startswith("<xacro:arg"))
+    assert [(d.name, d.location.line) for d in found if d.code.startswith(("X", "S0"))] == [
+        ("xacro-in-urdf", first)
+    ]
+    loaded = urdftool.load(path)
+    assert loaded.format == "xacro" and loaded.name == f"turtlebot3_{robot}"
+    assert loaded.link("base_link") is not None

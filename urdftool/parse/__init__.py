@@ -82,7 +82,7 @@ def read(
             except ImportError as exc:  # SDF input is being built (issue 4)
                 raise InputError(f"{path}: SDF input is not supported yet") from exc
             return read_sdf(path, resolver)
-        return [_read_urdf(path, resolver)]
+        return [_read_urdf(path, resolver, xacro_args or {})]
     except OSError as exc:
         raise InputError(f"{path}: {exc.strerror or exc}") from exc
 
@@ -94,13 +94,19 @@ def _finish(path: str, fmt: str, robot: Robot | None, diagnostics: list[Diagnost
     return Loaded(path, fmt, robot, diagnostics, files)
 
 
-def _read_urdf(path: str, resolver: PackageResolver) -> Loaded:
+def _read_urdf(path: str, resolver: PackageResolver, args: Mapping[str, str]) -> Loaded:
     from urdftool.parse.urdf import UrdfReader
+    from urdftool.parse.xacro import xacro_in_urdf
     from urdftool.parse.xmlio import read_file
 
     document, problems = read_file(path)
     if document is None:
         return Loaded(path, "urdf", None, problems, [path])
+    needs_xacro = xacro_in_urdf(document.root)
+    if needs_xacro is not None:  # a xacro file under a .urdf name: read it as xacro does
+        loaded = _read_xacro(path, args, resolver)
+        found = [*problems, needs_xacro, *loaded.diagnostics]
+        return _finish(path, "xacro", loaded.robot, found, loaded.files)
     reader = UrdfReader(path, SourceIndex(), resolver)
     robot = reader.read(document.root)
     return _finish(path, "urdf", robot, problems + reader.diagnostics, [path])

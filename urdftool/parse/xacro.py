@@ -409,6 +409,25 @@ def _locate_pattern(path: str, pattern: re.Pattern[str]) -> Span | None:
     return None
 
 
+def xacro_in_urdf(root: Any) -> Diagnostic | None:
+    """A ``xacro-in-urdf`` finding when the URDF document *root* uses xacro elements."""
+    from lxml import etree
+
+    from urdftool.rules.xacro import XacroInUrdf
+
+    for element in root.iter():
+        if isinstance(element.tag, str) and "wiki/xacro" in (etree.QName(element).namespace or ""):
+            tag = etree.QName(element).localname
+            return XacroInUrdf.diagnostic(
+                f"this .urdf file uses xacro (<xacro:{tag}>); it was expanded with xacro, but "
+                "URDF loaders that read it directly will fail",
+                span_of(element),
+                help="rename it to .urdf.xacro, or ship the expanded URDF",
+                data={"element": f"xacro:{tag}"},
+            )
+    return None
+
+
 def _package_error(exc: BaseException) -> PackageNotFoundError | None:
     seen = 0
     current: Any = exc

@@ -168,3 +168,38 @@ class MacrosOnly(_Xacro):
 def is_macro_library(robot: Robot) -> bool:
     """True when *robot* was read from a xacro macro library (see :class:`MacrosOnly`)."""
     return any(d.code == MacrosOnly.code for d in robot.diagnostics)
+
+
+@register
+class XacroInUrdf(_Xacro):
+    """A `.urdf` file uses xacro; urdftool expands it with xacro.
+
+    ## What it does
+    Reports a file named `.urdf` that contains live xacro elements
+    (`<xacro:arg>`, `<xacro:property>`, `<xacro:include>`, macro calls), at the
+    first of them, and reads the file through xacro, as ROS launch files that
+    run `xacro` on it do. Commented-out xacro and a merely declared
+    `xmlns:xacro` do not count.
+
+    ## Why it matters
+    URDF loaders that read the file directly (urdfdom's `check_urdf`,
+    PyBullet, MuJoCo, Pinocchio) see `${…}` and `$(…)` as literal text: link
+    names, numbers and mesh paths are garbage, and the robot differs from the
+    one ROS publishes.
+
+    ## Example
+    ```xml
+    <!-- turtlebot3_burger.urdf -->
+    <robot name="turtlebot3_burger" xmlns:xacro="http://ros.org/wiki/xacro">
+      <xacro:arg name="namespace" default=""/>
+      <link name="$(arg namespace)base_link"/>
+    ```
+
+    ## Fix
+    Rename the file to `.urdf.xacro`, or ship the expanded URDF
+    (`xacro robot.urdf.xacro > robot.urdf`) under the `.urdf` name.
+    """
+
+    code = "X006"
+    name = "xacro-in-urdf"
+    severity = Severity.WARNING
