@@ -14,7 +14,7 @@ PyBullet) are imported only by the functions that need them.
 
 from __future__ import annotations
 
-from urdftool.api import LoadError, check, load, to_dot
+from urdftool.api import ConversionRefused, LoadError, check, load, to_dot, to_sdf, to_urdf
 from urdftool.diagnostics import Diagnostic, FileReport, Report, Severity
 from urdftool.model import Robot
 from urdftool.source import Span
@@ -22,6 +22,7 @@ from urdftool.source import Span
 __version__ = "0.1.0"
 
 __all__ = [
+    "ConversionRefused",
     "Diagnostic",
     "FileReport",
     "LoadError",
@@ -33,4 +34,6 @@ __all__ = [
     "check",
     "load",
     "to_dot",
+    "to_sdf",
+    "to_urdf",
 ]

@@ -137,3 +137,77 @@ def to_dot(
     if out is not None:
         write_diagram(text, out, inputs, keep_dot)
     return text
+
+
+class ConversionRefused(ValueError):
+    """The target cannot hold the model (a closed chain in URDF, a ball joint…); ``diagnostics`` say where."""
+
+    def __init__(self, message: str, diagnostics: Iterable[Diagnostic] = ()):
+        super().__init__(message)
+        self.diagnostics = tuple(diagnostics)
+
+
+def _export_text(
+    target: str,
+    robot_or_path: PathLike | Robot,
+    out: PathLike | None,
+    xacro_args: Mapping[str, str] | None,
+    packages: Mapping[str, PathLike] | None,
+    package_paths: Iterable[PathLike],
+    model: str | None,
+) -> str:
+    """Run one text exporter; write atomically to *out* (never over an input) when given."""
+    from pathlib import Path
+
+    from urdftool.export import ExportOptions, export_model
+    from urdftool.export.write import write_bytes_atomic
+
+    if isinstance(robot_or_path, Robot):
+        robot, inputs = robot_or_path, [robot_or_path.path] if robot_or_path.path else []
+    else:
+        robot = load(robot_or_path, xacro_args, packages, package_paths, model)
+        inputs = [os.fspath(robot_or_path)]
+    name = Path(out).name if out is not None else f"{robot.name or 'robot'}.{target}"
+    result = export_model(robot, target, name, ExportOptions())
+    if result.failed:
+        reasons = "; ".join(d.message for d in result.diagnostics if d.severity.value == "error")
+        raise ConversionRefused(f"{robot.name}: not converted to {target.upper()}: {reasons}", result.diagnostics)
+    data = result.files[name]
+    if out is not None:
+        write_bytes_atomic(out, data, inputs)
+    return data.decode("utf-8")
+
+
+def to_urdf(
+    robot_or_path: PathLike | Robot,
+    out: PathLike | None = None,
+    *,
+    xacro_args: Mapping[str, str] | None = None,
+    packages: Mapping[str, PathLike] | None = None,
+    package_paths: Iterable[PathLike] = (),
+    model: str | None = None,
+) -> str:
+    """A flattened URDF of a URDF, xacro or SDF model, as text; also written to *out* when given.
+
+    Raises :class:`ConversionRefused` (with located diagnostics) for what URDF
+    cannot hold: closed chains, ball/universal/revolute2/screw/gearbox joints.
+    The other arguments are those of :func:`load`.
+    """
+    return _export_text("urdf", robot_or_path, out, xacro_args, packages, package_paths, model)
+
+
+def to_sdf(
+    robot_or_path: PathLike | Robot,
+    out: PathLike | None = None,
+    *,
+    xacro_args: Mapping[str, str] | None = None,
+    packages: Mapping[str, PathLike] | None = None,
+    package_paths: Iterable[PathLike] = (),
+    model: str | None = None,
+) -> str:
+    """An SDF 1.7 model, as text; also written to *out* when given.
+
+    Raises :class:`ConversionRefused` for what SDF cannot hold (planar joints).
+    The other arguments are those of :func:`load`.
+    """
+    return _export_text("sdf", robot_or_path, out, xacro_args, packages, package_paths, model)
