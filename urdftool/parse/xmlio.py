@@ -130,13 +130,27 @@ _DECLARED_VERSION = re.compile(rb"^(\s*<\?xml[^>]*?version\s*=\s*[\"'])([^\"']*)
 
 
 def _tolerate_quirks(data: bytes, path: str) -> tuple[bytes, list[Diagnostic]]:
-    """Accept, with a warning, two harmless defects that TinyXML-based loaders accept.
+    """Accept, with a warning, harmless defects that TinyXML-based loaders accept.
 
+    * blank lines before the XML declaration;
     * an XML declaration with a version other than 1.0/1.1 (``version="0.0"``,
       written by several exporters), read as 1.0;
     * NUL bytes after the root element (padding left by some editors), ignored.
     """
     warnings: list[Diagnostic] = []
+    leading = len(data) - len(data.lstrip(b" \t\r\n"))
+    if leading and data[leading:].startswith(b"<?xml"):
+        # Move the blank prefix behind the declaration so every line keeps its number.
+        end = data.find(b"?>", leading) + 2
+        warnings.append(
+            XmlSyntax.diagnostic(
+                "the XML declaration is not at the very start of the file; read as if it were",
+                Span(path, line_of(data, leading), 1),
+                severity=Severity.WARNING,
+                help="remove the blank lines before <?xml ...?>",
+            )
+        )
+        data = data[leading:end] + data[:leading] + data[end:]
     match = _DECLARED_VERSION.match(data)
     if match and match.group(2) not in (b"1.0", b"1.1"):
         version = match.group(2).decode("ascii", "replace")
