@@ -77,7 +77,9 @@ def build(robot: Robot, out_dir: Path | None, options: ExportOptions) -> tuple[s
     geoms = GeomWriter(robot, assets, diagnostics)
     bodies = BodyWriter(robot, tree, base, inertia.inertials, geoms, loop_sites(robot)).write(worldbody)
     for mesh in assets.meshes:
-        attrs = {"name": mesh.name, "file": mesh.file}
+        # Mesh inertia is never used (inertiafromgeom is off), but MuJoCo still computes it;
+        # "shell" keeps flat visual meshes (zero volume) from failing the compile.
+        attrs = {"name": mesh.name, "file": mesh.file, "inertia": "shell"}
         if mesh.scale != (1.0, 1.0, 1.0):
             attrs["scale"] = vec(mesh.scale)
         etree.SubElement(asset, "mesh", attrs)
@@ -117,7 +119,10 @@ def plan_inertia(robot: Robot, tree: KinematicTree, base: BasePlan, repair: bool
     """Each link's inertial checked (and repaired on request), then every moving body's minimum."""
     plan = InertiaPlan(robot, repair)
     for link in robot.links:
-        plan.check_link(link)
+        if link.name == tree.root and base.kind != "free":
+            plan.static_root(link)
+        else:
+            plan.check_link(link)
     links = {link.name: link for link in robot.links}
     for name in tree.order:
         joint = tree.parent_joint.get(name)

@@ -1,7 +1,8 @@
 """Mesh assets for MJCF: which files MuJoCo reads as they are, which are converted, and their names.
 
-MuJoCo reads binary STL, OBJ and MSH. Every other mesh trimesh can load (DAE,
-ASCII STL, PLY, ...) is converted to binary STL in ``assets/`` beside OUT.
+MuJoCo reads binary STL (up to 200000 triangles), OBJ and MSH. Every other
+mesh trimesh can load (DAE, ASCII STL, PLY, ...) is converted to binary STL in
+``assets/`` beside OUT (to OBJ above MuJoCo's STL triangle limit).
 With ``copy_assets`` the readable meshes are copied there too; otherwise they
 are referenced by their path relative to OUT's folder.
 
@@ -28,6 +29,8 @@ from urdftool.model.pose import Vec3
 ASSETS_DIR = "assets"
 #: Suffixes MuJoCo's compiler reads itself.
 NATIVE_SUFFIXES = (".stl", ".obj", ".msh")
+#: MuJoCo's STL decoder refuses files with more triangles.
+MAX_STL_TRIANGLES = 200000
 
 
 class MeshUnavailable(Exception):
@@ -60,6 +63,15 @@ def is_binary_stl(data: bytes) -> bool:
     return len(data) == 84 + 50 * count
 
 
+def mujoco_reads(suffix: str, data: bytes) -> bool:
+    """True when MuJoCo's own decoders read this file as it is."""
+    if suffix not in NATIVE_SUFFIXES:
+        return False
+    if suffix != ".stl":
+        return True
+    return is_binary_stl(data) and 0 < struct.unpack_from("<I", data, 80)[0] <= MAX_STL_TRIANGLES
+
+
 def binary_stl(vertices: np.ndarray, faces: np.ndarray) -> bytes:
     """A deterministic binary STL (zero header, float32 normals and vertices)."""
     triangles = np.asarray(vertices, dtype=np.float64)[np.asarray(faces, dtype=np.int64)]
@@ -72,15 +84,25 @@ def binary_stl(vertices: np.ndarray, faces: np.ndarray) -> bytes:
     return b"\0" * 80 + struct.pack("<I", len(faces)) + record.tobytes()
 
 
-def convert_to_stl(path: str) -> bytes:
-    """Load *path* with trimesh (scenes flattened with their transforms) and write binary STL."""
+def wavefront_obj(vertices: np.ndarray, faces: np.ndarray) -> bytes:
+    """A deterministic OBJ (vertices and triangles only), for meshes too large for STL."""
+    lines = [f"v {x!r} {y!r} {z!r}" for x, y, z in np.asarray(vertices, dtype=float).tolist()]
+    lines += [f"f {a + 1} {b + 1} {c + 1}" for a, b, c in np.asarray(faces, dtype=np.int64).tolist()]
+    return ("\n".join(lines) + "\n").encode("ascii")
+
+
+def convert(path: str) -> tuple[bytes, str]:
+    """Load *path* with trimesh (scenes flattened with their transforms); return the bytes and
+    suffix of a file MuJoCo reads: binary STL, or OBJ above the STL triangle limit."""
     from urdftool.backends.meshes import MeshError, load_trimesh
 
     try:
         mesh = load_trimesh(path)
     except MeshError as exc:
         raise MeshUnavailable(f"trimesh cannot read it ({exc})") from exc
-    return binary_stl(mesh.vertices, mesh.faces)
+    if len(mesh.faces) > MAX_STL_TRIANGLES:
+        return wavefront_obj(mesh.vertices, mesh.faces), ".obj"
+    return binary_stl(mesh.vertices, mesh.faces), ".stl"
 
 
 @dataclass
@@ -126,12 +148,11 @@ class AssetPlan:
             raise MeshUnavailable(f"cannot read '{path}' ({exc.strerror or exc})") from exc
         content = _sha(data)
         suffix = Path(path).suffix.lower()
-        native = suffix in NATIVE_SUFFIXES and (suffix != ".stl" or is_binary_stl(data))
+        native = mujoco_reads(suffix, data)
         if native and not self.copy:
             reference = self._reference(path)
         else:
-            payload = data if native else convert_to_stl(path)
-            out_suffix = suffix if native else ".stl"
+            payload, out_suffix = (data, suffix) if native else convert(path)
             reference = f"{ASSETS_DIR}/{_safe_stem(path)}-{_sha(payload)[:12]}{out_suffix}"
             self.files[reference] = payload
         self._by_path[path] = (content, reference)

@@ -10,7 +10,8 @@ and reports it as ``inertia-repaired`` with the numbers before and after:
 * mass 0 with non-zero inertia: the inertia is removed (a massless frame);
 * a tensor that is not positive definite or breaks A + B >= C: principal axes
   are kept; moments below ``MOMENT_FLOOR`` × trace are raised to it (all of
-  them to a 1 cm solid sphere of the link's mass when none is positive), then
+  them to a ``REPAIR_RADIUS`` solid sphere of the link's mass when even the
+  largest is below ``MOMENT_FLOOR`` times that sphere's), then
   the triangle inequality is restored by moving the moments the least distance
   (Euclidean) onto A + B = C;
 * a moving body (a link with a joint of its own plus the links fixed to it)
@@ -18,7 +19,8 @@ and reports it as ``inertia-repaired`` with the numbers before and after:
   ``REPAIR_MASS`` and at least the inertia of a ``REPAIR_RADIUS`` solid sphere.
 
 Links without ``<inertial>`` and links with mass 0 and a zero tensor are
-massless frames: fine when fixed to a body that carries mass, refused (or
+massless frames, and a positive mass with a zero tensor is a point mass: both
+are fine when fixed to a body that carries mass and inertia, and refused (or
 repaired) when they would be a moving body of their own.
 """
 
@@ -29,11 +31,11 @@ from collections.abc import Iterable, Mapping, Sequence
 
 import numpy as np
 
-from urdftool.diagnostics import Diagnostic
+from urdftool.diagnostics import Diagnostic, Severity
 from urdftool.model import Inertial, Link, Robot
 from urdftool.model.pose import Matrix
 from urdftool.physics.inertia import assess, principal_moments, shift_to_point
-from urdftool.rules.conversion import InertiaNotExportable, InertiaRepaired
+from urdftool.rules.conversion import ConversionDropped, InertiaNotExportable, InertiaRepaired
 
 #: MuJoCo's mjMINVAL: the least mass (kg) and principal moment (kg·m²) of a moving body.
 MJ_MINVAL = 1e-15
@@ -67,8 +69,8 @@ def _moments_text(values: Iterable[float]) -> str:
     return ", ".join(f"{v:.6g}" for v in values)
 
 
-def _tensor_problem(inertial: Inertial) -> str | None:
-    """Why MuJoCo or physics refuse this tensor (mass > 0), or ``None``."""
+def _tensor_problem(inertial: Inertial, engine: str = "MuJoCo") -> str | None:
+    """Why *engine* or physics refuse this tensor (mass > 0), or ``None``."""
     tensor = inertial.inertia_matrix
     verdict = assess(tensor)
     a, b, c = verdict.moments
@@ -81,7 +83,7 @@ def _tensor_problem(inertial: Inertial) -> str | None:
     if exact[0] + exact[1] < exact[2] * (1 - 4 * np.finfo(float).eps):
         return (f"principal moments {_moments_text(exact)} kg·m² break A + B >= C by "
                 f"{exact[2] - exact[0] - exact[1]:.3g} (within the rounding of the written digits, "
-                "but MuJoCo refuses it)")
+                f"but {engine} refuses it)")
     return None
 
 
@@ -93,7 +95,8 @@ def repaired_tensor(tensor: Matrix, mass: float) -> Matrix:
     """The nearest valid tensor with the same principal axes (see the module docstring)."""
     values, vectors = principal_moments(tensor)
     moments = np.array(values, dtype=float)
-    if moments[2] <= 0.0:
+    if moments[2] <= MOMENT_FLOOR * sphere_moment(mass):
+        # Nothing but rounding noise: the tensor of a point, given a 1 cm sphere's.
         moments = np.full(3, sphere_moment(mass))
     floor = MOMENT_FLOOR * float(np.sum(np.abs(moments)))
     moments = np.maximum(moments, floor)
@@ -125,9 +128,11 @@ def _describe(inertial: Inertial | None) -> dict[str, object]:
 class InertiaPlan:
     """The inertial each link is exported with, and what was found on the way."""
 
-    def __init__(self, robot: Robot, repair: bool):
+    def __init__(self, robot: Robot, repair: bool, engine: str = "MuJoCo"):
         self.robot = robot
         self.repair = repair
+        #: the engine named in messages (the checks are the same for MuJoCo and PyBullet)
+        self.engine = engine
         self.inertials: dict[str, Inertial | None] = {}
         self.diagnostics: list[Diagnostic] = []
 
@@ -165,7 +170,12 @@ class InertiaPlan:
             self._repaired(link, inertial, None, "inertia of a massless link removed (massless frame)")
             self.inertials[link.name] = None
             return
-        problem = _tensor_problem(inertial)
+        if not np.any(inertial.inertia_matrix):
+            # A point mass: a valid idealisation that MuJoCo and Pinocchio both add to
+            # the body it is fixed to; a moving point mass is caught by the body check.
+            self.inertials[link.name] = inertial
+            return
+        problem = _tensor_problem(inertial, self.engine)
         if problem is None:
             self.inertials[link.name] = inertial
             return
@@ -181,6 +191,19 @@ class InertiaPlan:
                        f"(were {_moments_text(before)})")
         self.inertials[link.name] = fixed
 
+    def static_root(self, link: Link) -> None:
+        """A root welded to the world: its mass and inertia never move, so mass 0 with a tensor
+        (PyBullet's convention for a static base) is carried as a massless frame, reported."""
+        inertial = link.inertial
+        if inertial is None or inertial.mass != 0.0 or is_massless(inertial):
+            self.check_link(link)
+            return
+        self.inertials[link.name] = None
+        self.diagnostics.append(ConversionDropped.diagnostic(
+            f"link '{link.name}': the inertia tensor of a static base with mass 0 is not carried "
+            "(it has no effect on a body welded to the world)", _span(link), element=_where(link),
+            severity=Severity.INFO, data={"element": _where(link), "reason": "static base"}))
+
     def check_moving_body(self, moving: Link, group: Sequence[Link], frames: Mapping[str, Matrix]) -> None:
         """MuJoCo's minimum for a moving body: *moving* plus the links fixed to it (*group*).
 
@@ -192,7 +215,7 @@ class InertiaPlan:
             return
         names = ", ".join(f"'{link.name}'" for link in group)
         if mass < MJ_MINVAL:
-            problem = (f"moving link carries no mass ({mass:.3g} kg over {names}); MuJoCo needs more "
+            problem = (f"moving link carries no mass ({mass:.3g} kg over {names}); {self.engine} needs more "
                        f"than {MJ_MINVAL:g} kg on every moving body")
         else:
             problem = (f"moving link has no rotational inertia about some axis (smallest principal "
