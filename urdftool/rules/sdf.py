@@ -130,11 +130,12 @@ class SdfVersion(_Sdf):
 
 @register
 class SdfModelMissing(_Sdf):
-    """An SDF file holds no model (or a `<world>` holds only lights and standard models).
+    """An SDF file holds neither a model nor a world, or an included file holds no model.
 
     ## What it does
-    Reports an `<sdf>` file with no `<model>`, `<world>` or `<include>`, and
-    a model without a name.
+    Reports an `<sdf>` file with no `<model>` and no `<world>`, and an
+    `<include>` whose file holds no `<model>`. (A world with only lights and
+    Gazebo's standard models is fine: it has nothing to check.)
 
     ## Why it matters
     There is nothing to check or convert; usually the wrong file was given
