@@ -14,7 +14,7 @@ PyBullet) are imported only by the functions that need them.
 
 from __future__ import annotations
 
-from urdftool.api import ConversionRefused, LoadError, check, load, to_dot, to_sdf, to_urdf
+from urdftool.api import ConversionRefused, LoadError, check, load, to_dot, to_mjcf, to_sdf, to_urdf
 from urdftool.diagnostics import Diagnostic, FileReport, Report, Severity
 from urdftool.model import Robot
 from urdftool.source import Span
@@ -34,6 +34,7 @@ __all__ = [
     "check",
     "load",
     "to_dot",
+    "to_mjcf",
     "to_sdf",
     "to_urdf",
 ]

@@ -211,3 +211,54 @@ def to_sdf(
     The other arguments are those of :func:`load`.
     """
     return _export_text("sdf", robot_or_path, out, xacro_args, packages, package_paths, model)
+
+
+def to_mjcf(
+    robot_or_path: PathLike | Robot,
+    out: PathLike | None = None,
+    *,
+    floating_base: str = "auto",
+    actuators: str = "none",
+    repair_inertia: bool = False,
+    copy_assets: bool = False,
+    scene: bool = False,
+    xacro_args: Mapping[str, str] | None = None,
+    packages: Mapping[str, PathLike] | None = None,
+    package_paths: Iterable[PathLike] = (),
+    model: str | None = None,
+) -> str:
+    """A MuJoCo MJCF model of a URDF, xacro or SDF model, as text.
+
+    With *out*, the file and its converted mesh assets (``assets/`` beside it)
+    are written atomically, never over an input, and meshes are referenced
+    relative to *out*; without it nothing is written and meshes MuJoCo reads
+    are referenced by absolute path. Options as in ``urdftool convert``:
+    *floating_base* ``auto|free|fixed``, *actuators* ``none|motor|position``,
+    *repair_inertia*, *copy_assets*, *scene* (ground plane and light); see
+    docs/mjcf.md. Raises :class:`ConversionRefused` with located diagnostics
+    (e.g. physically invalid inertia without *repair_inertia*).
+    """
+    from pathlib import Path
+
+    from urdftool.export import ExportOptions
+    from urdftool.export.mjcf import build
+    from urdftool.export.write import write_bytes_atomic
+
+    if isinstance(robot_or_path, Robot):
+        robot, inputs = robot_or_path, [robot_or_path.path] if robot_or_path.path else []
+    else:
+        robot = load(robot_or_path, xacro_args, packages, package_paths, model)
+        inputs = [os.fspath(robot_or_path)]
+    options = ExportOptions(floating_base=floating_base, actuators=actuators, repair_inertia=repair_inertia,
+                            copy_assets=copy_assets, scene=scene)
+    folder = Path(out).resolve().parent if out is not None else None
+    text, assets, diagnostics = build(robot, folder, options)
+    errors = [d for d in diagnostics if d.severity.value == "error"]
+    if errors:
+        reasons = "; ".join(d.message for d in errors[:5])
+        raise ConversionRefused(f"{robot.name}: not converted to MJCF: {reasons}", diagnostics)
+    if out is not None and folder is not None:
+        for rel, data in assets.items():
+            write_bytes_atomic(folder / rel, data, inputs)
+        write_bytes_atomic(out, text.encode("utf-8"), inputs)
+    return text
