@@ -97,7 +97,7 @@ def read_png(data: bytes) -> Image:
     return Image(width, height, channels, rows)
 
 
-def first_page_png(pdf: Path, work: Path, size: int = 300) -> Image:
+def first_page_png(pdf: Path, work: Path, size: int = 200) -> Image:
     """Render page 1 of *pdf* with ``pdftoppm`` (at most *size* pixels a side) and decode it."""
     pdftoppm = shutil.which("pdftoppm")
     assert pdftoppm, "pdftoppm (poppler-utils) is needed; scripts/test installs it"
