@@ -186,14 +186,61 @@ def to_urdf(
     packages: Mapping[str, PathLike] | None = None,
     package_paths: Iterable[PathLike] = (),
     model: str | None = None,
+    flavor: str = "urdf",
+    repair_inertia: bool = False,
+    copy_assets: bool = False,
 ) -> str:
     """A flattened URDF of a URDF, xacro or SDF model, as text; also written to *out* when given.
 
     Raises :class:`ConversionRefused` (with located diagnostics) for what URDF
     cannot hold: closed chains, ball/universal/revolute2/screw/gearbox joints.
     The other arguments are those of :func:`load`.
+
+    ``flavor="pybullet"`` gives the PyBullet-ready URDF (docs/pybullet.md):
+    mesh paths relative to *out* (converted meshes and, with *copy_assets*,
+    all meshes are written to ``assets/`` beside it), an explicit inertial on
+    every link, invalid inertia refused unless *repair_inertia*. Without *out*
+    paths are relative to the working directory and no asset is written.
     """
+    if flavor == "pybullet":
+        return _export_pybullet(robot_or_path, out, xacro_args, packages, package_paths, model,
+                                repair_inertia, copy_assets)
+    if flavor != "urdf":
+        raise ValueError(f"unknown URDF flavor '{flavor}' (choose urdf or pybullet)")
     return _export_text("urdf", robot_or_path, out, xacro_args, packages, package_paths, model)
+
+
+def _export_pybullet(
+    robot_or_path: PathLike | Robot,
+    out: PathLike | None,
+    xacro_args: Mapping[str, str] | None,
+    packages: Mapping[str, PathLike] | None,
+    package_paths: Iterable[PathLike],
+    model: str | None,
+    repair_inertia: bool,
+    copy_assets: bool,
+) -> str:
+    """The PyBullet URDF as text; with *out*, it and its assets written atomically beside it."""
+    from pathlib import Path
+
+    from urdftool.export import ExportOptions, export_model
+    from urdftool.export.write import write_bytes_atomic
+
+    if isinstance(robot_or_path, Robot):
+        robot, inputs = robot_or_path, [robot_or_path.path] if robot_or_path.path else []
+    else:
+        robot = load(robot_or_path, xacro_args, packages, package_paths, model)
+        inputs = [os.fspath(robot_or_path)]
+    target = Path(out) if out is not None else Path(f"{robot.name or 'robot'}.urdf")
+    options = ExportOptions(repair_inertia=repair_inertia, copy_assets=copy_assets)
+    result = export_model(robot, "pybullet", target, options)
+    if result.failed:
+        reasons = "; ".join(d.message for d in result.diagnostics if d.severity.value == "error")
+        raise ConversionRefused(f"{robot.name}: not converted for PyBullet: {reasons}", result.diagnostics)
+    if out is not None:
+        for rel, data in sorted(result.files.items()):
+            write_bytes_atomic(target.resolve().parent / rel, data, inputs)
+    return result.files[target.name].decode("utf-8")
 
 
 def to_sdf(

@@ -17,7 +17,6 @@ source already gives it one.
 from __future__ import annotations
 
 import dataclasses
-from collections.abc import Iterator
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -90,7 +89,7 @@ class MeshPlan:
     """Every mesh of a robot carried for PyBullet: written filenames, asset files, colours, refusals."""
 
     files: MeshFiles
-    #: resolved source path -> filename written in the URDF
+    #: :func:`mesh_key` -> filename written in the URDF
     filenames: dict[str, str] = field(default_factory=dict)
     diagnostics: list[Diagnostic] = field(default_factory=list)
     _colours: dict[str, RGBA | None] = field(default_factory=dict)
@@ -101,43 +100,71 @@ class MeshPlan:
 
     def carry(self, robot: Robot) -> Robot:
         """*robot* with every visual of a converted mesh coloured; filenames and refusals recorded."""
-        links = tuple(self._link(link) for link in robot.links)
+        source_dir = Path(robot.path).resolve().parent if robot.path else None
+        links = tuple(self._link(link, source_dir) for link in robot.links)
         return dataclasses.replace(robot, links=links)
 
-    def _link(self, link: Link) -> Link:
-        for element in _elements(link):
-            if isinstance(element.geometry, Mesh):
-                self._plan(element.geometry, link)
-        visuals = tuple(self._coloured(visual) for visual in link.visuals)
-        return dataclasses.replace(link, visuals=visuals) if visuals != link.visuals else link
+    def _link(self, link: Link, source_dir: Path | None) -> Link:
+        """*link* without the elements whose mesh cannot be carried, converted visuals coloured."""
+        def kept(element: Visual | Collision) -> bool:
+            mesh = element.geometry
+            return not isinstance(mesh, Mesh) or self._plan(mesh, link, source_dir)
 
-    def _plan(self, mesh: Mesh, link: Link) -> None:
+        visuals = tuple(self._coloured(v) for v in link.visuals if kept(v))
+        collisions = tuple(c for c in link.collisions if kept(c))
+        if visuals == link.visuals and collisions == link.collisions:
+            return link
+        return dataclasses.replace(link, visuals=visuals, collisions=collisions)
+
+    def _plan(self, mesh: Mesh, link: Link, source_dir: Path | None) -> bool:
+        """Plan the file of *mesh*; ``False`` (and a warning) when it cannot be carried."""
         where = f"link[{link.name}]/mesh[{mesh.filename}]"
+        path = mesh.resolved or pybullet_lookup(mesh.filename, source_dir)
         try:
-            if mesh.resolved is None:
+            if path is None:
                 raise MeshUnavailable(f"'{mesh.filename}' did not resolve to a file")
-            planned = self.files.carry(mesh.resolved)
+            planned = self.files.carry(path)
         except MeshUnavailable as exc:
             self.diagnostics.append(MeshNotExportable.diagnostic(
-                f"link '{link.name}': mesh {exc}", mesh.span, element=where,
+                f"link '{link.name}': mesh {exc}; the element is left out (PyBullet would refuse "
+                "the whole file)", mesh.span, element=where,
                 help="make the path resolve (--package NAME=DIR, --package-path DIR) or convert "
                      "the file to OBJ or binary STL",
                 data={"link": link.name, "filename": mesh.filename}))
-            return
-        self.filenames[mesh.resolved] = planned.reference
-        if planned.converted and mesh.resolved not in self._colours:
-            self._colours[mesh.resolved] = dominant_colour(mesh.resolved)
+            return False
+        key = mesh_key(mesh)
+        self.filenames[key] = planned.reference
+        if planned.converted and key not in self._colours:
+            self._colours[key] = dominant_colour(path)
+        return True
 
     def _coloured(self, visual: Visual) -> Visual:
         mesh = visual.geometry
-        if not isinstance(mesh, Mesh) or mesh.resolved is None:
+        if not isinstance(mesh, Mesh):
             return visual
-        colour = self._colours.get(mesh.resolved)
+        colour = self._colours.get(mesh_key(mesh))
         if colour is None or visual.material is not None:
             return visual
         return dataclasses.replace(visual, material=Material(None, colour))
 
 
-def _elements(link: Link) -> Iterator[Visual | Collision]:
-    yield from link.visuals
-    yield from link.collisions
+def mesh_key(mesh: Mesh) -> str:
+    """The key of a mesh in :attr:`MeshPlan.filenames`: its resolved path, else its filename."""
+    return mesh.resolved or mesh.filename
+
+
+def pybullet_lookup(filename: str, source_dir: Path | None) -> str | None:
+    """Where PyBullet itself finds a mesh that urdftool's package resolver did not.
+
+    PyBullet drops a leading ``package://`` and tries the rest relative to the
+    URDF's folder, its parent and its grandparent. Files written for PyBullet
+    (pybullet_data's) rely on this, so the export finds them the same way.
+    """
+    if source_dir is None or "://" in filename.removeprefix("package://"):
+        return None
+    relative = filename.removeprefix("package://")
+    for folder in (source_dir, source_dir.parent, source_dir.parent.parent):
+        candidate = folder / relative
+        if candidate.is_file():
+            return str(candidate)
+    return None

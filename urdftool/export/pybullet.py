@@ -1,0 +1,166 @@
+"""PyBullet-ready URDF: the source robot as PyBullet's loader needs it to be the same robot.
+
+Built on the plain URDF writer (:mod:`urdftool.export.urdf`), after preparing
+the model:
+
+* meshes: paths relative to OUT, DAE and other formats converted to OBJ,
+  colours of converted meshes kept (:mod:`urdftool.export.pybullet_meshes`);
+* inertia: an explicit ``<inertial>`` on every link, invalid tensors refused
+  or repaired on request (:mod:`urdftool.export.pybullet_inertia`);
+* joint axes written as unit vectors (PyBullet uses the vector as written, so
+  a prismatic joint with axis ``0 0 2`` would move twice as far);
+* floating joints refused (PyBullet silently makes them fixed);
+* mimic joints kept in the file but reported: PyBullet ignores ``<mimic>``;
+  ``help`` gives the gear-constraint recipe.
+
+A comment at the top of OUT records the source and how to load the file.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import os
+from pathlib import Path
+
+from lxml import etree
+
+from urdftool.diagnostics import Diagnostic, Severity
+from urdftool.export import ExportOptions, ExportResult, VerifyResult
+from urdftool.export.pybullet_inertia import PyBulletInertia, plan_inertia
+from urdftool.export.pybullet_meshes import MeshPlan, mesh_key
+from urdftool.export.urdf import URDF_JOINT_TYPES, UrdfFlavor, refusals, robot_element, to_bytes
+from urdftool.model import Joint, JointType, KinematicTree, Mesh, Robot
+from urdftool.rules.conversion import ConversionDropped
+from urdftool.rules.syntax import EmptyRobot, MultipleRoots
+
+#: The flag every PyBullet URDF from urdftool is meant to be loaded with.
+LOAD_FLAGS = "p.URDF_USE_INERTIA_FROM_FILE"
+
+PYBULLET_JOINT_TYPES = {t: name for t, name in URDF_JOINT_TYPES.items() if t is not JointType.FLOATING}
+PYBULLET_JOINT_TYPES[JointType.SPHERICAL] = "spherical"
+
+
+@dataclasses.dataclass(frozen=True)
+class PyBulletFlavor(UrdfFlavor):
+    """URDF as PyBullet reads it: spherical joints and capsules, no floating joints, mesh paths planned."""
+
+    name: str = "PyBullet"
+    joint_types: dict[JointType, str] = dataclasses.field(default_factory=lambda: dict(PYBULLET_JOINT_TYPES))
+    extra_shapes: frozenset[str] = frozenset({"capsule"})
+    #: mesh key (resolved path, else filename) -> filename written (relative to OUT, or an asset)
+    filenames: dict[str, str] = dataclasses.field(default_factory=dict)
+
+    def mesh_filename(self, mesh: Mesh) -> str:
+        return self.filenames.get(mesh_key(mesh), mesh.filename)
+
+
+def export(robot: Robot, out: Path, options: ExportOptions) -> ExportResult:
+    """The PyBullet URDF (key ``out.name``) and its assets; nothing when refused."""
+    out = Path(out)
+    tree = KinematicTree.of(robot)
+    diagnostics = _structure(robot, tree) or _joint_refusals(robot)
+    inertia = plan_inertia(robot, tree, options.repair_inertia, options.floating_base)
+    diagnostics += inertia.diagnostics + _mimic_reports(robot)
+    if any(d.severity is Severity.ERROR for d in diagnostics):
+        # Refused: converting meshes (seconds for large DAE files) would be wasted.
+        return ExportResult({}, sorted(diagnostics, key=Diagnostic.sort_key))
+    meshes = MeshPlan.create(out.resolve().parent, options.copy_assets)
+    prepared = meshes.carry(_prepared(robot, inertia))
+    diagnostics += meshes.diagnostics
+    root, dropped = robot_element(prepared, PyBulletFlavor(filenames=meshes.filenames))
+    root.insert(0, etree.Comment(_header(robot, out, inertia, options)))
+    files = {out.name: to_bytes(root), **meshes.files.files}
+    return ExportResult(dict(sorted(files.items())), sorted(diagnostics + dropped, key=Diagnostic.sort_key))
+
+
+def verify(robot: Robot, out: Path, options: ExportOptions) -> VerifyResult:
+    """Load OUT in PyBullet (DIRECT) and compare what it built with *robot*."""
+    from urdftool.export.pybullet_verify import verify_pybullet
+
+    return verify_pybullet(robot, Path(out), options)
+
+
+def _prepared(robot: Robot, inertia: PyBulletInertia) -> Robot:
+    """*robot* with the planned inertials and unit joint axes."""
+    links = tuple(dataclasses.replace(link, inertial=inertia.inertials[link.name]) for link in robot.links)
+    joints = tuple(_unit_axis(joint) for joint in robot.joints)
+    return dataclasses.replace(robot, links=links, joints=joints)
+
+
+def _unit_axis(joint: Joint) -> Joint:
+    x, y, z = joint.axis
+    norm = (x * x + y * y + z * z) ** 0.5
+    if norm == 0.0 or norm == 1.0:
+        return joint
+    return dataclasses.replace(joint, axis=(x / norm, y / norm, z / norm))
+
+
+def _structure(robot: Robot, tree: KinematicTree) -> list[Diagnostic]:
+    """A robot PyBullet cannot load at all: no links, or more than one root."""
+    if not robot.links:
+        return [EmptyRobot.diagnostic("the robot has no links; PyBullet cannot load it", robot.span)]
+    if len(tree.roots) > 1:
+        return [MultipleRoots.diagnostic(
+            f"the robot has {len(tree.roots)} roots ({', '.join(tree.roots[:5])}); PyBullet loads one tree",
+            robot.span)]
+    return []
+
+
+def _joint_refusals(robot: Robot) -> list[Diagnostic]:
+    """Closed chains and joint types PyBullet cannot hold; floating joints with PyBullet's reason."""
+    found = [d for d in refusals(robot, PyBulletFlavor()) if d.data.get("type") != "floating"]
+    for joint in robot.joints:
+        if joint.type is JointType.FLOATING:
+            found.append(ConversionDropped.diagnostic(
+                f"joint '{joint.name}' is floating; PyBullet turns floating joints into fixed ones; "
+                "not converted",
+                joint.span, element=f"joint[{joint.name}]", severity=Severity.ERROR,
+                help=f"make '{joint.child}' the root (remove the joint and '{joint.parent}'): a "
+                     "PyBullet base floats unless loaded with useFixedBase=True",
+                data={"reason": "joint type", "joint": joint.name, "type": "floating"}))
+    return found
+
+
+def _mimic_reports(robot: Robot) -> list[Diagnostic]:
+    """One ``conversion-dropped`` per mimic joint, with the gear constraint that replaces it."""
+    found = []
+    for joint in robot.joints:
+        if joint.mimic is None:
+            continue
+        mimic = joint.mimic
+        recipe = (
+            "PyBullet ignores <mimic>; couple the joints with a gear constraint after loading: "
+            f"a = index of joint '{joint.name}', b = index of joint '{mimic.joint}'; "
+            "c = p.createConstraint(robot, a, robot, b, jointType=p.JOINT_GEAR, jointAxis=[0, 0, 1], "
+            "parentFramePosition=[0, 0, 0], childFramePosition=[0, 0, 0]); "
+            f"p.changeConstraint(c, gearRatio={-mimic.multiplier:g}, maxForce=...)"
+            + (f"; the offset {mimic.offset:g} has no equivalent (set the joint with "
+               "resetJointState)" if mimic.offset else "")
+        )
+        found.append(ConversionDropped.diagnostic(
+            f"joint '{joint.name}' mimics '{mimic.joint}' (x{mimic.multiplier:g}"
+            f"{f' + {mimic.offset:g}' if mimic.offset else ''}); PyBullet does not enforce <mimic>",
+            mimic.span or joint.span, element=f"joint[{joint.name}]/mimic", help=recipe,
+            data={"reason": "mimic", "joint": joint.name, "mimics": mimic.joint,
+                  "multiplier": mimic.multiplier, "offset": mimic.offset}))
+    return found
+
+
+def _header(robot: Robot, out: Path, inertia: PyBulletInertia, options: ExportOptions) -> str:
+    """The comment at the top of OUT: where it came from and how to load it."""
+    source = _relative(robot.path, out.resolve().parent) if robot.path else "a robot model"
+    base = ("base: floating (pass useFixedBase=True to fix it)" if inertia.base == "floating"
+            else "base: fixed to the world (the root link has no mass)")
+    # XML comments cannot hold "--", so the options are named in words.
+    flags = [f for f, on in (("repair inertia", options.repair_inertia),
+                             ("copy assets", options.copy_assets)) if on]
+    return (f" PyBullet URDF generated by urdftool from {source}"
+            f"{' (options: ' + ', '.join(flags) + ')' if flags else ''}.\n"
+            f"     Load with p.loadURDF(\"{out.name}\", flags={LOAD_FLAGS}); {base}. ")
+
+
+def _relative(path: str, folder: Path) -> str:
+    try:
+        return Path(os.path.relpath(Path(path).resolve(), folder)).as_posix()
+    except ValueError:
+        return Path(path).resolve().as_posix()
