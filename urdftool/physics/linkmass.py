@@ -111,6 +111,20 @@ def compare_inertia(link: Link, source: str, solid: SolidProperties) -> InertiaC
     return InertiaComparison(source, solid, computed, declared_trace / computed_trace, worst)
 
 
+def compare_with_geometry(link: Link) -> InertiaComparison | None:
+    """The declared inertia against the collision geometry, or the visual one when the
+    collision geometry cannot be measured.
+
+    One source only, never the better of two: then a link whose inertia is
+    accepted is always caught when that inertia is made 10× larger or smaller.
+    """
+    for source, solid in geometry_sources(link):
+        comparison = compare_inertia(link, source, solid)
+        if comparison is not None:
+            return comparison
+    return None
+
+
 def density(link: Link, solid: SolidProperties) -> float | None:
     """Declared mass / geometric volume (kg/m³), or ``None`` without a positive mass."""
     if link.inertial is None or link.inertial.mass <= 0 or solid.volume <= 0:

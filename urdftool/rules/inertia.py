@@ -30,7 +30,7 @@ from urdftool.physics.inertia import MIN_MOMENT, assess
 from urdftool.physics.linkmass import (
     InertiaComparison,
     bounds_diagonal,
-    compare_inertia,
+    compare_with_geometry,
     density,
     distance_outside,
     geometry_sources,
@@ -319,7 +319,11 @@ class InertiaNotPositiveDefinite(_Inertia):
         if inertial is None or inertial.mass <= MIN_VALUE or body is None:
             return None
         heads = body.head == link.name
+        head = body.links[0][0]
+        head_has_mass = head.inertial is not None and head.inertial.mass > MIN_VALUE
         if body.moves and float(np.linalg.eigvalsh(body.composite_inertia())[0]) <= MIN_VALUE:
+            if not heads and head_has_mass:
+                return None  # reported once, at the head of the body
             why, severity = f"it moves with joint '{body.joint}'", Severity.ERROR
         elif body.moves and heads:
             why = f"it moves with joint '{body.joint}' (only the links welded to it give it inertia)"
@@ -401,9 +405,10 @@ class InertiaGeometryMismatch(_Inertia):
     geometry, as uniform solids of the declared mass: boxes, cylinders,
     spheres and capsules by formula, meshes from their enclosed volume (or
     their convex hull when they are not closed), several shapes composed with
-    their origins. Each is rotated into the inertial frame of
-    `<inertial><origin rpy>`. The finding is reported when the declared
-    tensor is 3× larger or smaller (ratio of traces) than every available
+    their origins; the collision geometry is used, the visual one when the
+    collision geometry cannot be measured. The result is rotated into the
+    inertial frame of `<inertial><origin rpy>`. The finding is reported when
+    the declared tensor is 3× larger or smaller (ratio of traces) than the
     geometry's, and when the principal moments agree but sit on the wrong
     axes (a wheel whose spin moment is on an axis it does not spin about).
 
@@ -437,16 +442,15 @@ class InertiaGeometryMismatch(_Inertia):
             inertial = link.inertial
             if inertial is None or inertial.mass <= MIN_VALUE or not assess(inertial.inertia_matrix).valid:
                 continue
-            comparisons = [c for c in _comparisons(link) if c is not None]
-            if not comparisons:
+            comparison = compare_with_geometry(link)
+            if comparison is None:
                 continue
-            best = min(comparisons, key=lambda c: c.factor)
-            if best.factor >= INERTIA_FACTOR:
-                yield self._scale_finding(link, best)
+            if comparison.factor >= INERTIA_FACTOR:
+                yield self._scale_finding(link, comparison)
                 continue
-            axes = _wrong_axes(link, comparisons)
-            if axes is not None:
-                yield self._axes_finding(link, *axes)
+            factor = _wrong_axes(link, comparison)
+            if factor is not None:
+                yield self._axes_finding(link, comparison, factor)
 
     def _scale_finding(self, link: Link, best: InertiaComparison) -> Diagnostic:
         assert link.inertial is not None
@@ -479,29 +483,17 @@ class InertiaGeometryMismatch(_Inertia):
         )
 
 
-def _comparisons(link: Link) -> Iterator[InertiaComparison | None]:
-    for source, solid in geometry_sources(link):
-        comparison = compare_inertia(link, source, solid)
-        yield comparison
-        if comparison is not None and comparison.factor < INERTIA_FACTOR:
-            return  # collision geometry agrees: no need to load visual meshes
-
-
-def _wrong_axes(link: Link, comparisons: list[InertiaComparison]) -> tuple[InertiaComparison, float] | None:
-    """The comparison whose moments match but whose axes do not, with the off-axis factor."""
+def _wrong_axes(link: Link, comparison: InertiaComparison) -> float | None:
+    """The off-axis factor when the principal moments match the geometry's but their axes do not."""
     assert link.inertial is not None
-    declared = link.inertial.inertia_matrix
-    for comparison in comparisons:
-        if comparison.worst > SAME_MOMENTS:
-            continue
-        _, axes = np.linalg.eigh(comparison.computed)
-        along = [float(axes[:, k] @ declared @ axes[:, k]) for k in range(3)]
-        computed = [float(axes[:, k] @ comparison.computed @ axes[:, k]) for k in range(3)]
-        factor = max(max(d / c, c / d) for d, c in zip(along, computed))
-        if factor >= AXIS_FACTOR:
-            return comparison, factor
+    if comparison.worst > SAME_MOMENTS:
         return None
-    return None
+    declared = link.inertial.inertia_matrix
+    _, axes = np.linalg.eigh(comparison.computed)
+    along = [float(axes[:, k] @ declared @ axes[:, k]) for k in range(3)]
+    computed = [float(axes[:, k] @ comparison.computed @ axes[:, k]) for k in range(3)]
+    factor = max(max(d / c, c / d) for d, c in zip(along, computed))
+    return factor if factor >= AXIS_FACTOR else None
 
 
 @register

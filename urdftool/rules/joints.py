@@ -459,13 +459,9 @@ class MimicCycle(_Joints):
 
     def check(self, ctx: CheckContext) -> Iterator[Diagnostic]:
         joints = {joint.name: joint for joint in ctx.robot.joints}
-        reported: set[str] = set()
-        for joint in ctx.robot.joints:
-            cycle = _mimic_cycle(joint.name, joints)
-            if cycle is None or reported.intersection(cycle):
-                continue
-            reported.update(cycle)
-            first = min((joints[name] for name in cycle), key=ctx.robot.joints.index)
+        order = {joint.name: index for index, joint in enumerate(ctx.robot.joints)}
+        for cycle in mimic_cycles(joints):
+            first = joints[min(cycle, key=order.__getitem__)]
             start = cycle.index(first.name)
             ordered = cycle[start:] + cycle[:start]
             chain = " → ".join(f"'{name}'" for name in [*ordered, ordered[0]])
@@ -478,19 +474,28 @@ class MimicCycle(_Joints):
             )
 
 
-def _mimic_cycle(start: str, joints: dict[str, Joint]) -> list[str] | None:
-    """The cycle reached by following mimic targets from *start*, if any (always terminates)."""
-    path: list[str] = []
-    position: dict[str, int] = {}
-    current: str | None = start
-    while current is not None and current in joints:
-        if current in position:
-            return path[position[current]:]
-        position[current] = len(path)
-        path.append(current)
-        mimic = joints[current].mimic
-        current = mimic.joint if mimic is not None else None
-    return None
+def mimic_cycles(joints: dict[str, Joint]) -> list[list[str]]:
+    """Every cycle of mimic targets, each once, in the order it is first reached.
+
+    Each joint is walked at most once (linear time): a walk stops at a joint an
+    earlier walk has finished, and reports a cycle when it meets itself.
+    """
+    finished: set[str] = set()
+    cycles: list[list[str]] = []
+    for start in joints:
+        path: list[str] = []
+        on_path: dict[str, int] = {}
+        current: str | None = start
+        while current is not None and current in joints and current not in finished:
+            if current in on_path:
+                cycles.append(path[on_path[current]:])
+                break
+            on_path[current] = len(path)
+            path.append(current)
+            mimic = joints[current].mimic
+            current = mimic.joint if mimic is not None else None
+        finished.update(path)
+    return cycles
 
 
 @register
