@@ -110,34 +110,38 @@ class TreeDiagram:
         self.out.blank()
 
     def _title(self) -> Html:
+        """Name, DOF, mass and counts, the joint-type colours used, and robot-wide findings."""
         robot = self.robot
         facts = [
             f"{self.tree.dof} DOF",
             f"{significant(robot.total_mass)} kg",
-            f"{len(robot.links)} links",
-            f"{len(robot.joints)} joints",
+            _count(len(robot.links), "link"),
+            _count(len(robot.joints), "joint"),
         ]
         if robot.loop_closures:
-            facts.append(f"{len(robot.loop_closures)} loop closures")
-        rows = [
+            facts.append(_count(len(robot.loop_closures), "loop closure"))
+        lines = [
             f'<FONT POINT-SIZE="14"><B>{html_text(robot.name or "(unnamed robot)")}</B></FONT>',
             f'<FONT POINT-SIZE="10">{html_text(" · ".join(facts))}</FONT>',
+        ]
+        lines += [
+            f'<FONT COLOR="{colour}">robot {html_text(note)}</FONT>'
+            for colour, note in code_notes(self.findings.other)
         ]
         used = sorted(
             {j.type for j in (*robot.joints, *(c.joint for c in robot.loop_closures))},
             key=lambda t: t.value,
         )
+        # An HTML label is text or one table; the legend needs the table, so the
+        # text rows span all the legend's columns (one per joint type, stretched
+        # by Graphviz to the title's width: a colour bar).
+        span = max(1, len(used))
+        rows = [f'<TR><TD COLSPAN="{span}">{line}</TD></TR>' for line in lines]
         if used:
             cells = "".join(f'<TD BGCOLOR="{JOINT_COLOURS[t]}">{t.value}</TD>' for t in used)
-            rows.append(
-                f'<TABLE BORDER="0" CELLSPACING="2" CELLPADDING="1"><TR>'
-                f"<TD>joints:</TD>{cells}</TR></TABLE>"
-            )
-        for colour, note in code_notes(self.findings.other):
-            rows.append(f'<FONT COLOR="{colour}">robot {html_text(note)}</FONT>')
-        # An HTML label is either text or one table: the legend needs the table.
-        body = "".join(f"<TR><TD>{row}</TD></TR>" for row in rows)
-        return Html(f'<TABLE BORDER="0" CELLSPACING="0" CELLPADDING="1">{body}</TABLE>')
+            rows.insert(2, f"<TR>{cells}</TR>")
+        body = "".join(rows)
+        return Html(f'<TABLE BORDER="0" CELLSPACING="2" CELLPADDING="1">{body}</TABLE>')
 
     # -- links --------------------------------------------------------------
 
@@ -225,6 +229,10 @@ class TreeDiagram:
             to_child.update(style="dashed", constraint=False)
         self.out.edge(parent, joint_id, to_joint)
         self.out.edge(joint_id, child, to_child)
+
+
+def _count(number: int, noun: str) -> str:
+    return f"{number} {noun}" + ("" if number == 1 else "s")
 
 
 def _finding_style(found: Sequence[Diagnostic], keep_fill: bool = False) -> Attributes:
