@@ -193,7 +193,7 @@ def test_loop_closures_are_dashed_and_do_not_constrain_the_layout() -> None:
     assert "loop closure" in text
     assert '"link:coupler" -> "joint:d" [label="xyz 0.4 0 0", style="dashed"];' in text
     assert '"joint:d" -> "link:rocker" [style="dashed", constraint=false];' in text
-    assert "4 DOF" not in text and "3 DOF" in text and "1 loop closure ·" not in text and "· 1 loop closure<" in text
+    assert "3 DOF" in text and "· 1 loop closure<" in text
 
 
 def test_joints_off_the_tree_and_missing_links_are_drawn_not_dropped() -> None:
