@@ -183,3 +183,34 @@ def test_to_dot_api(robot_file: Path, tmp_path: Path) -> None:
         urdftool.to_dot(robot, rankdir="sideways")
     with pytest.raises(ValueError, match="cannot write a graph"):
         urdftool.to_dot(robot, tmp_path / "tree.jpg")
+
+
+FOURBAR_SDF = """<?xml version="1.0"?>
+<sdf version="1.7">
+  <model name="fourbar">
+    <link name="ground"/>
+    <link name="crank"><pose>0 0 0.1 0 0 0</pose></link>
+    <link name="coupler"><pose>0.1 0 0.1 0 0 0</pose></link>
+    <link name="rocker"><pose>0.4 0 0 0 0 0</pose></link>
+    <joint name="a" type="revolute"><parent>ground</parent><child>crank</child></joint>
+    <joint name="b" type="revolute"><parent>crank</parent><child>coupler</child></joint>
+    <joint name="c" type="revolute"><parent>ground</parent><child>rocker</child></joint>
+    <joint name="d" type="revolute"><parent>coupler</parent><child>rocker</child></joint>
+  </model>
+</sdf>
+"""
+
+
+def test_sdf_closed_chain_draws_its_loop_closure(tmp_path: Path) -> None:
+    source = tmp_path / "fourbar.sdf"
+    source.write_text(FOURBAR_SDF)
+    out = tmp_path / "fourbar.svg"
+    result = graph(source, "-o", out, "--keep-dot")
+    assert result.exit_code == 0, result.output
+    nodes = svg_nodes(out.read_bytes())
+    assert {"link:ground", "link:crank", "link:coupler", "link:rocker"} <= set(nodes)
+    assert {"joint:a", "joint:b", "joint:c", "joint:d"} <= set(nodes)
+    dot = (tmp_path / "fourbar.dot").read_text()
+    closures = [line for line in dot.splitlines() if "loop closure" in line]
+    assert len(closures) == 1 and 'style="filled,dashed"' in closures[0]
+    assert "constraint=false" in dot
