@@ -14,6 +14,7 @@ and two copies of one mesh become one asset. A mesh used at two scales is two
 
 from __future__ import annotations
 
+import functools
 import hashlib
 import os
 import re
@@ -91,6 +92,12 @@ def wavefront_obj(vertices: np.ndarray, faces: np.ndarray) -> bytes:
     return ("\n".join(lines) + "\n").encode("ascii")
 
 
+@functools.lru_cache(maxsize=128)
+def _convert_cached(content: str, path: str) -> tuple[bytes, str]:
+    """:func:`convert` once per file content in a process (robots share meshes)."""
+    return convert(path)
+
+
 def convert(path: str) -> tuple[bytes, str]:
     """Load *path* with trimesh (scenes flattened with their transforms); return the bytes and
     suffix of a file MuJoCo reads: binary STL, or OBJ above the STL triangle limit."""
@@ -152,7 +159,7 @@ class AssetPlan:
         if native and not self.copy:
             reference = self._reference(path)
         else:
-            payload, out_suffix = (data, suffix) if native else convert(path)
+            payload, out_suffix = (data, suffix) if native else _convert_cached(content, path)
             reference = f"{ASSETS_DIR}/{_safe_stem(path)}-{_sha(payload)[:12]}{out_suffix}"
             self.files[reference] = payload
         self._by_path[path] = (content, reference)
