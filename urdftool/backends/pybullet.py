@@ -70,17 +70,19 @@ def captured_output() -> Iterator[list[str]]:
 def engine_messages(output: str) -> list[str]:
     """The warnings and errors in PyBullet's printed output, one string each.
 
-    ``b3Warning[file,line]:`` markers start a message that runs to the next
-    marker; plain lines starting with "Warning" or "Error" count too. The
-    build-time banner and informational lines are not messages.
+    A ``b3Warning[file,line]:`` marker is followed by its message on the next
+    line (often without a newline before the next marker); other lines that
+    start with "Warning" or "Error" are messages of their own. The build-time
+    banner and informational lines are not messages.
     """
     messages: list[str] = []
     parts = _MARKER.split(output)
-    if len(parts) > 1:
-        messages.extend(" ".join(part.split()) for part in parts[1:])
-    for line in parts[0].splitlines():
-        if _PLAIN_WARNING.match(line):
-            messages.append(line.strip())
+    plain = parts[0].splitlines()
+    for part in parts[1:]:
+        first, *rest = part.strip().splitlines() or [""]
+        messages.append(first.strip())
+        plain.extend(rest)
+    messages.extend(line.strip() for line in plain if _PLAIN_WARNING.match(line))
     return [m for m in messages if m]
 
 
