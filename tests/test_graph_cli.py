@@ -211,6 +211,9 @@ def test_sdf_closed_chain_draws_its_loop_closure(tmp_path: Path) -> None:
     assert {"link:ground", "link:crank", "link:coupler", "link:rocker"} <= set(nodes)
     assert {"joint:a", "joint:b", "joint:c", "joint:d"} <= set(nodes)
     dot = (tmp_path / "fourbar.dot").read_text()
-    closures = [line for line in dot.splitlines() if "loop closure" in line]
+    joints = [
+        line for line in dot.splitlines() if line.startswith('  "joint:') and "label=" in line
+    ]
+    closures = [line for line in joints if "loop closure" in line]
     assert len(closures) == 1 and 'style="filled,dashed"' in closures[0]
     assert "constraint=false" in dot
