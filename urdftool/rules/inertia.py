@@ -715,7 +715,7 @@ class ExtremeMassRatio(_Inertia):
             if joint is None or parent is None or parent.mass <= MIN_VALUE:
                 continue
             ratio = body.mass / parent.mass
-            if 1 / MASS_RATIO < ratio < MASS_RATIO:
+            if 1 / MASS_RATIO <= ratio <= MASS_RATIO:
                 continue
             lighter = "lighter" if ratio < 1 else "heavier"
             factor = 1 / ratio if ratio < 1 else ratio
