@@ -224,7 +224,7 @@ def verify_mjcf(robot: Robot, out: Path, options: ExportOptions, configurations:
     try:
         mj = compile_model(out)
     except EngineError as exc:
-        return VerifyResult(False, [], [_engine_error(robot, exc)])
+        return VerifyResult(False, [], [_engine_error(robot, exc, out)])
     inertials = plan_inertia(robot, tree, base, options.repair_inertia).inertials
     pin = build_model(robot, free_flyer=base.kind == "free", inertials=dict(inertials))
     try:
@@ -268,13 +268,37 @@ def _mismatch(robot: Robot, row: tuple[str, float, float, bool], link: str | Non
         span, data={"quantity": name, "error": error, "tolerance": tolerance})
 
 
-def _engine_error(robot: Robot, exc: Any) -> Diagnostic:
+def _engine_error(robot: Robot, exc: Any, out: Path) -> Diagnostic:
+    """MuJoCo's compile error at the link, joint or mesh of the source it names."""
     span = robot.span
     if exc.element:
-        link = robot.link(exc.element)
-        joint = robot.joint(exc.element)
-        node = link or joint
+        node = robot.link(exc.element) or robot.joint(exc.element)
         if node is not None and node.span is not None:
             span = node.span
+        else:
+            span = _mesh_span(robot, exc.element, out) or span
     return EngineRejected.diagnostic(f"MuJoCo refused the export: {exc.message}", span,
                                      data={"element": exc.element, "line": exc.line})
+
+
+def _mesh_span(robot: Robot, mesh_name: str, out: Path):  # type: ignore[no-untyped-def]
+    """The source ``<mesh>`` behind MJCF mesh asset *mesh_name*: the first mesh geometry, in the
+    link whose body uses the asset, whose file has the asset's stem."""
+    from lxml import etree
+
+    from urdftool.model import Mesh
+
+    try:
+        document = etree.parse(str(out))
+    except (OSError, etree.XMLSyntaxError):
+        return None
+    for geom in document.iter("geom"):
+        if geom.get("mesh") != mesh_name:
+            continue
+        body = geom.getparent()
+        link = robot.link(body.get("name", "")) if body is not None else None
+        for element in (*link.visuals, *link.collisions) if link else ():
+            geometry = element.geometry
+            if isinstance(geometry, Mesh) and mesh_name.startswith(Path(geometry.filename).name.split(".")[0]):
+                return geometry.span or element.span
+    return None
