@@ -77,7 +77,7 @@ class TreeDiagram:
         tree_joints = self.tree.joints_in_order
         in_tree = {id(joint) for joint in tree_joints}
         for joint in tree_joints:
-            if joint.name not in self.groups.merged_joints:
+            if not self.groups.is_merged(joint):
                 self._joint(joint, joint.origin, in_tree=True)
         closures = {closure.joint.name for closure in self.robot.loop_closures}
         for joint in self.robot.joints:

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
-from urdftool.model import IDENTITY, JointType, KinematicTree, Pose
+from urdftool.model import IDENTITY, Joint, JointType, KinematicTree, Pose
 
 
 @dataclass
@@ -22,8 +22,9 @@ class LinkGroups:
     members: dict[str, list[str]] = field(default_factory=dict)
     #: each member's frame in its top link's frame
     offset: dict[str, Pose] = field(default_factory=dict)
-    #: fixed joints drawn inside a group rather than as nodes
-    merged_joints: set[str] = field(default_factory=set)
+    #: ``id()`` of the fixed joints drawn inside a group rather than as nodes
+    #: (by identity: a repeated joint name must not hide another joint)
+    merged_joints: set[int] = field(default_factory=set)
 
     @classmethod
     def of(cls, tree: KinematicTree, collapse_fixed: bool) -> LinkGroups:
@@ -34,13 +35,16 @@ class LinkGroups:
                 assert joint is not None
                 top = groups.top[joint.parent]
                 groups.offset[link.name] = groups.offset[joint.parent].compose(joint.origin)
-                groups.merged_joints.add(joint.name)
+                groups.merged_joints.add(id(joint))
             else:
                 top = link.name
                 groups.offset[link.name] = IDENTITY
             groups.top[link.name] = top
             groups.members.setdefault(top, []).append(link.name)
         return groups
+
+    def is_merged(self, joint: Joint) -> bool:
+        return id(joint) in self.merged_joints
 
     def in_top_frame(self, link: str, pose: Pose) -> Pose:
         """*pose*, given in *link*'s frame, expressed in the frame of *link*'s group top link."""
