@@ -16,8 +16,20 @@ import pytest
 
 from tests.conftest import SEEDS
 from urdftool.check import CheckOptions, check_file, run_rules
-from urdftool.model import Box, Capsule, Collision, Cylinder, Inertial, Joint, JointType, KinematicTree, Link, Pose
-from urdftool.model import Robot, Sphere
+from urdftool.model import (
+    Box,
+    Capsule,
+    Collision,
+    Cylinder,
+    Inertial,
+    Joint,
+    JointType,
+    KinematicTree,
+    Link,
+    Pose,
+    Robot,
+    Sphere,
+)
 from urdftool.physics.bodies import mass_role, rigid_bodies
 from urdftool.physics.inertia import MIN_MOMENT, assess
 from urdftool.physics.massprops import combine, place, rotate_into, shape_properties
@@ -33,11 +45,15 @@ def _trimesh_solid(geometry: object):  # type: ignore[no-untyped-def]
     if isinstance(geometry, Box):
         return trimesh.creation.box(extents=geometry.size)
     if isinstance(geometry, Cylinder):
-        return trimesh.creation.cylinder(radius=geometry.radius, height=geometry.length, sections=256)
+        return trimesh.creation.cylinder(
+            radius=geometry.radius, height=geometry.length, sections=256
+        )
     if isinstance(geometry, Sphere):
         return trimesh.creation.icosphere(subdivisions=6, radius=geometry.radius)
     if isinstance(geometry, Capsule):
-        return trimesh.creation.capsule(radius=geometry.radius, height=geometry.length, count=[128, 128])
+        return trimesh.creation.capsule(
+            radius=geometry.radius, height=geometry.length, count=[128, 128]
+        )
     raise AssertionError(geometry)
 
 
@@ -56,8 +72,10 @@ def test_shape_formulas_match_trimesh(shape: object) -> None:
 def test_composition_with_origins_matches_trimesh() -> None:
     import trimesh
 
-    parts = [(Cylinder(0.02, 0.3), Pose((0.0, 0.0, 0.15), (0.3, 0.0, 0.0))),
-             (Box((0.1, 0.05, 0.08)), Pose((0.05, 0.0, 0.35), (0.0, 0.4, 1.0)))]
+    parts = [
+        (Cylinder(0.02, 0.3), Pose((0.0, 0.0, 0.15), (0.3, 0.0, 0.0))),
+        (Box((0.1, 0.05, 0.08)), Pose((0.05, 0.0, 0.35), (0.0, 0.4, 1.0))),
+    ]
     solid = combine(place(shape_properties(g), pose) for g, pose in parts)  # type: ignore[arg-type]
     meshes = []
     for geometry, pose in parts:
@@ -87,8 +105,13 @@ def test_assess_absolute_floor_is_optional() -> None:
 
 # -- robots built here ---------------------------------------------------------------
 
-def _inertial(mass: float, diag: tuple[float, float, float], rpy: tuple[float, float, float] = (0, 0, 0),
-              xyz: tuple[float, float, float] = (0, 0, 0)) -> Inertial:
+
+def _inertial(
+    mass: float,
+    diag: tuple[float, float, float],
+    rpy: tuple[float, float, float] = (0, 0, 0),
+    xyz: tuple[float, float, float] = (0, 0, 0),
+) -> Inertial:
     return Inertial(mass, Inertial.tensor(diag[0], 0, 0, diag[1], 0, diag[2]), Pose(xyz, rpy))
 
 
@@ -114,8 +137,11 @@ def test_massless_link_on_a_joint_is_an_error_and_welded_collider_a_warning() ->
         Link("finger", _inertial(0.0, (0, 0, 0)), collisions=BOX),
         Link("sensor", _inertial(0.0, (0, 0, 0)), collisions=BOX),
         Link("optical_frame", _inertial(0.0, (0, 0, 0))),
-        joints=(_joint("j", "base", "finger"), _joint("s", "base", "sensor", JointType.FIXED),
-                _joint("o", "sensor", "optical_frame", JointType.FIXED)),
+        joints=(
+            _joint("j", "base", "finger"),
+            _joint("s", "base", "sensor", JointType.FIXED),
+            _joint("o", "sensor", "optical_frame", JointType.FIXED),
+        ),
     )
     found = _codes(robot, "I002")
     assert ("I002", "error", "link[finger]/inertial/mass") in found
@@ -146,7 +172,10 @@ def test_point_mass_is_an_error_only_where_nothing_gives_the_body_inertia() -> N
     assert _codes(robot, "I004") == [("I004", "error", "link[arm]/inertial/inertia")]
     # give the arm inertia: the welded point-mass tool is then carried
     arm = dataclasses.replace(robot.links[1], inertial=_inertial(1.0, (0.01, 0.01, 0.002)))
-    assert _codes(dataclasses.replace(robot, links=(robot.links[0], arm, robot.links[2])), "I004") == []
+    assert (
+        _codes(dataclasses.replace(robot, links=(robot.links[0], arm, robot.links[2])), "I004")
+        == []
+    )
 
 
 def test_triangle_violation_found_through_products_of_inertia() -> None:
@@ -158,15 +187,21 @@ def test_triangle_violation_found_through_products_of_inertia() -> None:
     assert a + b < c
 
 
-def _box_link(mass: float, size: tuple[float, float, float], rpy: tuple[float, float, float],
-              scale: float = 1.0) -> Link:
+def _box_link(
+    mass: float,
+    size: tuple[float, float, float],
+    rpy: tuple[float, float, float],
+    scale: float = 1.0,
+) -> Link:
     """A box link whose inertia is written, exactly, in an inertial frame rotated by *rpy*."""
     x, y, z = size
     in_box = np.diag([y * y + z * z, x * x + z * z, x * x + y * y]) * mass / 12 * scale
     frame = Pose(rpy=rpy)
     declared = frame.rotation.T @ in_box @ frame.rotation
     t = declared
-    inertial = Inertial(mass, Inertial.tensor(t[0, 0], t[0, 1], t[0, 2], t[1, 1], t[1, 2], t[2, 2]), frame)
+    inertial = Inertial(
+        mass, Inertial.tensor(t[0, 0], t[0, 1], t[0, 2], t[1, 1], t[1, 2], t[2, 2]), frame
+    )
     return Link("body", inertial, collisions=(Collision(Box(size)),))
 
 
@@ -182,7 +217,9 @@ def test_scaled_inertia_is_reported_with_the_computed_tensor(scale: float) -> No
     assert [d.code for d in found] == ["I006"]
     assert found[0].data["ratio"] == pytest.approx(scale, rel=1e-6)
     computed = np.array(found[0].data["computed"])
-    assert np.trace(computed) * scale == pytest.approx(np.trace(robot.links[0].inertial.inertia_matrix))
+    assert np.trace(computed) * scale == pytest.approx(
+        np.trace(robot.links[0].inertial.inertia_matrix)
+    )
     assert "ixx=" in (found[0].help or "")
 
 

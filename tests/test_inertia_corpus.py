@@ -92,8 +92,14 @@ def _mujoco_ready(path: str, resolver: PackageResolver) -> etree._Element:
     for mesh in list(root.iter("mesh")):
         found = resolver.resolve_uri(mesh.get("filename", ""), path).path
         holder = mesh.getparent().getparent()  # <visual> or <collision>
-        readable = found is not None and os.path.exists(found) and (
-            found.lower().endswith(".obj") or (found.lower().endswith(".stl") and _binary_stl(found)))
+        readable = (
+            found is not None
+            and os.path.exists(found)
+            and (
+                found.lower().endswith(".obj")
+                or (found.lower().endswith(".stl") and _binary_stl(found))
+            )
+        )
         if readable:
             mesh.set("filename", found)
         else:
@@ -112,7 +118,9 @@ def _give_valid_inertial(root: etree._Element, name: str) -> bool:
                 link.remove(old)
             inertial = etree.SubElement(link, "inertial")
             etree.SubElement(inertial, "mass", value="1")
-            etree.SubElement(inertial, "inertia", ixx="0.01", iyy="0.01", izz="0.01", ixy="0", ixz="0", iyz="0")
+            etree.SubElement(
+                inertial, "inertia", ixx="0.01", iyy="0.01", izz="0.01", ixy="0", ixz="0", iyz="0"
+            )
             return True
     return False
 
@@ -148,49 +156,74 @@ def _link_lines(link: Link) -> set[int]:
 def test_every_link_mujoco_refuses_gets_the_matching_error(
     path: str, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
-    monkeypatch.chdir(tmp_path)  # MuJoCo writes its warnings to MUJOCO_LOG.TXT in the working folder
+    monkeypatch.chdir(
+        tmp_path
+    )  # MuJoCo writes its warnings to MUJOCO_LOG.TXT in the working folder
     refused, other = mujoco_refusals(path)
     if _id(path) in KNOWN_REFUSED:
         assert refused, f"MuJoCo accepted {_id(path)}: the oracle is broken"
     options = CheckOptions(select=("I001", "I002", "I003", "I004", "I005"))
-    errors = [d for r in check_file(path, options) for d in r.diagnostics if d.severity.value == "error"]
+    errors = [
+        d for r in check_file(path, options) for d in r.diagnostics if d.severity.value == "error"
+    ]
     loaded = read(path, None, PackageResolver.create())[0].robot
     assert loaded is not None
     for name, reason in refused.items():
         link = loaded.link(name)
         assert link is not None
         lines = _link_lines(link)
-        matching = [d for d in errors if d.code in MUJOCO_REFUSALS[reason]
-                    and (d.element or "").startswith(f"link[{name}]")
-                    and d.location is not None and d.location.line in lines]
+        matching = [
+            d
+            for d in errors
+            if d.code in MUJOCO_REFUSALS[reason]
+            and (d.element or "").startswith(f"link[{name}]")
+            and d.location is not None
+            and d.location.line in lines
+        ]
         assert matching, f"MuJoCo refuses link '{name}' ({reason}); urdftool: " + "; ".join(
-            f"{d.code} {d.message}" for d in errors if (d.element or "").startswith(f"link[{name}]"))
+            f"{d.code} {d.message}" for d in errors if (d.element or "").startswith(f"link[{name}]")
+        )
     if other is None:  # MuJoCo judged every link: urdftool must not refuse more
-        extra = {(d.element or "").split("]")[0][len("link["):] for d in errors if d.code != "I001"}
-        assert extra <= set(refused), f"urdftool errors on links MuJoCo accepts: {sorted(extra - set(refused))}"
+        extra = {
+            (d.element or "").split("]")[0][len("link[") :] for d in errors if d.code != "I001"
+        }
+        assert extra <= set(refused), (
+            f"urdftool errors on links MuJoCo accepts: {sorted(extra - set(refused))}"
+        )
 
 
 # -- inertia-geometry-mismatch catches a 10x error everywhere ---------------------------
+
 
 def _scaled(robot: Robot, factor: float) -> Robot:
     links = []
     for link in robot.links:
         if link.inertial is not None:
             tensor = tuple(tuple(v * factor for v in row) for row in link.inertial.inertia)
-            link = dataclasses.replace(link, inertial=dataclasses.replace(link.inertial, inertia=tensor))
+            link = dataclasses.replace(
+                link, inertial=dataclasses.replace(link.inertial, inertia=tensor)
+            )
         links.append(link)
     return dataclasses.replace(robot, links=tuple(links))
 
 
 def _reported(robot: Robot) -> set[str]:
     ctx = CheckContext(robot, KinematicTree.of(robot))
-    return {(d.element or "").split("]")[0][len("link["):] for d in InertiaGeometryMismatch().check(ctx)}
+    return {
+        (d.element or "").split("]")[0][len("link[") :]
+        for d in InertiaGeometryMismatch().check(ctx)
+    }
 
 
 def _comparable(robot: Robot) -> set[str]:
-    return {link.name for link in robot.links
-            if link.inertial is not None and link.inertial.mass > 0
-            and assess(link.inertial.inertia_matrix).valid and compare_with_geometry(link) is not None}
+    return {
+        link.name
+        for link in robot.links
+        if link.inertial is not None
+        and link.inertial.mass > 0
+        and assess(link.inertial.inertia_matrix).valid
+        and compare_with_geometry(link) is not None
+    }
 
 
 @pytest.mark.parametrize("path", CORPUS, ids=_id)

@@ -18,18 +18,34 @@ def _link(name: str) -> Link:
     return Link(name, Inertial(1.0, Inertial.tensor(0.01, 0, 0, 0.01, 0, 0.01)))
 
 
-def _revolute(name: str, parent: str, child: str, lower: float = -1.0, upper: float = 1.0,
-              mimic: Mimic | None = None, axis: tuple[float, float, float] = (0.0, 0.0, 1.0)) -> Joint:
-    return Joint(name, JointType.REVOLUTE, parent, child, axis=axis,
-                 limit=Limit(lower, upper, 10.0, 1.0), mimic=mimic)
+def _revolute(
+    name: str,
+    parent: str,
+    child: str,
+    lower: float = -1.0,
+    upper: float = 1.0,
+    mimic: Mimic | None = None,
+    axis: tuple[float, float, float] = (0.0, 0.0, 1.0),
+) -> Joint:
+    return Joint(
+        name,
+        JointType.REVOLUTE,
+        parent,
+        child,
+        axis=axis,
+        limit=Limit(lower, upper, 10.0, 1.0),
+        mimic=mimic,
+    )
 
 
 def _chain(count: int, mimic_of: dict[int, int] | None = None) -> Robot:
-    """A serial chain of *count* revolute joints; ``mimic_of[i] = j`` makes joint i follow joint j."""
+    """A chain of *count* revolute joints; ``mimic_of[i] = j`` makes joint i follow joint j."""
     mimic_of = mimic_of or {}
     links = tuple(_link(f"l{i}") for i in range(count + 1))
     joints = tuple(
-        _revolute(f"j{i}", f"l{i}", f"l{i + 1}", mimic=Mimic(f"j{mimic_of[i]}") if i in mimic_of else None)
+        _revolute(
+            f"j{i}", f"l{i}", f"l{i + 1}", mimic=Mimic(f"j{mimic_of[i]}") if i in mimic_of else None
+        )
         for i in range(count)
     )
     return Robot("chain", links=links, joints=joints, path="built-in-test.urdf")
@@ -56,11 +72,14 @@ def test_joints_leading_into_a_cycle_are_not_cycles() -> None:
 
 def test_home_position_follows_mimic_chains_and_the_named_home() -> None:
     robot = _chain(3, {1: 0, 2: 1})
-    robot = dataclasses.replace(robot, joints=(
-        robot.joints[0],
-        dataclasses.replace(robot.joints[1], mimic=Mimic("j0", 2.0, 0.1)),
-        dataclasses.replace(robot.joints[2], mimic=Mimic("j1", -1.0, 0.5)),
-    ))
+    robot = dataclasses.replace(
+        robot,
+        joints=(
+            robot.joints[0],
+            dataclasses.replace(robot.joints[1], mimic=Mimic("j0", 2.0, 0.1)),
+            dataclasses.replace(robot.joints[2], mimic=Mimic("j1", -1.0, 0.5)),
+        ),
+    )
     named = dataclasses.replace(robot, home={"j0": 0.3})
     assert home_position(named, robot.joints[0]) == pytest.approx(0.3)
     assert home_position(named, robot.joints[1]) == pytest.approx(0.7)
@@ -91,14 +110,17 @@ def test_non_unit_axis_reports_the_normalised_axis() -> None:
 
 def test_rounded_axes_are_unit_enough() -> None:
     robot = _chain(1)
-    robot = dataclasses.replace(robot, joints=(_revolute("j0", "l0", "l1", axis=(0.0, 0.7071, 0.7071)),))
+    robot = dataclasses.replace(
+        robot, joints=(_revolute("j0", "l0", "l1", axis=(0.0, 0.7071, 0.7071)),)
+    )
     assert _found(robot, "J007") == []
 
 
 def test_mimic_target_missing_suggests_the_near_name() -> None:
     robot = _chain(2)
-    robot = dataclasses.replace(robot, joints=(robot.joints[0],
-                                               dataclasses.replace(robot.joints[1], mimic=Mimic("j_0"))))
+    robot = dataclasses.replace(
+        robot, joints=(robot.joints[0], dataclasses.replace(robot.joints[1], mimic=Mimic("j_0")))
+    )
     (finding,) = _found(robot, "J008")
     assert "did you mean 'j0'" in finding.message
 
@@ -106,8 +128,12 @@ def test_mimic_target_missing_suggests_the_near_name() -> None:
 def test_a1_calf_joints_start_outside_their_limits() -> None:
     assert ERD is not None
     path = ERD / "a1_description" / "urdf" / "a1.urdf"
-    found = [d for r in check_file(str(path), CheckOptions(select=("J010",))) for d in r.diagnostics]
-    assert {d.element for d in found} == {f"joint[{leg}_calf_joint]/limit" for leg in ("FR", "FL", "RR", "RL")}
+    found = [
+        d for r in check_file(str(path), CheckOptions(select=("J010",))) for d in r.diagnostics
+    ]
+    assert {d.element for d in found} == {
+        f"joint[{leg}_calf_joint]/limit" for leg in ("FR", "FL", "RR", "RL")
+    }
     assert all(d.data["upper"] < 0 and d.data["nearest"] == d.data["upper"] for d in found)
 
 

@@ -75,8 +75,10 @@ def rigid_bodies(tree: KinematicTree) -> list[RigidBody]:
     return bodies
 
 
-def _welded(tree: KinematicTree, links: dict[str, Link], head: Link) -> tuple[tuple[Link, Pose], ...]:
-    """*head* and every link below it reached through fixed joints only, with poses in head's frame."""
+def _welded(
+    tree: KinematicTree, links: dict[str, Link], head: Link
+) -> tuple[tuple[Link, Pose], ...]:
+    """*head* and the links welded below it by fixed joints, with poses in head's frame."""
     out: list[tuple[Link, Pose]] = []
     stack: list[tuple[Link, Pose]] = [(head, Pose())]
     while stack:  # the tree view has no cycles, so this ends
@@ -123,18 +125,26 @@ def mass_role(link: Link, body: RigidBody | None) -> MassRole | None:
     if body.moves and body.mass <= MIN_VALUE and (link.name == body.head or collides):
         return MassRole(
             f"moves with joint '{body.joint}' and nothing welded to it has mass",
-            "error", body.joint, None, None,
+            "error",
+            body.joint,
+            None,
+            None,
         )
     if collides and body.mass > MIN_VALUE:
         carrier = heaviest(body)
         return MassRole(
             f"has collision geometry; it is welded to '{carrier}' ({body.mass:.3g} kg in all), "
             "which carries it without its weight",
-            "warning", body.joint, carrier, body.mass,
+            "warning",
+            body.joint,
+            carrier,
+            body.mass,
         )
     return None
 
 
 def heaviest(body: RigidBody) -> str:
     """Name of the heaviest link of *body* (the one that carries the others)."""
-    return max(body.links, key=lambda item: item[0].inertial.mass if item[0].inertial else 0.0)[0].name
+    return max(body.links, key=lambda item: item[0].inertial.mass if item[0].inertial else 0.0)[
+        0
+    ].name

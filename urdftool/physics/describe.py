@@ -44,8 +44,16 @@ def fmt_tensor(tensor: Matrix) -> str:
 def tensor_data(tensor: Matrix) -> dict[str, Any]:
     """The six URDF components of a tensor, for a finding's ``data``."""
     t = np.asarray(tensor, dtype=float)
-    return {"inertia": {"ixx": t[0, 0], "ixy": t[0, 1], "ixz": t[0, 2],
-                        "iyy": t[1, 1], "iyz": t[1, 2], "izz": t[2, 2]}}
+    return {
+        "inertia": {
+            "ixx": t[0, 0],
+            "ixy": t[0, 1],
+            "ixz": t[0, 2],
+            "iyy": t[1, 1],
+            "iyz": t[1, 2],
+            "izz": t[2, 2],
+        }
+    }
 
 
 def is_zero_tensor(tensor: Matrix) -> bool:
@@ -58,7 +66,7 @@ def is_zero_tensor(tensor: Matrix) -> bool:
 
 
 def suggested_mass(link: Link) -> str | None:
-    """A help text with the mass the link's geometry would have at a typical density, if measurable."""
+    """A help text with the mass the link's geometry has at a typical density, if measurable."""
     for source, solid in geometry_sources(link):
         mass = solid.volume * TYPICAL_DENSITY
         tensor = solid.inertia_for_mass(mass)

@@ -44,7 +44,9 @@ class InertiaVerdict:
         return self.positive_definite and self.triangle_violation is None
 
 
-def assess(tensor: Matrix, rel_tol: float = RELATIVE_TOLERANCE, abs_tol: float = 0.0) -> InertiaVerdict:
+def assess(
+    tensor: Matrix, rel_tol: float = RELATIVE_TOLERANCE, abs_tol: float = 0.0
+) -> InertiaVerdict:
     """Positive-definiteness and triangle inequalities, with a tolerance relative to the trace.
 
     A principal moment counts as positive when it exceeds both ``rel_tol``
@@ -64,7 +66,9 @@ def assess(tensor: Matrix, rel_tol: float = RELATIVE_TOLERANCE, abs_tol: float =
 def box_inertia(mass: float, size: tuple[float, float, float]) -> Matrix:
     """Solid box with full edge lengths *size* (m) about its centre, box frame."""
     x, y, z = size
-    return np.diag([mass * (y * y + z * z) / 12, mass * (x * x + z * z) / 12, mass * (x * x + y * y) / 12])
+    return np.diag(
+        [mass * (y * y + z * z) / 12, mass * (x * x + z * z) / 12, mass * (x * x + y * y) / 12]
+    )
 
 
 def cylinder_inertia(mass: float, radius: float, length: float) -> Matrix:
@@ -79,11 +83,13 @@ def sphere_inertia(mass: float, radius: float) -> Matrix:
 
 def ellipsoid_inertia(mass: float, radii: tuple[float, float, float]) -> Matrix:
     a, b, c = radii
-    return np.diag([mass * (b * b + c * c) / 5, mass * (a * a + c * c) / 5, mass * (a * a + b * b) / 5])
+    return np.diag(
+        [mass * (b * b + c * c) / 5, mass * (a * a + c * c) / 5, mass * (a * a + b * b) / 5]
+    )
 
 
 def capsule_inertia(mass: float, radius: float, length: float) -> Matrix:
-    """Solid capsule along local z: a cylinder of *length* with two hemispherical caps, uniform density."""
+    """Solid capsule along local z: a cylinder of *length* with two hemispherical caps."""
     r, h = radius, length
     v_cyl = np.pi * r * r * h
     v_caps = 4.0 / 3.0 * np.pi * r**3
@@ -98,6 +104,6 @@ def capsule_inertia(mass: float, radius: float, length: float) -> Matrix:
 
 
 def shift_to_point(tensor: Matrix, mass: float, offset: Matrix) -> Matrix:
-    """Parallel-axis theorem: a tensor about the centre of mass moved to a point at *offset* from it."""
+    """Parallel-axis theorem: a tensor about the centre of mass, moved to a point *offset* away."""
     d = np.asarray(offset, dtype=float)
     return tensor + mass * (float(d @ d) * np.eye(3) - np.outer(d, d))

@@ -19,7 +19,13 @@ import numpy as np
 from urdftool.model import Collision, Link, Visual
 from urdftool.model.pose import Matrix
 from urdftool.physics.inertia import principal_moments
-from urdftool.physics.massprops import SolidProperties, combine, geometry_properties, place, rotate_into
+from urdftool.physics.massprops import (
+    SolidProperties,
+    combine,
+    geometry_properties,
+    place,
+    rotate_into,
+)
 
 #: Density (kg/m³) used to suggest a mass for a massless link: a solid of
 #: plastic, or a hollow aluminium part, which is what most robot links weigh.
@@ -42,7 +48,7 @@ def link_solid(elements: tuple[Collision, ...] | tuple[Visual, ...]) -> SolidPro
 
 
 def geometry_sources(link: Link) -> Iterator[tuple[str, SolidProperties]]:
-    """``("collision", solid)`` then ``("visual", solid)``, lazily, skipping what cannot be measured.
+    """``("collision", solid)`` then ``("visual", solid)``, lazily, skipping the unmeasurable.
 
     The visual solid is skipped when the visual elements are the same shapes
     as the collision ones (common in hand-written URDF).
@@ -82,7 +88,7 @@ class InertiaComparison:
 
 
 def geometry_tensor(link: Link, solid: SolidProperties) -> Matrix | None:
-    """The inertia (kg·m²) of *solid* at the link's declared mass, about its centroid, in the inertial frame."""
+    """Inertia (kg·m²) of *solid* at the declared mass, about its centroid, inertial frame."""
     inertial = link.inertial
     if inertial is None or inertial.mass <= 0 or solid.volume <= 0:
         return None
@@ -90,7 +96,7 @@ def geometry_tensor(link: Link, solid: SolidProperties) -> Matrix | None:
 
 
 def compare_inertia(link: Link, source: str, solid: SolidProperties) -> InertiaComparison | None:
-    """Compare *link*'s declared inertia with *solid* at the declared mass; ``None`` if not comparable."""
+    """*link*'s declared inertia against *solid* at its mass; ``None`` if not comparable."""
     computed = geometry_tensor(link, solid)
     if computed is None or link.inertial is None:
         return None
@@ -103,7 +109,7 @@ def compare_inertia(link: Link, source: str, solid: SolidProperties) -> InertiaC
     declared_moments, _ = principal_moments(declared)
     computed_moments, _ = principal_moments(computed)
     worst = 1.0
-    for d, c in zip(declared_moments, computed_moments):
+    for d, c in zip(declared_moments, computed_moments, strict=True):
         if d <= 0 or c <= 0:
             worst = math.inf
             break
@@ -133,7 +139,7 @@ def density(link: Link, solid: SolidProperties) -> float | None:
 
 
 def distance_outside(point: Matrix, solid: SolidProperties) -> float:
-    """How far (m) *point* lies outside the solid's axis-aligned bounds in the link frame (0 inside)."""
+    """How far (m) *point* lies outside the solid's bounds, link frame (0 inside)."""
     below = np.maximum(solid.bounds_min - point, 0.0)
     above = np.maximum(point - solid.bounds_max, 0.0)
     return float(np.linalg.norm(np.maximum(below, above)))

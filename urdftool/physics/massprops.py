@@ -153,13 +153,20 @@ def place(solid: SolidProperties, origin: Pose) -> SolidProperties:
     inertia = rotation @ solid.inertia @ rotation.T
     corners = _corners(solid.bounds_min, solid.bounds_max) @ rotation.T + np.asarray(origin.xyz)
     return SolidProperties(
-        solid.volume, center, inertia, corners.min(axis=0), corners.max(axis=0),
-        solid.label, solid.approximate,
+        solid.volume,
+        center,
+        inertia,
+        corners.min(axis=0),
+        corners.max(axis=0),
+        solid.label,
+        solid.approximate,
     )
 
 
 def _corners(lo: Matrix, hi: Matrix) -> Matrix:
-    return np.array([[x, y, z] for x in (lo[0], hi[0]) for y in (lo[1], hi[1]) for z in (lo[2], hi[2])])
+    return np.array(
+        [[x, y, z] for x in (lo[0], hi[0]) for y in (lo[1], hi[1]) for z in (lo[2], hi[2])]
+    )
 
 
 def combine(solids: Iterable[SolidProperties]) -> SolidProperties | None:
@@ -174,7 +181,9 @@ def combine(solids: Iterable[SolidProperties]) -> SolidProperties | None:
     inertia = sum(
         (shift_to_point(p.inertia, p.volume, p.center - center) for p in parts), np.zeros((3, 3))
     )
-    label = " + ".join(p.label for p in parts[:3]) + (f" + {len(parts) - 3} more" if len(parts) > 3 else "")
+    label = " + ".join(p.label for p in parts[:3]) + (
+        f" + {len(parts) - 3} more" if len(parts) > 3 else ""
+    )
     return SolidProperties(
         volume,
         center,
@@ -189,4 +198,5 @@ def combine(solids: Iterable[SolidProperties]) -> SolidProperties | None:
 def rotate_into(tensor: Matrix, frame: Pose) -> Matrix:
     """A tensor written in the link frame, expressed in *frame* (given in the link frame)."""
     rotation = frame.rotation
-    return rotation.T @ tensor @ rotation
+    rotated: Matrix = rotation.T @ tensor @ rotation
+    return rotated

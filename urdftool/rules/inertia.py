@@ -143,7 +143,11 @@ class MissingInertial(_Inertia):
                 element=_where(link),
                 severity=_SEVERITY[role.severity],
                 help=suggested_mass(link) or "add <inertial> with the link's mass and inertia",
-                data={"joint": role.joint, "carrier": role.carrier, "carrier_mass": role.carrier_mass},
+                data={
+                    "joint": role.joint,
+                    "carrier": role.carrier,
+                    "carrier_mass": role.carrier_mass,
+                },
             )
 
 
@@ -167,7 +171,9 @@ class ZeroMass(_Inertia):
     ## Example
     ```xml
     <link name="lidar">
-      <inertial><mass value="0"/><inertia ixx="0" ixy="0" ixz="0" iyy="0" iyz="0" izz="0"/></inertial>
+      <inertial>
+        <mass value="0"/><inertia ixx="0" ixy="0" ixz="0" iyy="0" iyz="0" izz="0"/>
+      </inertial>
       <collision><geometry><cylinder radius="0.035" length="0.04"/></geometry></collision>
     </link>
     ```
@@ -190,15 +196,23 @@ class ZeroMass(_Inertia):
             role = _role(ctx, link)
             if role is None:
                 continue
-            what = "zero mass and zero inertia" if is_zero_tensor(inertial.inertia_matrix) else "zero mass"
+            what = (
+                "zero mass and zero inertia"
+                if is_zero_tensor(inertial.inertia_matrix)
+                else "zero mass"
+            )
             yield self.diagnostic(
                 f"link '{link.name}' has {what} but {role.why}",
                 inertial.mass_span or inertial.span or link.span,
                 element=_where(link, "inertial", "mass"),
                 severity=_SEVERITY[role.severity],
                 help=suggested_mass(link) or "set the link's real mass and inertia",
-                data={"mass": inertial.mass, "joint": role.joint, "carrier": role.carrier,
-                      "carrier_mass": role.carrier_mass},
+                data={
+                    "mass": inertial.mass,
+                    "joint": role.joint,
+                    "carrier": role.carrier,
+                    "carrier_mass": role.carrier_mass,
+                },
             )
 
 
@@ -304,7 +318,6 @@ class InertiaNotPositiveDefinite(_Inertia):
                 data={"moments": [a, b, c], **tensor_data(tensor)},
             )
 
-
     def _point_mass(self, ctx: CheckContext, link: Link) -> Diagnostic | None:
         """A link with mass and an all-zero tensor, when something must rotate it.
 
@@ -326,10 +339,15 @@ class InertiaNotPositiveDefinite(_Inertia):
                 return None  # reported once, at the head of the body
             why, severity = f"it moves with joint '{body.joint}'", Severity.ERROR
         elif body.moves and heads:
-            why = f"it moves with joint '{body.joint}' (only the links welded to it give it inertia)"
+            why = (
+                f"it moves with joint '{body.joint}' (only the links welded to it give it inertia)"
+            )
             severity = Severity.WARNING
         elif heads and ctx.tree.child_joints.get(link.name):
-            why, severity = "it is the robot's base (a floating base cannot turn without inertia)", Severity.WARNING
+            why, severity = (
+                "it is the robot's base (a floating base cannot turn without inertia)",
+                Severity.WARNING,
+            )
         else:
             return None
         return self.diagnostic(
@@ -338,7 +356,11 @@ class InertiaNotPositiveDefinite(_Inertia):
             element=_where(link, "inertial", "inertia"),
             severity=severity,
             help=valid_tensor_help(link),
-            data={"mass": inertial.mass, "joint": body.joint, **tensor_data(inertial.inertia_matrix)},
+            data={
+                "mass": inertial.mass,
+                "joint": body.joint,
+                **tensor_data(inertial.inertia_matrix),
+            },
         )
 
 
@@ -421,7 +443,10 @@ class InertiaGeometryMismatch(_Inertia):
     ## Example
     ```xml
     <link name="lidar">
-      <inertial><mass value="1e-5"/><inertia ixx="1e-6" ixy="0" ixz="0" iyy="1e-6" iyz="0" izz="1e-6"/></inertial>
+      <inertial>
+        <mass value="1e-5"/>
+        <inertia ixx="1e-6" ixy="0" ixz="0" iyy="1e-6" iyz="0" izz="1e-6"/>
+      </inertial>
       <collision><geometry><box size="0.1 0.1 0.1"/></geometry></collision>
     </link>
     ```
@@ -440,7 +465,11 @@ class InertiaGeometryMismatch(_Inertia):
     def check(self, ctx: CheckContext) -> Iterator[Diagnostic]:
         for link in ctx.robot.links:
             inertial = link.inertial
-            if inertial is None or inertial.mass <= MIN_VALUE or not assess(inertial.inertia_matrix).valid:
+            if (
+                inertial is None
+                or inertial.mass <= MIN_VALUE
+                or not assess(inertial.inertia_matrix).valid
+            ):
                 continue
             comparison = compare_with_geometry(link)
             if comparison is None:
@@ -460,26 +489,37 @@ class InertiaGeometryMismatch(_Inertia):
             f"{fmt(link.inertial.mass)} kg ({fmt_tensor(best.computed)})",
             link.inertial.inertia_span or link.inertial.span or link.span,
             element=_where(link, "inertial", "inertia"),
-            help=f"a uniform {best.solid.label} ({best.source} geometry) of {fmt(link.inertial.mass)} kg "
+            help=f"a uniform {best.solid.label} ({best.source} geometry) of "
+            f"{fmt(link.inertial.mass)} kg "
             f"has, in the inertial frame, {fmt_tensor(best.computed)}"
             + (" (mesh not closed: measured by its convex hull)" if best.solid.approximate else ""),
-            data={"ratio": best.ratio, "source": best.source, "geometry": best.solid.label,
-                  "computed": best.computed.tolist(), "declared": link.inertial.inertia_matrix.tolist()},
+            data={
+                "ratio": best.ratio,
+                "source": best.source,
+                "geometry": best.solid.label,
+                "computed": best.computed.tolist(),
+                "declared": link.inertial.inertia_matrix.tolist(),
+            },
         )
 
     def _axes_finding(self, link: Link, comparison: InertiaComparison, factor: float) -> Diagnostic:
         assert link.inertial is not None
         return self.diagnostic(
             f"link '{link.name}': declared inertia has the moments of the {comparison.solid.label} "
-            f"on the wrong axes (off by {fmt(factor)}× about one of its axes in the inertial frame)",
+            f"on the wrong axes (off by {fmt(factor)}× about one of its axes in the inertial "
+            "frame)",
             link.inertial.inertia_span or link.inertial.span or link.span,
             element=_where(link, "inertial", "inertia"),
             help=f"in the inertial frame the {comparison.source} geometry has "
             f"{fmt_tensor(comparison.computed)}; rotate <inertial><origin rpy> like the geometry's "
             "origin, or write these values",
-            data={"axis_factor": factor, "source": comparison.source, "geometry": comparison.solid.label,
-                  "computed": comparison.computed.tolist(),
-                  "declared": link.inertial.inertia_matrix.tolist()},
+            data={
+                "axis_factor": factor,
+                "source": comparison.source,
+                "geometry": comparison.solid.label,
+                "computed": comparison.computed.tolist(),
+                "declared": link.inertial.inertia_matrix.tolist(),
+            },
         )
 
 
@@ -492,7 +532,7 @@ def _wrong_axes(link: Link, comparison: InertiaComparison) -> float | None:
     _, axes = np.linalg.eigh(comparison.computed)
     along = [float(axes[:, k] @ declared @ axes[:, k]) for k in range(3)]
     computed = [float(axes[:, k] @ comparison.computed @ axes[:, k]) for k in range(3)]
-    factor = max(max(d / c, c / d) for d, c in zip(along, computed))
+    factor = max(max(d / c, c / d) for d, c in zip(along, computed, strict=True))
     return factor if factor >= AXIS_FACTOR else None
 
 
@@ -552,9 +592,15 @@ class ImplausibleDensity(_Inertia):
                 link.inertial.mass_span or link.inertial.span or link.span,
                 element=_where(link, "inertial", "mass"),
                 help=f"at 1000 kg/m³ (plastic) this {source} geometry weighs "
-                f"{fmt(solid.volume * 1000.0)} kg, at 2700 kg/m³ (aluminium) {fmt(solid.volume * 2700.0)} kg",
-                data={"density": value, "volume": solid.volume, "source": source,
-                      "geometry": solid.label, "range": list(DENSITY_RANGE)},
+                f"{fmt(solid.volume * 1000.0)} kg, at 2700 kg/m³ (aluminium) "
+                f"{fmt(solid.volume * 2700.0)} kg",
+                data={
+                    "density": value,
+                    "volume": solid.volume,
+                    "source": source,
+                    "geometry": solid.label,
+                    "range": list(DENSITY_RANGE),
+                },
             )
 
 
@@ -606,15 +652,22 @@ class ComOutsideGeometry(_Inertia):
             outside, _, source, solid = min(found, key=lambda f: f[0])
             lo, hi = solid.bounds_min, solid.bounds_max
             yield self.diagnostic(
-                f"link '{link.name}': centre of mass ({fmt_vec(com)}) m is {fmt(outside)} m outside "
+                f"link '{link.name}': centre of mass ({fmt_vec(com)}) m is {fmt(outside)} m "
+                "outside "
                 f"its {solid.label}",
                 link.inertial.span or link.span,
                 element=_where(link, "inertial", "origin"),
-                help=f"the {source} geometry spans x {fmt(lo[0])}..{fmt(hi[0])}, y {fmt(lo[1])}..{fmt(hi[1])}, "
+                help=f"the {source} geometry spans x {fmt(lo[0])}..{fmt(hi[0])}, "
+                f"y {fmt(lo[1])}..{fmt(hi[1])}, "
                 f"z {fmt(lo[2])}..{fmt(hi[2])} m in the link frame; its centroid is "
                 f"({fmt_vec(solid.center)}) m",
-                data={"com": com.tolist(), "distance": outside, "source": source,
-                      "bounds": [lo.tolist(), hi.tolist()], "centroid": solid.center.tolist()},
+                data={
+                    "com": com.tolist(),
+                    "distance": outside,
+                    "source": source,
+                    "bounds": [lo.tolist(), hi.tolist()],
+                    "centroid": solid.center.tolist(),
+                },
             )
 
 
@@ -719,14 +772,12 @@ class ExtremeMassRatio(_Inertia):
                 continue
             lighter = "lighter" if ratio < 1 else "heavier"
             factor = 1 / ratio if ratio < 1 else ratio
-            head = ctx.robot.link(body.head)
             yield self.diagnostic(
                 f"joint '{joint.name}' carries {fmt(body.mass)} kg ('{body.head}'), {fmt(factor)}× "
                 f"{lighter} than the {fmt(parent.mass)} kg it hangs from ('{parent.head}')",
                 joint.span,
                 element=f"joint[{joint.name}]",
                 help="check the masses of "
-                + (f"'{body.head}'" if ratio < 1 else f"'{parent.head}'")
-                + ("" if head is None else ""),
+                + (f"'{body.head}'" if ratio < 1 else f"'{parent.head}'"),
                 data={"child_mass": body.mass, "parent_mass": parent.mass, "ratio": ratio},
             )

@@ -78,7 +78,8 @@ class MissingJointLimit(_Joints):
                 f"{joint.type.value} joint '{joint.name}' has no <limit>",
                 joint.span,
                 element=_where(joint),
-                help=f'add <limit lower="…" upper="…" effort="…" velocity="…"/> (positions in {unit})'
+                help='add <limit lower="…" upper="…" effort="…" velocity="…"/> '
+                f"(positions in {unit})"
                 + (", or make it continuous" if joint.type is JointType.REVOLUTE else ""),
                 data={"type": joint.type.value},
             )
@@ -165,8 +166,11 @@ class ZeroEffortOrVelocity(_Joints):
             limit = joint.limit
             if limit is None or joint.type not in (*LIMITED, JointType.CONTINUOUS):
                 continue
-            bad = {name: value for name in ("effort", "velocity")
-                   if (value := getattr(limit, name)) is not None and value <= 0}
+            bad = {
+                name: value
+                for name in ("effort", "velocity")
+                if (value := getattr(limit, name)) is not None and value <= 0
+            }
             if not bad:
                 continue
             text = ", ".join(f"{name} {fmt(value)}" for name, value in bad.items())
@@ -231,7 +235,8 @@ class InvertedLimits(_Joints):
                 )
             else:
                 yield self.diagnostic(
-                    f"joint '{joint.name}': lower and upper limits are both {fmt(lower)} {unit}, so "
+                    f"joint '{joint.name}': lower and upper limits are both {fmt(lower)} {unit}, "
+                    "so "
                     "the joint cannot move",
                     limit.span or joint.span,
                     element=_where(joint, "limit"),
@@ -326,7 +331,7 @@ class ZeroAxis(_Joints):
                 f"{joint.type.value} joint '{joint.name}' has a zero axis",
                 joint.axis_span or joint.span,
                 element=_where(joint, "axis"),
-                help="write the unit direction in the joint frame, e.g. xyz=\"0 0 1\"",
+                help='write the unit direction in the joint frame, e.g. xyz="0 0 1"',
                 data={"axis": list(joint.axis)},
             )
 
@@ -488,7 +493,7 @@ def mimic_cycles(joints: dict[str, Joint]) -> list[list[str]]:
         current: str | None = start
         while current is not None and current in joints and current not in finished:
             if current in on_path:
-                cycles.append(path[on_path[current]:])
+                cycles.append(path[on_path[current] :])
                 break
             on_path[current] = len(path)
             path.append(current)
@@ -516,7 +521,9 @@ class HomeOutsideLimits(_Joints):
 
     ## Example
     ```xml
-    <joint name="knee" type="revolute">… <limit lower="0.1" upper="2.6" effort="40" velocity="5"/></joint>
+    <joint name="knee" type="revolute">…
+      <limit lower="0.1" upper="2.6" effort="40" velocity="5"/>
+    </joint>
     ```
 
     ## Fix
@@ -552,8 +559,13 @@ class HomeOutsideLimits(_Joints):
                 element=_where(joint, "limit"),
                 help=f"the nearest position within the limits is {fmt(nearest)} {unit}; shift the "
                 "joint's zero or give the robot a home pose inside the limits",
-                data={"position": position, "lower": lower, "upper": upper, "nearest": nearest,
-                      "named_home": named},
+                data={
+                    "position": position,
+                    "lower": lower,
+                    "upper": upper,
+                    "nearest": nearest,
+                    "named_home": named,
+                },
             )
 
 
