@@ -78,8 +78,11 @@ def report_for(loaded: Loaded, selection: Selection, options: Mapping[str, Any] 
 def check_file(path: str, options: CheckOptions) -> list[FileReport]:
     """Check every model in one file. Raises :class:`~urdftool.parse.InputError`."""
     selection = options.selection()
-    models = read(path, options.xacro_args, options.resolver())
-    return [report_for(m, selection, options.rule_options) for m in models]
+    resolver = options.resolver()
+    models = read(path, options.xacro_args, resolver)
+    # Rules that re-resolve URIs (to say where a mesh was looked for) use the same resolver.
+    rule_options = {**options.rule_options, "resolver": resolver}
+    return [report_for(m, selection, rule_options) for m in models]
 
 
 def check_files(

@@ -1,23 +1,89 @@
 """Mesh files through trimesh: size, volume, centre of mass and inertia, cached per file.
 
-Units: the file's coordinates times ``scale`` are taken as metres. Inertia is
-for unit density (kg/m³) about the centre of mass, in the mesh frame; multiply
-by the density (mass / volume) for a real body.
+Units: a file's coordinates are taken as metres, after the COLLADA
+``<unit meter="…">`` of a ``.dae`` file (which RViz, Gazebo and PyBullet apply);
+a URDF ``scale`` multiplies them further. Inertia is for unit density (kg/m³)
+about the centre of mass, in the mesh frame; multiply by the density
+(mass / volume) for a real body.
+
+Each file is read once per process and its facts are kept per content hash, in
+memory and in the persistent cache (:mod:`urdftool.backends.mesh_cache`), so
+the same bytes under two names, or in a later run, are not read again. The
+facts are stored unscaled; :func:`mesh_info` applies a scale exactly (a scale
+is a linear map, so volume, centre and second moments transform in closed
+form). :func:`load_many` reads many files in parallel worker processes.
 """
 
 from __future__ import annotations
 
 import hashlib
+import os
+import re
 import threading
+from collections.abc import Iterable
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
+from urdftool.backends import mesh_cache
 from urdftool.model.pose import Matrix, Vec3
 
 
 class MeshError(Exception):
     """The mesh file cannot be read (missing, unsupported, or corrupt)."""
+
+
+@dataclass(frozen=True)
+class MeshFacts:
+    """What a mesh file holds, in metres, before any URDF ``scale``.
+
+    ``volume`` (m³), ``center_mass`` (m) and ``second_moment`` (∫ r rᵀ dV about
+    the centre of mass, m⁵) describe the solid: the mesh itself when it is
+    closed (watertight), else its convex hull. Bounds are the mesh's own.
+    ``unit`` is the COLLADA unit already applied (1 for other formats).
+    """
+
+    vertices: int
+    faces: int
+    watertight: bool
+    volume: float
+    center_mass: Vec3
+    second_moment: tuple[Vec3, Vec3, Vec3]
+    bounds_min: Vec3
+    bounds_max: Vec3
+    unit: float = 1.0
+
+    def to_json(self) -> dict[str, Any]:
+        return {
+            "vertices": self.vertices,
+            "faces": self.faces,
+            "watertight": self.watertight,
+            "volume": self.volume,
+            "center_mass": list(self.center_mass),
+            "second_moment": [list(row) for row in self.second_moment],
+            "bounds_min": list(self.bounds_min),
+            "bounds_max": list(self.bounds_max),
+            "unit": self.unit,
+        }
+
+    @classmethod
+    def from_json(cls, data: dict[str, Any]) -> MeshFacts:
+        return cls(
+            vertices=int(data["vertices"]),
+            faces=int(data["faces"]),
+            watertight=bool(data["watertight"]),
+            volume=float(data["volume"]),
+            center_mass=_vec3(data["center_mass"]),
+            second_moment=(
+                _vec3(data["second_moment"][0]),
+                _vec3(data["second_moment"][1]),
+                _vec3(data["second_moment"][2]),
+            ),
+            bounds_min=_vec3(data["bounds_min"]),
+            bounds_max=_vec3(data["bounds_max"]),
+            unit=float(data.get("unit", 1.0)),
+        )
 
 
 @dataclass(frozen=True)
@@ -33,68 +99,326 @@ class MeshInfo:
     inertia_unit_density: Matrix
     bounds_min: Vec3
     bounds_max: Vec3
+    #: COLLADA unit applied before the scale (1 for other formats)
+    unit: float = 1.0
 
     @property
     def extents(self) -> Vec3:
         lo, hi = self.bounds_min, self.bounds_max
         return (hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2])
 
+    @property
+    def diagonal(self) -> float:
+        """Length of the bounding box diagonal (m): the mesh's size in one number."""
+        return float(np.linalg.norm(self.extents))
 
-_CACHE: dict[tuple[str, Vec3], MeshInfo] = {}
+
+# -- per-process memory ----------------------------------------------------------
+
+#: content hash -> facts, or the error reading those bytes gave
+_FACTS: dict[str, MeshFacts | MeshError] = {}
+#: (path, size, mtime, inode) -> content hash: each file is hashed once per run
+_KEYS: dict[tuple[str, int, int, int], str] = {}
 _LOCK = threading.Lock()
 
 
 def content_key(path: str) -> str:
-    """SHA-256 of the file's bytes (the cache key: the same mesh under two names loads once)."""
+    """SHA-256 of the file's bytes (the cache key: the same mesh under two names loads once).
+
+    Raises ``OSError`` when the file cannot be read.
+    """
+    stat = os.stat(path)
+    memo = (os.path.abspath(path), stat.st_size, stat.st_mtime_ns, stat.st_ino)
+    with _LOCK:
+        if memo in _KEYS:
+            return _KEYS[memo]
     digest = hashlib.sha256()
     with open(path, "rb") as handle:
         for block in iter(lambda: handle.read(1 << 20), b""):
             digest.update(block)
-    return digest.hexdigest()
+    key = digest.hexdigest()
+    with _LOCK:
+        _KEYS[memo] = key
+    return key
+
+
+def _remember(key: str, result: MeshFacts | MeshError, store: bool) -> None:
+    with _LOCK:
+        _FACTS[key] = result
+    if store:
+        value = {"error": str(result)} if isinstance(result, MeshError) else result.to_json()
+        mesh_cache.put(key, value)
+
+
+def _recall(key: str) -> MeshFacts | MeshError | None:
+    with _LOCK:
+        if key in _FACTS:
+            return _FACTS[key]
+    stored = mesh_cache.get(key)
+    if stored is None:
+        return None
+    try:
+        result: MeshFacts | MeshError = (
+            MeshError(str(stored["error"])) if "error" in stored else MeshFacts.from_json(stored)
+        )
+    except (KeyError, TypeError, ValueError, IndexError):
+        return None  # an entry from a broken write: compute it again
+    _remember(key, result, store=False)
+    return result
+
+
+# -- reading one file --------------------------------------------------------------
+
+_DAE_UNIT = re.compile(rb"<unit\b[^>]*?\bmeter\s*=\s*[\"']\s*([0-9.eE+-]+)\s*[\"']")
+
+
+def collada_unit(path: str) -> float:
+    """The ``<asset><unit meter="…">`` of a COLLADA file (1.0 when absent or not COLLADA)."""
+    if not path.lower().endswith(".dae"):
+        return 1.0
+    try:
+        with open(path, "rb") as handle:
+            head = handle.read(1 << 16)  # <asset> comes first in a COLLADA document
+    except OSError:
+        return 1.0
+    match = _DAE_UNIT.search(head)
+    try:
+        unit = float(match.group(1)) if match else 1.0
+    except ValueError:
+        return 1.0
+    return unit if np.isfinite(unit) and unit > 0 else 1.0
+
+
+def collada_declares_entities(path: str) -> bool:
+    """True for a ``.dae`` whose prolog declares entities (they can read other files or expand
+    without bound; the mesh parser would expand them)."""
+    if not path.lower().endswith(".dae"):
+        return False
+    try:
+        with open(path, "rb") as handle:
+            head = handle.read(1 << 16)
+    except OSError:
+        return False
+    return b"<!ENTITY" in head.upper()
 
 
 def load_trimesh(path: str):  # type: ignore[no-untyped-def]
-    """The file as one ``trimesh.Trimesh`` (scenes are concatenated)."""
+    """The file as one ``trimesh.Trimesh`` in metres (scenes are concatenated, COLLADA units applied)."""
     import trimesh
 
+    if collada_declares_entities(path):
+        raise MeshError("the COLLADA file declares XML entities, which urdftool refuses to expand")
     try:
         loaded = trimesh.load(path, force="mesh", process=True)
     except Exception as exc:  # trimesh raises many kinds for bad files
-        raise MeshError(f"{type(exc).__name__}: {exc}") from exc
+        raise MeshError(f"{type(exc).__name__}: {exc}".strip().rstrip(":")) from exc
+    if (not isinstance(loaded, trimesh.Trimesh) or len(loaded.faces) == 0) and path.lower().endswith(".dae"):
+        loaded = _collada_geometry_only(path)
     if not isinstance(loaded, trimesh.Trimesh) or len(loaded.faces) == 0:
-        raise MeshError("no triangles in file")
+        raise MeshError("the file holds no triangles")
+    unit = collada_unit(path)
+    if unit != 1.0:
+        loaded.apply_scale(unit)
     return loaded
+
+
+def _collada_geometry_only(path: str) -> Any:
+    """The COLLADA file read again without its materials, or ``None``.
+
+    pycollada drops a whole node when one of its materials has a broken
+    reference (a missing texture surface); assimp, which RViz, Gazebo and
+    Pinocchio use, keeps the geometry. Removing the materials lets trimesh
+    keep it too.
+    """
+    import io
+
+    import trimesh
+    from lxml import etree
+
+    parser = etree.XMLParser(resolve_entities=False, no_network=True, load_dtd=False, huge_tree=True)
+    try:
+        root = etree.parse(path, parser).getroot()
+    except (OSError, etree.XMLSyntaxError):
+        return None
+    namespace = root.nsmap.get(None)
+    for tag in ("library_effects", "library_materials", "library_images", "bind_material"):
+        for element in list(root.iter(f"{{{namespace}}}{tag}" if namespace else tag)):
+            element.getparent().remove(element)
+    try:
+        return trimesh.load(io.BytesIO(etree.tostring(root)), file_type="dae", force="mesh", process=True)
+    except Exception:  # the geometry itself is broken: the caller reports the file
+        return None
+
+
+def read_facts(path: str) -> MeshFacts:
+    """Read *path* with trimesh and measure it (no caching). Raises :class:`MeshError`."""
+    mesh = load_trimesh(path)
+    watertight = bool(mesh.is_watertight)
+    solid = mesh if watertight else _convex_hull(mesh)
+    lo, hi = mesh.bounds
+    if solid is None or not abs(float(solid.volume)) > 0:
+        # Flat or empty: no solid to measure (a plane, a single triangle).
+        volume, center, second = 0.0, (lo + hi) / 2.0, np.zeros((3, 3))
+    else:
+        volume = float(solid.volume)
+        inertia = np.asarray(solid.moment_inertia, dtype=float)
+        if volume < 0:  # inward-facing triangles: trimesh's integrals come out negated
+            volume, inertia = -volume, -inertia
+        center = np.asarray(solid.center_mass, dtype=float)
+        # I = tr(C)·E − C for the second moment C, so C = tr(I)/2·E − I.
+        second = np.trace(inertia) / 2.0 * np.eye(3) - inertia
+    return MeshFacts(
+        vertices=len(mesh.vertices),
+        faces=len(mesh.faces),
+        watertight=watertight,
+        volume=volume,
+        center_mass=_vec3(center),
+        second_moment=(_vec3(second[0]), _vec3(second[1]), _vec3(second[2])),
+        bounds_min=_vec3(lo),
+        bounds_max=_vec3(hi),
+        unit=collada_unit(path),
+    )
+
+
+def _convex_hull(mesh: Any) -> Any:
+    try:
+        return mesh.convex_hull
+    except Exception:  # qhull refuses flat or degenerate point sets
+        return None
+
+
+def _read_for_pool(path: str) -> tuple[str, MeshFacts | str]:
+    """Worker-process entry: facts, or the error message (exceptions pickle poorly)."""
+    try:
+        return path, read_facts(path)
+    except MeshError as exc:
+        return path, str(exc)
+    except Exception as exc:  # a trimesh bug on odd input must not stop the run
+        return path, f"{type(exc).__name__}: {exc}"
+
+
+# -- public entry points -------------------------------------------------------------
+
+
+def facts_for(path: str) -> MeshFacts:
+    """The facts of the mesh at *path*, from memory, the disk cache, or by reading it.
+
+    Raises :class:`MeshError`.
+    """
+    try:
+        key = content_key(path)
+    except OSError as exc:
+        raise MeshError(exc.strerror or str(exc)) from exc
+    result = _recall(key)
+    if result is None:
+        try:
+            result = read_facts(path)
+        except MeshError as exc:
+            result = exc
+        _remember(key, result, store=True)
+    if isinstance(result, MeshError):
+        raise result
+    return result
+
+
+def load_many(paths: Iterable[str], jobs: int | None = None) -> dict[str, MeshFacts | MeshError]:
+    """Facts for every path (or its error), reading uncached files in parallel.
+
+    *jobs* caps the worker processes (default: one per available core, at most
+    8). Inside a worker process of ``check -j`` files are read in-process, since
+    the run is parallel already.
+    """
+    out: dict[str, MeshFacts | MeshError] = {}
+    todo: dict[str, list[str]] = {}  # content hash -> paths with those bytes
+    for path in dict.fromkeys(paths):
+        try:
+            key = content_key(path)
+        except OSError as exc:
+            out[path] = MeshError(exc.strerror or str(exc))
+            continue
+        known = _recall(key)
+        if known is not None:
+            out[path] = known
+        else:
+            todo.setdefault(key, []).append(path)
+    if todo:
+        for key, result in _read_all(todo, jobs).items():
+            _remember(key, result, store=True)
+            for path in todo[key]:
+                out[path] = result
+    return out
+
+
+def _workers(jobs: int | None, files: int) -> int:
+    import multiprocessing
+
+    if multiprocessing.parent_process() is not None:
+        return 1
+    try:
+        cores = len(os.sched_getaffinity(0))
+    except AttributeError:  # not on Linux
+        cores = os.cpu_count() or 1
+    return max(1, min(jobs or cores, cores, 8, files))
+
+
+def _read_all(todo: dict[str, list[str]], jobs: int | None) -> dict[str, MeshFacts | MeshError]:
+    """Read one path per content hash, biggest files first so the workers finish together."""
+    first = {key: paths[0] for key, paths in todo.items()}
+    order = sorted(first, key=lambda k: -_size(first[k]))
+    workers = _workers(jobs, len(order))
+    results: dict[str, MeshFacts | MeshError] = {}
+    if workers <= 1:
+        for key in order:
+            _, value = _read_for_pool(first[key])
+            results[key] = MeshError(value) if isinstance(value, str) else value
+        return results
+    from concurrent.futures import ProcessPoolExecutor
+
+    import trimesh  # noqa: F401  (imported once here, inherited by forked workers)
+
+    by_path = {first[key]: key for key in order}
+    with ProcessPoolExecutor(max_workers=workers) as pool:
+        for path, value in pool.map(_read_for_pool, [first[k] for k in order], chunksize=1):
+            results[by_path[path]] = MeshError(value) if isinstance(value, str) else value
+    return results
+
+
+def _size(path: str) -> int:
+    try:
+        return os.path.getsize(path)
+    except OSError:
+        return 0
+
+
+def scaled_info(path: str, facts: MeshFacts, scale: Vec3 = (1.0, 1.0, 1.0)) -> MeshInfo:
+    """*facts* under a URDF ``scale`` (a diagonal linear map S), exactly.
+
+    Volume scales by |det S|, the centre by S, the second moment C by
+    |det S|·S·C·S, and the unit-density inertia is tr(C)·E − C.
+    """
+    s = np.asarray(scale, dtype=float)
+    det = float(abs(np.prod(s)))
+    second = det * (s[:, None] * np.asarray(facts.second_moment, dtype=float) * s[None, :])
+    inertia = np.trace(second) * np.eye(3) - second
+    ends = np.array([np.asarray(facts.bounds_min) * s, np.asarray(facts.bounds_max) * s])
+    return MeshInfo(
+        path=path,
+        vertices=facts.vertices,
+        faces=facts.faces,
+        watertight=facts.watertight,
+        volume=facts.volume * det,
+        center_mass=_vec3(np.asarray(facts.center_mass) * s),
+        inertia_unit_density=inertia,
+        bounds_min=_vec3(ends.min(axis=0)),
+        bounds_max=_vec3(ends.max(axis=0)),
+        unit=facts.unit,
+    )
 
 
 def mesh_info(path: str, scale: Vec3 = (1.0, 1.0, 1.0)) -> MeshInfo:
     """Properties of the mesh at *path* scaled by *scale*. Raises :class:`MeshError`."""
-    try:
-        key = (content_key(path), tuple(scale))
-    except OSError as exc:
-        raise MeshError(str(exc)) from exc
-    with _LOCK:
-        if key in _CACHE:
-            return _CACHE[key]
-    mesh = load_trimesh(path)
-    mesh.apply_scale(np.asarray(scale, dtype=float))
-    volume = float(abs(mesh.volume)) if mesh.is_watertight else float(abs(mesh.convex_hull.volume))
-    solid = mesh if mesh.is_watertight else mesh.convex_hull
-    inertia = np.asarray(solid.moment_inertia, dtype=float)
-    if solid.volume < 0:
-        inertia = -inertia
-    com = solid.center_mass
-    lo, hi = mesh.bounds
-    info = MeshInfo(
-        path=path,
-        vertices=len(mesh.vertices),
-        faces=len(mesh.faces),
-        watertight=bool(mesh.is_watertight),
-        volume=volume,
-        center_mass=(float(com[0]), float(com[1]), float(com[2])),
-        inertia_unit_density=inertia,
-        bounds_min=(float(lo[0]), float(lo[1]), float(lo[2])),
-        bounds_max=(float(hi[0]), float(hi[1]), float(hi[2])),
-    )
-    with _LOCK:
-        _CACHE[key] = info
-    return info
+    return scaled_info(path, facts_for(path), scale)
+
+
+def _vec3(values: Any) -> Vec3:
+    return (float(values[0]), float(values[1]), float(values[2]))

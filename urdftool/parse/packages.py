@@ -92,6 +92,8 @@ class Lookup:
     package: str | None = None
     #: the package itself was not found (as opposed to a missing file inside it)
     package_missing: bool = False
+    #: for a URI inside a package or model that was found: that package's folder
+    package_dir: str | None = None
 
 
 @dataclass
@@ -217,7 +219,7 @@ class PackageResolver:
                     return found
                 target = Path(found.path) / rel
                 found.tried.append(str(target))
-                return Lookup(str(target), found.tried, pkg)
+                return Lookup(str(target), found.tried, pkg, package_dir=found.path)
         if uri.startswith("file://"):
             path = uri[len("file://") :]
             return Lookup(path, [path])

@@ -1,0 +1,92 @@
+"""The persistent mesh cache: what a mesh file holds, keyed by its content hash.
+
+Loading meshes is the slow part of a check (COLLADA above all), and mesh files
+rarely change, so the facts urdftool derives from a file are kept on disk under
+the user cache folder and reused by every later run, from any project, for any
+file with the same bytes:
+
+    $URDFTOOL_CACHE_DIR, else $XDG_CACHE_HOME/urdftool, else ~/.cache/urdftool
+        meshes/v<SCHEMA>-trimesh<version>/<first two hex digits>/<sha256>.json
+
+The trimesh version is part of the folder name, so a trimesh upgrade (which may
+read a file differently) starts a fresh cache. ``URDFTOOL_NO_CACHE=1`` turns
+the cache off. A cache that cannot be read or written is ignored: it makes
+checks faster, never different, and never makes them fail.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import tempfile
+from functools import lru_cache
+from pathlib import Path
+from typing import Any
+
+#: Bump when the stored facts change shape or meaning.
+SCHEMA = 1
+
+
+@lru_cache(maxsize=1)
+def _trimesh_version() -> str:
+    # importlib.metadata reads the installed version without importing trimesh.
+    from importlib.metadata import PackageNotFoundError, version
+
+    try:
+        return version("trimesh")
+    except PackageNotFoundError:
+        return "none"
+
+
+def cache_root() -> Path | None:
+    """The folder holding this urdftool/trimesh pair's mesh facts, or ``None`` when disabled."""
+    if os.environ.get("URDFTOOL_NO_CACHE", "").strip() not in ("", "0"):
+        return None
+    base = os.environ.get("URDFTOOL_CACHE_DIR")
+    if not base:
+        xdg = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
+        base = os.path.join(xdg, "urdftool")
+    return Path(base) / "meshes" / f"v{SCHEMA}-trimesh{_trimesh_version()}"
+
+
+def _entry(root: Path, key: str) -> Path:
+    return root / key[:2] / f"{key}.json"
+
+
+def get(key: str) -> dict[str, Any] | None:
+    """The stored facts for content hash *key*, or ``None``."""
+    root = cache_root()
+    if root is None:
+        return None
+    try:
+        with open(_entry(root, key), encoding="utf-8") as handle:
+            value = json.load(handle)
+    except (OSError, ValueError):
+        return None
+    return value if isinstance(value, dict) else None
+
+
+def put(key: str, value: dict[str, Any]) -> None:
+    """Store *value* for *key*; concurrent writers are safe (write a temporary file, then rename).
+
+    No fsync: a cache entry lost in a crash is simply computed again.
+    """
+    root = cache_root()
+    if root is None:
+        return
+    target = _entry(root, key)
+    try:
+        target.parent.mkdir(parents=True, exist_ok=True)
+        fd, tmp = tempfile.mkstemp(prefix=f".{key[:8]}.", suffix=".tmp", dir=target.parent)
+        try:
+            with os.fdopen(fd, "w", encoding="utf-8") as handle:
+                json.dump(value, handle, separators=(",", ":"), sort_keys=True)
+            os.replace(tmp, target)
+        except BaseException:
+            try:
+                os.unlink(tmp)
+            except OSError:
+                pass
+            raise
+    except OSError:
+        return

@@ -1,0 +1,148 @@
+"""Where a robot uses mesh files, where they resolved, and what they hold.
+
+The meshes-and-geometry rules (``rules/meshes.py``) share one survey per
+robot, kept in ``ctx.cache``: the mesh elements in link order, each URI
+resolved once, each file sniffed once, and each readable file loaded once
+(in parallel, through :func:`urdftool.backends.meshes.load_many`) only when
+a selected rule needs the contents. Nothing here imports trimesh; a robot
+without meshes never loads it.
+"""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Iterator
+from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
+from urdftool.model import Link, Mesh, Pose
+from urdftool.parse.packages import Lookup, PackageResolver
+from urdftool.rules.registry import CheckContext
+from urdftool.source import Span
+
+if TYPE_CHECKING:
+    from urdftool.backends.mesh_formats import MeshFormat
+    from urdftool.backends.meshes import MeshError, MeshFacts
+
+
+@dataclass(frozen=True)
+class MeshUse:
+    """One ``<mesh>`` element: in which link, as visual or collision, and where it sits.
+
+    ``origin`` is the geometry frame in the link frame.
+    """
+
+    link: str
+    role: str
+    mesh: Mesh
+    origin: Pose
+
+    @property
+    def element(self) -> str:
+        return f"link[{self.link}]/{self.role}/geometry/mesh"
+
+    @property
+    def location(self) -> Span | None:
+        return self.mesh.span
+
+    @property
+    def describe(self) -> str:
+        link = f"link '{self.link}'" if self.link else "an unnamed link"
+        return f"{link}: {self.role} mesh '{self.mesh.filename}'"
+
+
+def has_substitution(filename: str) -> bool:
+    """A filename still holding ``$(…)`` or ``${…}``: the syntax rules report it, not the mesh rules."""
+    return "$(" in filename or "${" in filename
+
+
+def uses_in(link: Link) -> Iterator[MeshUse]:
+    for role, items in (("visual", link.visuals), ("collision", link.collisions)):
+        for item in items:
+            if isinstance(item.geometry, Mesh):
+                yield MeshUse(link.name, role, item.geometry, item.origin)
+
+
+def mesh_uses(ctx: CheckContext) -> list[MeshUse]:
+    """Every mesh element of the robot, in link order, visuals before collisions."""
+    if "mesh-uses" not in ctx.cache:
+        ctx.cache["mesh-uses"] = [use for link in ctx.robot.links for use in uses_in(link)]
+    found: list[MeshUse] = ctx.cache["mesh-uses"]
+    return found
+
+
+def resolver(ctx: CheckContext) -> PackageResolver:
+    """The run's resolver (``check`` passes the one the robot was read with)."""
+    given = ctx.options.get("resolver")
+    if isinstance(given, PackageResolver):
+        return given
+    if "mesh-resolver" not in ctx.cache:
+        ctx.cache["mesh-resolver"] = PackageResolver.create()
+    made: PackageResolver = ctx.cache["mesh-resolver"]
+    return made
+
+
+def lookup(ctx: CheckContext, use: MeshUse) -> Lookup:
+    """Resolve *use*'s URI again to learn where the resolver looked (memoised per URI and file)."""
+    base = use.location.path if use.location else ctx.robot.path
+    key = ("mesh-lookup", use.mesh.filename, base)
+    if key not in ctx.cache:
+        ctx.cache[key] = resolver(ctx).resolve_uri(use.mesh.filename, base)
+    found: Lookup = ctx.cache[key]
+    return found
+
+
+def existing_file(use: MeshUse) -> str | None:
+    """The resolved path when it is a readable file, else ``None``."""
+    path = use.mesh.resolved
+    if path is None or has_substitution(use.mesh.filename):
+        return None
+    return path if os.path.isfile(path) else None
+
+
+def by_file(ctx: CheckContext, role: str | None = None) -> dict[str, list[MeshUse]]:
+    """Existing mesh files -> the elements using them (optionally only visuals or collisions)."""
+    out: dict[str, list[MeshUse]] = {}
+    for use in mesh_uses(ctx):
+        path = existing_file(use)
+        if path is not None and (role is None or use.role == role):
+            out.setdefault(path, []).append(use)
+    return out
+
+
+def mesh_format(ctx: CheckContext, path: str) -> MeshFormat | None:
+    """The sniffed format of an existing mesh file (``None`` when it cannot be read at all)."""
+    from urdftool.backends.mesh_formats import sniff
+
+    key = ("mesh-format", path)
+    if key not in ctx.cache:
+        try:
+            ctx.cache[key] = sniff(path)
+        except OSError:
+            ctx.cache[key] = None
+    found: MeshFormat | None = ctx.cache[key]
+    return found
+
+
+def contents(ctx: CheckContext) -> dict[str, MeshFacts | MeshError]:
+    """Facts (or the read error) for every existing mesh file trimesh can read, loaded once."""
+    if "mesh-contents" not in ctx.cache:
+        paths = [p for p in by_file(ctx) if (fmt := mesh_format(ctx, p)) is not None and fmt.trimesh_reads]
+        if paths:
+            from urdftool.backends.meshes import load_many
+
+            ctx.cache["mesh-contents"] = load_many(paths, ctx.options.get("jobs"))
+        else:
+            ctx.cache["mesh-contents"] = {}
+    loaded: dict[str, MeshFacts | MeshError] = ctx.cache["mesh-contents"]
+    return loaded
+
+
+def other_places(uses: list[MeshUse]) -> str:
+    """", also used at file:line, …" for the second and later elements of a group."""
+    spots = [str(u.location) for u in uses[1:] if u.location is not None]
+    if not spots:
+        return ""
+    shown = ", ".join(dict.fromkeys(spots[:4]))
+    more = f" and {len(spots) - 4} more" if len(spots) > 4 else ""
+    return f"; also used at {shown}{more}"
