@@ -36,6 +36,9 @@ from urdftool.rules.syntax import EmptyRobot, MultipleRoots
 #: The flag every PyBullet URDF from urdftool is meant to be loaded with.
 LOAD_FLAGS = "p.URDF_USE_INERTIA_FROM_FILE"
 
+#: The most joints of one body whose state PyBullet 3.2 can report (128 fails).
+MAX_JOINTS = 127
+
 PYBULLET_JOINT_TYPES = {t: name for t, name in URDF_JOINT_TYPES.items() if t is not JointType.FLOATING}
 PYBULLET_JOINT_TYPES[JointType.SPHERICAL] = "spherical"
 
@@ -103,6 +106,14 @@ def _structure(robot: Robot, tree: KinematicTree) -> list[Diagnostic]:
         return [MultipleRoots.diagnostic(
             f"the robot has {len(tree.roots)} roots ({', '.join(tree.roots[:5])}); PyBullet loads one tree",
             robot.span)]
+    if len(robot.links) - 1 > MAX_JOINTS:
+        return [ConversionDropped.diagnostic(
+            f"the robot has {len(robot.links) - 1} joints; PyBullet loads it but cannot report the "
+            f"state of a body with more than {MAX_JOINTS} (getLinkState and "
+            "getBasePositionAndOrientation fail); not converted",
+            robot.span, element="robot", severity=Severity.ERROR,
+            help="remove links that only mark frames (fixed joints), or split the robot into bodies",
+            data={"reason": "size", "joints": len(robot.links) - 1, "limit": MAX_JOINTS})]
     return []
 
 
