@@ -78,6 +78,7 @@ def _summary(written: Sequence[Path], diagnostics: Sequence[Diagnostic]) -> str:
 @click.option(
     "--rankdir",
     type=click.Choice(RANKDIRS, case_sensitive=False),
+    metavar="|".join(RANKDIRS),
     default="TB",
     show_default=True,
     help="Direction the tree grows: top to bottom, left to right, ...",
