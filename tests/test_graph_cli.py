@@ -11,6 +11,7 @@ import urdftool
 from tests.conftest import SEEDS
 from tests.test_graph_readers import SIGNATURE, first_page_png, read_png, svg_nodes
 from urdftool.cli import main
+from urdftool.export.graph import GraphvizFailed, render_files
 
 RRBOT = SEEDS / "gazebo_ros_demos" / "rrbot_description" / "urdf" / "rrbot.xacro"
 ROBOT = """<robot name="two_link">
@@ -217,3 +218,24 @@ def test_sdf_closed_chain_draws_its_loop_closure(tmp_path: Path) -> None:
     closures = [line for line in joints if "loop closure" in line]
     assert len(closures) == 1 and 'style="filled,dashed"' in closures[0]
     assert "constraint=false" in dot
+
+
+def test_pdf_dates_are_fixed_for_reproducible_output(
+    robot_file: Path, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    out = tmp_path / "tree.pdf"
+    assert graph(robot_file, "-o", out).exit_code == 0
+    assert b"/CreationDate (D:19700101000000" in out.read_bytes()
+    monkeypatch.setenv("SOURCE_DATE_EPOCH", "86400")
+    assert graph(robot_file, "-o", out).exit_code == 0
+    assert b"/CreationDate (D:19700102000000" in out.read_bytes()
+    assert first_page_png(out, tmp_path).ink() > 0.001  # same-length stamp: still a valid PDF
+
+
+def test_a_failed_render_leaves_the_old_output(tmp_path: Path) -> None:
+    out = tmp_path / "tree.svg"
+    out.write_text("previous diagram")
+    with pytest.raises(GraphvizFailed, match="syntax error"):
+        render_files("digraph { a -> }", {out: "svg"})
+    assert out.read_text() == "previous diagram"
+    assert leftovers(tmp_path) == []
