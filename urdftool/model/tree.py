@@ -145,16 +145,28 @@ class KinematicTree:
 
 
 def _mimic_value(joint: Joint, q: Mapping[str, float | Sequence[float]], robot: Robot) -> float:
+    """Position of a mimic joint, following chains of mimics; a cycle falls back to q (or 0)."""
     assert joint.mimic is not None
+    chain = [joint]
     seen = {joint.name}
-    target = robot.joint(joint.mimic.joint)
-    value = 0.0
-    if target is not None:
-        raw = q.get(target.name, 0.0)
-        if target.mimic is not None and target.name not in seen:
-            raw = _mimic_value(target, q, robot)
-        value = float(raw) if not isinstance(raw, Sequence) else 0.0
-    return joint.mimic.multiplier * value + joint.mimic.offset
+    current = joint
+    while current.mimic is not None:
+        target = robot.joint(current.mimic.joint)
+        if target is None or target.name in seen:
+            # A missing target or a mimic cycle (both reported by the joint rules).
+            return float(_scalar(q.get(joint.name, 0.0)))
+        seen.add(target.name)
+        chain.append(target)
+        current = target
+    value = float(_scalar(q.get(current.name, 0.0)))
+    for follower in reversed(chain[:-1]):
+        assert follower.mimic is not None
+        value = follower.mimic.multiplier * value + follower.mimic.offset
+    return value
+
+
+def _scalar(value: float | Sequence[float]) -> float:
+    return 0.0 if isinstance(value, Sequence) else float(value)
 
 
 def joint_motion(joint: Joint, q: Mapping[str, float | Sequence[float]], robot: Robot) -> Matrix:
