@@ -51,9 +51,9 @@ def decide_base(robot: Robot, tree: KinematicTree, option: str) -> BasePlan:
     if root == WORLD_LINK:
         return BasePlan("world", "the root link is named 'world'")
     if option == "free":
-        return BasePlan("free", "--floating-base free", _free_joint_name(robot))
+        return BasePlan("free", "floating-base option free", _free_joint_name(robot))
     if option == "fixed":
-        return BasePlan("fixed", "--floating-base fixed")
+        return BasePlan("fixed", "floating-base option fixed")
     reason = mobility(robot, tree)
     if reason:
         return BasePlan("free", f"auto: {reason}", _free_joint_name(robot))
