@@ -39,6 +39,7 @@ PROGRESS_FROM = 4
 @click.option("-q", "--quiet", is_flag=True, help="Text output: errors and the summary only.")
 @click.option("-o", "--output", type=click.Path(dir_okay=False), help="Write the report to this file.")
 @click.option("--model", "model_name", help="For files with several models (SDF worlds): check only this one.")
+@click.option("--no-dynamics", is_flag=True, help="Skip the dynamics pass (Pinocchio: mass matrix, gravity torques).")
 def check_command(
     paths: Sequence[str],
     xacro_args: Sequence[str],
@@ -52,9 +53,10 @@ def check_command(
     quiet: bool,
     output: str | None,
     model_name: str | None,
+    no_dynamics: bool = False,
 ) -> None:
     """Load each model (files, or directories searched recursively) and report diagnostics."""
-    options = build_options(xacro_args, packages, package_paths, select, ignore)
+    options = build_options(xacro_args, packages, package_paths, select, ignore, dynamics=not no_dynamics)
     for path in paths:
         if not os.path.exists(path):
             raise InputProblem(f"{path}: no such file or directory")

@@ -1,0 +1,48 @@
+"""The dynamics pass of ``urdftool check``: whether it runs, and its result for one robot.
+
+It runs by default when Pinocchio is installed; ``check --no-dynamics`` (rule
+option ``dynamics=False``) turns it off, and then Pinocchio is not imported.
+"""
+
+from __future__ import annotations
+
+import importlib.util
+from collections.abc import Mapping
+from dataclasses import dataclass
+from typing import Any
+
+from urdftool.dynamics.coverage import NotCovered, floating_base, not_covered
+from urdftool.model import KinematicTree, Robot
+
+#: Rule option that turns the pass on or off (default on).
+OPTION = "dynamics"
+#: Rule option: random configurations sampled besides the zero configuration.
+SAMPLES_OPTION = "dynamics_samples"
+
+
+@dataclass(frozen=True)
+class Skipped:
+    """The pass ran but could not say anything meaningful about the robot."""
+
+    why: NotCovered
+
+
+def enabled(options: Mapping[str, Any]) -> bool:
+    """True unless switched off, and Pinocchio can be imported (found without importing it)."""
+    if not options.get(OPTION, True):
+        return False
+    return importlib.util.find_spec("pinocchio") is not None
+
+
+def dynamics_of(robot: Robot, tree: KinematicTree, options: Mapping[str, Any]) -> Any:
+    """:class:`~urdftool.dynamics.analysis.DynamicsAnalysis`, :class:`Skipped`, or ``None``
+    when the pass is off or there is nothing to compute (no links)."""
+    if not enabled(options) or not robot.links:
+        return None
+    reason = not_covered(robot, tree)
+    if reason is not None:
+        return Skipped(reason)
+    from urdftool.dynamics.analysis import SAMPLES, analyse
+
+    floating, why = floating_base(robot, tree)
+    return analyse(robot, tree, floating, why, int(options.get(SAMPLES_OPTION, SAMPLES)))
