@@ -9,7 +9,10 @@ from urdftool.model import KinematicTree, Robot
 
 
 def summarize(robot: Robot) -> dict[str, Any]:
-    """Name, root, link and joint counts, DOF, total mass (kg), loops, and the tree outline."""
+    """Name, root, link and joint counts, DOF, total mass (kg), centre of mass (m, root frame
+    at q = 0), loops, and the tree outline."""
+    from urdftool.dynamics.com import center_of_mass
+
     tree = KinematicTree.of(robot)
     types = Counter(j.type.value for j in robot.joints)
     outline = []
@@ -37,6 +40,7 @@ def summarize(robot: Robot) -> dict[str, Any]:
         "dof": tree.dof,
         "mimic_joints": sum(1 for j in robot.joints if j.mimic is not None),
         "total_mass": robot.total_mass,
+        "center_of_mass": center_of_mass(robot, tree),
         "links_without_inertial": sum(1 for link in robot.links if link.inertial is None),
         "loops": loops,
         "tree": outline,
@@ -56,6 +60,7 @@ def format_summary(summary: dict[str, Any]) -> str:
         + (" (" + ", ".join(f"{n} {t}" for t, n in summary["joints_by_type"].items()) + ")" if summary["joints"] else ""),
         f"DOF:         {summary['dof']}" + (f" (+{summary['mimic_joints']} mimic)" if summary["mimic_joints"] else ""),
         f"total mass:  {summary['total_mass']:.6g} kg",
+        f"COM:         {_com_text(summary.get('center_of_mass'))}",
         f"loops:       {len(summary['loops'])}" + (f" (closed by {', '.join(summary['loops'])})" if summary["loops"] else ""),
         "",
         "tree:",
@@ -66,3 +71,9 @@ def format_summary(summary: dict[str, Any]) -> str:
         via = "" if row["joint"] is None else f"  <- {row['joint']} ({row['joint_type']})"
         lines.append(f"{indent}{row['link']}{mass}{via}")
     return "\n".join(lines) + "\n"
+
+
+def _com_text(com: Any) -> str:
+    if com is None:
+        return "none (no link has mass)"
+    return "(" + ", ".join(f"{v:.4g}" for v in com) + ") m in the root frame at q = 0"
