@@ -285,9 +285,9 @@ def test_real_rules_mark_a_real_file(tmp_path: Path) -> None:
     from urdftool import load
 
     robot = load(source)
-    marked = dot_text(robot)
-    assert (
-        "S009" in marked and 'color="#e08000"' in marked
-    )  # <axis rpy=...> is an unknown attribute
+    assert "S009" in dot_text(robot)  # <axis rpy=...> is an unknown attribute
+    only = dot_text(robot, GraphOptions(select=("S009",)))
+    joint_line = next(line for line in only.splitlines() if line.startswith('  "joint:j" ['))
+    assert 'color="#e08000"' in joint_line and "warning: S009" in joint_line
     assert "S009" not in dot_text(robot, GraphOptions(diagnostics=False))
     assert "S009" not in dot_text(robot, GraphOptions(ignore=("S009",)))
