@@ -15,7 +15,15 @@ from pathlib import Path
 
 import pytest
 
-from tests.conftest import ERD, PBD, SEEDS, erd_urdfs, pybullet_robots, relative, seed_standalone_xacros
+from tests.conftest import (
+    ERD,
+    PBD,
+    SEEDS,
+    erd_urdfs,
+    pybullet_robots,
+    relative,
+    seed_standalone_xacros,
+)
 from urdftool.check import run_rules
 from urdftool.diagnostics import Diagnostic, Severity
 from urdftool.export import ExportOptions, export_model, verify_model
@@ -27,7 +35,9 @@ from urdftool.rules import Selection
 
 def seed_robots() -> list[str]:
     """The seed xacros that stand alone, and the seed URDF files."""
-    return seed_standalone_xacros() + sorted(glob.glob(str(SEEDS / "**" / "*.urdf"), recursive=True))
+    return seed_standalone_xacros() + sorted(
+        glob.glob(str(SEEDS / "**" / "*.urdf"), recursive=True)
+    )
 
 
 def _ids(paths: list[str], base: Path | None) -> list[str]:
@@ -72,7 +82,9 @@ def _check_file(path: str, tmp_path: Path) -> None:
     first = export_model(robot, "pybullet", out, ExportOptions())
     if first.failed:
         _assert_located(_errors(first.diagnostics))
-        if any(d.name == "empty-robot" or d.data.get("reason") == "size" for d in first.diagnostics):
+        if any(
+            d.name == "empty-robot" or d.data.get("reason") == "size" for d in first.diagnostics
+        ):
             return  # a macro library, or more joints than PyBullet reports: no repair helps
         repaired = _convert_and_verify(robot, out, repair=True)
         assert any(d.name == "inertia-repaired" for d in repaired)

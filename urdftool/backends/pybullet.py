@@ -30,8 +30,15 @@ from typing import Any
 from urdftool.model.pose import Matrix, Vec3, homogeneous, quaternion_to_matrix
 
 #: PyBullet's joint type numbers, by name.
-JOINT_TYPE_NAMES = {0: "revolute", 1: "prismatic", 2: "spherical", 3: "planar", 4: "fixed",
-                    5: "point2point", 6: "gear"}
+JOINT_TYPE_NAMES = {
+    0: "revolute",
+    1: "prismatic",
+    2: "spherical",
+    3: "planar",
+    4: "fixed",
+    5: "point2point",
+    6: "gear",
+}
 
 _CAPTURE_LOCK = threading.RLock()
 _MARKER = re.compile(r"b3(?:Warning|Error)\[[^\]]*\]:\s*")
@@ -161,8 +168,12 @@ class PyBulletLoad:
         self.messages = engine_messages(output[0])
         return self
 
-    def __exit__(self, kind: type[BaseException] | None, value: BaseException | None,
-                 traceback: TracebackType | None) -> None:
+    def __exit__(
+        self,
+        kind: type[BaseException] | None,
+        value: BaseException | None,
+        traceback: TracebackType | None,
+    ) -> None:
         if self._client >= 0:
             self._p.disconnect(physicsClientId=self._client)
             self._client = -1
@@ -178,8 +189,15 @@ class PyBulletLoad:
         out = []
         for index, name in names:
             info = self._call("getDynamicsInfo", self.body, index)
-            out.append(EngineLink(name, index, float(info[0]), tuple(float(v) for v in info[2]),  # type: ignore[arg-type]
-                                  _frame(info[3], info[4])))
+            out.append(
+                EngineLink(
+                    name,
+                    index,
+                    float(info[0]),
+                    tuple(float(v) for v in info[2]),  # type: ignore[arg-type]
+                    _frame(info[3], info[4]),
+                )
+            )
         return out
 
     def joints(self) -> list[EngineJoint]:
@@ -191,10 +209,20 @@ class PyBulletLoad:
         for index in range(self._call("getNumJoints", self.body)):
             info = self._call("getJointInfo", self.body, index)
             kind = JOINT_TYPE_NAMES.get(int(info[2]), str(info[2]))
-            out.append(EngineJoint(info[1].decode(), index, kind, info[12].decode(),
-                                   tuple(float(v) for v in info[13]),  # type: ignore[arg-type]
-                                   float(info[8]), float(info[9]), float(info[10]), float(info[11]),
-                                   _dof(self._p, int(info[2]))))
+            out.append(
+                EngineJoint(
+                    info[1].decode(),
+                    index,
+                    kind,
+                    info[12].decode(),
+                    tuple(float(v) for v in info[13]),  # type: ignore[arg-type]
+                    float(info[8]),
+                    float(info[9]),
+                    float(info[10]),
+                    float(info[11]),
+                    _dof(self._p, int(info[2])),
+                )
+            )
         self._joints = out
         return out
 
@@ -206,18 +234,29 @@ class PyBulletLoad:
         assert self.body is not None
         for joint in self.joints():
             if joint.dof == 1:
-                self._call("resetJointState", self.body, joint.index, float(positions.get(joint.index, 0.0)))
+                self._call(
+                    "resetJointState",
+                    self.body,
+                    joint.index,
+                    float(positions.get(joint.index, 0.0)),
+                )
         position, orientation = self._call("getBasePositionAndOrientation", self.body)
         import numpy as np
 
         info = self._call("getDynamicsInfo", self.body, -1)
         base_name = self._call("getBodyInfo", self.body)[0].decode()
-        frames = {base_name: _frame(position, orientation) @ np.linalg.inv(_frame(info[3], info[4]))}
+        frames = {
+            base_name: _frame(position, orientation) @ np.linalg.inv(_frame(info[3], info[4]))
+        }
         for joint in self.joints():
-            state = self._call("getLinkState", self.body, joint.index, computeForwardKinematics=True)
+            state = self._call(
+                "getLinkState", self.body, joint.index, computeForwardKinematics=True
+            )
             frames[joint.child] = _frame(state[4], state[5])
         return frames
 
 
 def _dof(p: Any, joint_type: int) -> int:
-    return {p.JOINT_REVOLUTE: 1, p.JOINT_PRISMATIC: 1, p.JOINT_SPHERICAL: 3, p.JOINT_PLANAR: 3}.get(joint_type, 0)
+    return {p.JOINT_REVOLUTE: 1, p.JOINT_PRISMATIC: 1, p.JOINT_SPHERICAL: 3, p.JOINT_PLANAR: 3}.get(
+        joint_type, 0
+    )

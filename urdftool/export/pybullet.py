@@ -19,13 +19,13 @@ A comment at the top of OUT records the source and how to load the file.
 from __future__ import annotations
 
 import dataclasses
-import os
 from pathlib import Path
 
 from lxml import etree
 
 from urdftool.diagnostics import Diagnostic, Severity
 from urdftool.export import ExportOptions, ExportResult, VerifyResult
+from urdftool.export.assets import relative_reference
 from urdftool.export.pybullet_inertia import PyBulletInertia, plan_inertia
 from urdftool.export.pybullet_meshes import MeshPlan, mesh_key
 from urdftool.export.urdf import URDF_JOINT_TYPES, UrdfFlavor, refusals, robot_element, to_bytes
@@ -39,7 +39,9 @@ LOAD_FLAGS = "p.URDF_USE_INERTIA_FROM_FILE"
 #: The most joints of one body whose state PyBullet 3.2 can report (128 fails).
 MAX_JOINTS = 127
 
-PYBULLET_JOINT_TYPES = {t: name for t, name in URDF_JOINT_TYPES.items() if t is not JointType.FLOATING}
+PYBULLET_JOINT_TYPES = {
+    t: name for t, name in URDF_JOINT_TYPES.items() if t is not JointType.FLOATING
+}
 PYBULLET_JOINT_TYPES[JointType.SPHERICAL] = "spherical"
 
 
@@ -48,7 +50,9 @@ class PyBulletFlavor(UrdfFlavor):
     """URDF as PyBullet reads it: spherical joints and capsules, no floating joints, mesh paths planned."""
 
     name: str = "PyBullet"
-    joint_types: dict[JointType, str] = dataclasses.field(default_factory=lambda: dict(PYBULLET_JOINT_TYPES))
+    joint_types: dict[JointType, str] = dataclasses.field(
+        default_factory=lambda: dict(PYBULLET_JOINT_TYPES)
+    )
     extra_shapes: frozenset[str] = frozenset({"capsule"})
     #: mesh key (resolved path, else filename) -> filename written (relative to OUT, or an asset)
     filenames: dict[str, str] = dataclasses.field(default_factory=dict)
@@ -73,7 +77,9 @@ def export(robot: Robot, out: Path, options: ExportOptions) -> ExportResult:
     root, dropped = robot_element(prepared, PyBulletFlavor(filenames=meshes.filenames))
     root.insert(0, etree.Comment(_header(robot, out, inertia, options)))
     files = {out.name: to_bytes(root), **meshes.files.files}
-    return ExportResult(dict(sorted(files.items())), sorted(diagnostics + dropped, key=Diagnostic.sort_key))
+    return ExportResult(
+        dict(sorted(files.items())), sorted(diagnostics + dropped, key=Diagnostic.sort_key)
+    )
 
 
 def verify(robot: Robot, out: Path, options: ExportOptions) -> VerifyResult:
@@ -85,7 +91,9 @@ def verify(robot: Robot, out: Path, options: ExportOptions) -> VerifyResult:
 
 def _prepared(robot: Robot, inertia: PyBulletInertia) -> Robot:
     """*robot* with the planned inertials and unit joint axes."""
-    links = tuple(dataclasses.replace(link, inertial=inertia.inertials[link.name]) for link in robot.links)
+    links = tuple(
+        dataclasses.replace(link, inertial=inertia.inertials[link.name]) for link in robot.links
+    )
     joints = tuple(_unit_axis(joint) for joint in robot.joints)
     return dataclasses.replace(robot, links=links, joints=joints)
 
@@ -101,19 +109,29 @@ def _unit_axis(joint: Joint) -> Joint:
 def _structure(robot: Robot, tree: KinematicTree) -> list[Diagnostic]:
     """A robot PyBullet cannot load at all: no links, or more than one root."""
     if not robot.links:
-        return [EmptyRobot.diagnostic("the robot has no links; PyBullet cannot load it", robot.span)]
+        return [
+            EmptyRobot.diagnostic("the robot has no links; PyBullet cannot load it", robot.span)
+        ]
     if len(tree.roots) > 1:
-        return [MultipleRoots.diagnostic(
-            f"the robot has {len(tree.roots)} roots ({', '.join(tree.roots[:5])}); PyBullet loads one tree",
-            robot.span)]
+        return [
+            MultipleRoots.diagnostic(
+                f"the robot has {len(tree.roots)} roots ({', '.join(tree.roots[:5])}); PyBullet loads one tree",
+                robot.span,
+            )
+        ]
     if len(robot.links) - 1 > MAX_JOINTS:
-        return [ConversionDropped.diagnostic(
-            f"the robot has {len(robot.links) - 1} joints; PyBullet loads it but cannot report the "
-            f"state of a body with more than {MAX_JOINTS} (getLinkState and "
-            "getBasePositionAndOrientation fail); not converted",
-            robot.span, element="robot", severity=Severity.ERROR,
-            help="remove links that only mark frames (fixed joints), or split the robot into bodies",
-            data={"reason": "size", "joints": len(robot.links) - 1, "limit": MAX_JOINTS})]
+        return [
+            ConversionDropped.diagnostic(
+                f"the robot has {len(robot.links) - 1} joints; PyBullet loads it but cannot report the "
+                f"state of a body with more than {MAX_JOINTS} (getLinkState and "
+                "getBasePositionAndOrientation fail); not converted",
+                robot.span,
+                element="robot",
+                severity=Severity.ERROR,
+                help="remove links that only mark frames (fixed joints), or split the robot into bodies",
+                data={"reason": "size", "joints": len(robot.links) - 1, "limit": MAX_JOINTS},
+            )
+        ]
     return []
 
 
@@ -122,13 +140,18 @@ def _joint_refusals(robot: Robot) -> list[Diagnostic]:
     found = [d for d in refusals(robot, PyBulletFlavor()) if d.data.get("type") != "floating"]
     for joint in robot.joints:
         if joint.type is JointType.FLOATING:
-            found.append(ConversionDropped.diagnostic(
-                f"joint '{joint.name}' is floating; PyBullet turns floating joints into fixed ones; "
-                "not converted",
-                joint.span, element=f"joint[{joint.name}]", severity=Severity.ERROR,
-                help=f"make '{joint.child}' the root (remove the joint and '{joint.parent}'): a "
-                     "PyBullet base floats unless loaded with useFixedBase=True",
-                data={"reason": "joint type", "joint": joint.name, "type": "floating"}))
+            found.append(
+                ConversionDropped.diagnostic(
+                    f"joint '{joint.name}' is floating; PyBullet turns floating joints into fixed ones; "
+                    "not converted",
+                    joint.span,
+                    element=f"joint[{joint.name}]",
+                    severity=Severity.ERROR,
+                    help=f"make '{joint.child}' the root (remove the joint and '{joint.parent}'): a "
+                    "PyBullet base floats unless loaded with useFixedBase=True",
+                    data={"reason": "joint type", "joint": joint.name, "type": "floating"},
+                )
+            )
     return found
 
 
@@ -145,33 +168,51 @@ def _mimic_reports(robot: Robot) -> list[Diagnostic]:
             "c = p.createConstraint(robot, a, robot, b, jointType=p.JOINT_GEAR, jointAxis=[0, 0, 1], "
             "parentFramePosition=[0, 0, 0], childFramePosition=[0, 0, 0]); "
             f"p.changeConstraint(c, gearRatio={-mimic.multiplier:g}, maxForce=...)"
-            + (f"; the offset {mimic.offset:g} has no equivalent (set the joint with "
-               "resetJointState)" if mimic.offset else "")
+            + (
+                f"; the offset {mimic.offset:g} has no equivalent (set the joint with "
+                "resetJointState)"
+                if mimic.offset
+                else ""
+            )
         )
-        found.append(ConversionDropped.diagnostic(
-            f"joint '{joint.name}' mimics '{mimic.joint}' (x{mimic.multiplier:g}"
-            f"{f' + {mimic.offset:g}' if mimic.offset else ''}); PyBullet does not enforce <mimic>",
-            mimic.span or joint.span, element=f"joint[{joint.name}]/mimic", help=recipe,
-            data={"reason": "mimic", "joint": joint.name, "mimics": mimic.joint,
-                  "multiplier": mimic.multiplier, "offset": mimic.offset}))
+        found.append(
+            ConversionDropped.diagnostic(
+                f"joint '{joint.name}' mimics '{mimic.joint}' (x{mimic.multiplier:g}"
+                f"{f' + {mimic.offset:g}' if mimic.offset else ''}); PyBullet does not enforce <mimic>",
+                mimic.span or joint.span,
+                element=f"joint[{joint.name}]/mimic",
+                help=recipe,
+                data={
+                    "reason": "mimic",
+                    "joint": joint.name,
+                    "mimics": mimic.joint,
+                    "multiplier": mimic.multiplier,
+                    "offset": mimic.offset,
+                },
+            )
+        )
     return found
 
 
 def _header(robot: Robot, out: Path, inertia: PyBulletInertia, options: ExportOptions) -> str:
     """The comment at the top of OUT: where it came from and how to load it."""
-    source = _relative(robot.path, out.resolve().parent) if robot.path else "a robot model"
-    base = ("base: floating (pass useFixedBase=True to fix it)" if inertia.base == "floating"
-            else "base: fixed to the world (the root link has no mass)")
+    source = relative_reference(robot.path, out.resolve().parent) if robot.path else "a robot model"
+    base = (
+        "base: floating (pass useFixedBase=True to fix it)"
+        if inertia.base == "floating"
+        else "base: fixed to the world (the root link has no mass)"
+    )
     # XML comments cannot hold "--", so the options are named in words.
-    flags = [f for f, on in (("repair inertia", options.repair_inertia),
-                             ("copy assets", options.copy_assets)) if on]
-    return (f" PyBullet URDF generated by urdftool from {source}"
-            f"{' (options: ' + ', '.join(flags) + ')' if flags else ''}.\n"
-            f"     Load with p.loadURDF(\"{out.name}\", flags={LOAD_FLAGS}); {base}. ")
-
-
-def _relative(path: str, folder: Path) -> str:
-    try:
-        return Path(os.path.relpath(Path(path).resolve(), folder)).as_posix()
-    except ValueError:
-        return Path(path).resolve().as_posix()
+    flags = [
+        f
+        for f, on in (
+            ("repair inertia", options.repair_inertia),
+            ("copy assets", options.copy_assets),
+        )
+        if on
+    ]
+    return (
+        f" PyBullet URDF generated by urdftool from {source}"
+        f"{' (options: ' + ', '.join(flags) + ')' if flags else ''}.\n"
+        f'     Load with p.loadURDF("{out.name}", flags={LOAD_FLAGS}); {base}. '
+    )

@@ -42,7 +42,9 @@ class PyBulletInertia:
     diagnostics: list[Diagnostic] = field(default_factory=list)
 
 
-def plan_inertia(robot: Robot, tree: KinematicTree, repair: bool, floating_base: str) -> PyBulletInertia:
+def plan_inertia(
+    robot: Robot, tree: KinematicTree, repair: bool, floating_base: str
+) -> PyBulletInertia:
     """Check (and with *repair*, fix) every link's inertial and every moving body's minimum."""
     plan = InertiaPlan(robot, repair, engine="PyBullet")
     for link in robot.links:
@@ -55,7 +57,9 @@ def plan_inertia(robot: Robot, tree: KinematicTree, repair: bool, floating_base:
         if body.moves or (body.joint is None and floats):
             frames = {link.name: pose.matrix for link, pose in body.links}
             plan.check_moving_body(links[body.head], [link for link, _ in body.links], frames)
-    result = PyBulletInertia(base="floating" if floats else "fixed", diagnostics=list(plan.diagnostics))
+    result = PyBulletInertia(
+        base="floating" if floats else "fixed", diagnostics=list(plan.diagnostics)
+    )
     if floating_base == "free" and not floats and root is not None:
         result.diagnostics.append(_massless_free_base(robot, root))
     for link in robot.links:
@@ -65,10 +69,16 @@ def plan_inertia(robot: Robot, tree: KinematicTree, repair: bool, floating_base:
 
 def _massless_free_base(robot: Robot, root: str) -> Diagnostic:
     link = robot.link(root)
-    span = link.inertial.span if link is not None and link.inertial is not None else (link.span if link else None)
+    span = (
+        link.inertial.span
+        if link is not None and link.inertial is not None
+        else (link.span if link else None)
+    )
     return InertiaNotExportable.diagnostic(
         f"link '{root}': the base of a floating robot carries no mass; PyBullet fixes a massless "
         "base to the world",
-        span, element=f"link[{root}]",
+        span,
+        element=f"link[{root}]",
         help="give the root link its mass and inertia, or make the robot's root a link that has them",
-        data={"link": root, "mass": 0.0})
+        data={"link": root, "mass": 0.0},
+    )

@@ -44,7 +44,9 @@ def convert_to_obj(path: str) -> bytes:
         mesh = load_trimesh(path)
     except MeshError as exc:
         raise MeshUnavailable(f"trimesh cannot read it ({exc})") from exc
-    text = export_obj(mesh, include_normals=False, include_color=False, include_texture=False, header=None)
+    text = export_obj(
+        mesh, include_normals=False, include_color=False, include_texture=False, header=None
+    )
     return text.encode("utf-8")
 
 
@@ -106,6 +108,7 @@ class MeshPlan:
 
     def _link(self, link: Link, source_dir: Path | None) -> Link:
         """*link* without the elements whose mesh cannot be carried, converted visuals coloured."""
+
         def kept(element: Visual | Collision) -> bool:
             mesh = element.geometry
             return not isinstance(mesh, Mesh) or self._plan(mesh, link, source_dir)
@@ -125,12 +128,17 @@ class MeshPlan:
                 raise MeshUnavailable(f"'{mesh.filename}' did not resolve to a file")
             planned = self.files.carry(path)
         except MeshUnavailable as exc:
-            self.diagnostics.append(MeshNotExportable.diagnostic(
-                f"link '{link.name}': mesh {exc}; the element is left out (PyBullet would refuse "
-                "the whole file)", mesh.span, element=where,
-                help="make the path resolve (--package NAME=DIR, --package-path DIR) or convert "
-                     "the file to OBJ or binary STL",
-                data={"link": link.name, "filename": mesh.filename}))
+            self.diagnostics.append(
+                MeshNotExportable.diagnostic(
+                    f"link '{link.name}': mesh {exc}; the element is left out (PyBullet would refuse "
+                    "the whole file)",
+                    mesh.span,
+                    element=where,
+                    help="make the path resolve (--package NAME=DIR, --package-path DIR) or convert "
+                    "the file to OBJ or binary STL",
+                    data={"link": link.name, "filename": mesh.filename},
+                )
+            )
             return False
         key = mesh_key(mesh)
         self.filenames[key] = planned.reference

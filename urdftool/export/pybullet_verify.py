@@ -38,8 +38,12 @@ TOLERANCE = 1e-6
 #: Random joint configurations compared besides the zero configuration.
 CONFIGURATIONS = 8
 EXPECTED_TYPES = {
-    JointType.REVOLUTE: "revolute", JointType.CONTINUOUS: "revolute", JointType.PRISMATIC: "prismatic",
-    JointType.FIXED: "fixed", JointType.SPHERICAL: "spherical", JointType.PLANAR: "planar",
+    JointType.REVOLUTE: "revolute",
+    JointType.CONTINUOUS: "revolute",
+    JointType.PRISMATIC: "prismatic",
+    JointType.FIXED: "fixed",
+    JointType.SPHERICAL: "spherical",
+    JointType.PLANAR: "planar",
 }
 
 
@@ -81,8 +85,11 @@ def verify_pybullet(robot: Robot, out: Path, options: ExportOptions | None = Non
     with PyBulletLoad(str(out)) as loaded:
         diagnostics = [_engine_message(robot, message) for message in loaded.messages]
         if loaded.body is None:
-            diagnostics.append(EngineRejected.diagnostic(
-                f"PyBullet refused {out.name}: {loaded.error}", robot.span, element="robot"))
+            diagnostics.append(
+                EngineRejected.diagnostic(
+                    f"PyBullet refused {out.name}: {loaded.error}", robot.span, element="robot"
+                )
+            )
             return VerifyResult(False, [], diagnostics)
         comparison = Comparison(robot)
         compare_inertia(comparison, expected, loaded.links())
@@ -91,10 +98,19 @@ def verify_pybullet(robot: Robot, out: Path, options: ExportOptions | None = Non
     rows = [(w.quantity, w.error, w.tolerance, w.passed) for w in comparison.rows]
     for worst in comparison.rows:
         if not worst.passed:
-            diagnostics.append(EngineRejected.diagnostic(
-                f"{worst.element}: {worst.quantity} differs in PyBullet by {worst.error:.3g} "
-                f"(tolerance {worst.tolerance:g})", worst.span, element=worst.element,
-                data={"quantity": worst.quantity, "error": worst.error, "tolerance": worst.tolerance}))
+            diagnostics.append(
+                EngineRejected.diagnostic(
+                    f"{worst.element}: {worst.quantity} differs in PyBullet by {worst.error:.3g} "
+                    f"(tolerance {worst.tolerance:g})",
+                    worst.span,
+                    element=worst.element,
+                    data={
+                        "quantity": worst.quantity,
+                        "error": worst.error,
+                        "tolerance": worst.tolerance,
+                    },
+                )
+            )
     return VerifyResult(not diagnostics, rows, diagnostics)
 
 
@@ -103,13 +119,23 @@ def _engine_message(robot: Robot, message: str) -> Diagnostic:
     for item in (*robot.links, *robot.joints):
         if re.search(rf"(?<![\w-]){re.escape(item.name)}(?![\w-])", message):
             kind = "link" if item in robot.links else "joint"
-            return EngineRejected.diagnostic(f"PyBullet: {message}", item.span, element=f"{kind}[{item.name}]",
-                                             data={"engine": "pybullet", "message": message})
-    return EngineRejected.diagnostic(f"PyBullet: {message}", robot.span, element="robot",
-                                     data={"engine": "pybullet", "message": message})
+            return EngineRejected.diagnostic(
+                f"PyBullet: {message}",
+                item.span,
+                element=f"{kind}[{item.name}]",
+                data={"engine": "pybullet", "message": message},
+            )
+    return EngineRejected.diagnostic(
+        f"PyBullet: {message}",
+        robot.span,
+        element="robot",
+        data={"engine": "pybullet", "message": message},
+    )
 
 
-def compare_inertia(comparison: Comparison, expected: Mapping[str, Inertial], engine: Iterable[EngineLink]) -> None:
+def compare_inertia(
+    comparison: Comparison, expected: Mapping[str, Inertial], engine: Iterable[EngineLink]
+) -> None:
     """Mass, principal moments, centre of mass and link-frame tensor of every link."""
     mass = comparison.row("link mass (relative)")
     moments = comparison.row("principal moments (relative to trace)")
@@ -129,13 +155,19 @@ def compare_inertia(comparison: Comparison, expected: Mapping[str, Inertial], en
         source_moments, _ = principal_moments(source_tensor)
         built_moments = np.sort(np.asarray(built.inertia_diagonal))
         moments.see(float(np.max(np.abs(built_moments - source_moments))) / scale, where, span)
-        com.see(float(np.linalg.norm(built.inertial_frame[:3, 3] - np.asarray(source.origin.xyz))), where, span)
+        com.see(
+            float(np.linalg.norm(built.inertial_frame[:3, 3] - np.asarray(source.origin.xyz))),
+            where,
+            span,
+        )
         rotation = built.inertial_frame[:3, :3]
         built_tensor = rotation @ np.diag(built.inertia_diagonal) @ rotation.T
         tensor.see(float(np.max(np.abs(built_tensor - source_tensor))) / scale, where, span)
 
 
-def compare_joints(comparison: Comparison, engine: Iterable[EngineJoint], links: Iterable[EngineLink]) -> None:
+def compare_joints(
+    comparison: Comparison, engine: Iterable[EngineJoint], links: Iterable[EngineLink]
+) -> None:
     """Type, unit axis and limits of every joint (limits that the source writes)."""
     frames = {link.name: link.inertial_frame for link in links}
     types = comparison.row("joint types (mismatches)", 0.0)
@@ -150,7 +182,11 @@ def compare_joints(comparison: Comparison, engine: Iterable[EngineJoint], links:
             continue
         if built.dof == 1:
             # PyBullet keeps the axis in the child's inertial frame; bring it to the link frame.
-            axis = frames[joint.child][:3, :3] @ np.asarray(built.axis) if joint.child in frames else np.zeros(3)
+            axis = (
+                frames[joint.child][:3, :3] @ np.asarray(built.axis)
+                if joint.child in frames
+                else np.zeros(3)
+            )
             axes.see(float(np.max(np.abs(axis - _unit(joint)))), where, span)
         limits.see(_limit_error(joint, built), where, span)
 
@@ -162,11 +198,19 @@ def _unit(joint: Joint) -> Matrix:
 
 def _limit_error(joint: Joint, built: EngineJoint) -> float:
     limit = joint.limit
-    if limit is None or joint.type not in (JointType.REVOLUTE, JointType.PRISMATIC, JointType.CONTINUOUS):
+    if limit is None or joint.type not in (
+        JointType.REVOLUTE,
+        JointType.PRISMATIC,
+        JointType.CONTINUOUS,
+    ):
         return 0.0
     pairs = [(limit.effort, built.effort), (limit.velocity, built.velocity)]
     # Without both bounds PyBullet leaves a joint unlimited (urdfdom reads 0, 0): nothing to compare.
-    if joint.type is not JointType.CONTINUOUS and limit.lower is not None and limit.upper is not None:
+    if (
+        joint.type is not JointType.CONTINUOUS
+        and limit.lower is not None
+        and limit.upper is not None
+    ):
         pairs += [(limit.lower, built.lower), (limit.upper, built.upper)]
     return max((abs(a - b) for a, b in pairs if a is not None), default=0.0)
 
@@ -179,7 +223,9 @@ def compare_poses(comparison: Comparison, tree: KinematicTree, loaded: PyBulletL
     spans = {link.name: link.span for link in comparison.robot.links}
     for q in configurations(tree):
         source = tree.forward_kinematics(q)
-        engine_q = {index[name]: value for name, value in _with_mimics(tree, q).items() if name in index}
+        engine_q = {
+            index[name]: value for name, value in _with_mimics(tree, q).items() if name in index
+        }
         built = loaded.link_frames(engine_q)
         root = tree.root
         if root is None or root not in built:
@@ -191,15 +237,27 @@ def compare_poses(comparison: Comparison, tree: KinematicTree, loaded: PyBulletL
                 position.see(math.inf, where, spans.get(name))
                 continue
             relative = base @ built[name]
-            position.see(float(np.linalg.norm(relative[:3, 3] - pose[:3, 3])), where, spans.get(name))
+            position.see(
+                float(np.linalg.norm(relative[:3, 3] - pose[:3, 3])), where, spans.get(name)
+            )
             orientation.see(_angle(pose[:3, :3].T @ relative[:3, :3]), where, spans.get(name))
 
 
 def _angle(rotation: Matrix) -> float:
     """The rotation angle (rad) of a 3×3 rotation matrix."""
     cosine = (float(np.trace(rotation)) - 1.0) / 2.0
-    sine = float(np.linalg.norm([rotation[2, 1] - rotation[1, 2], rotation[0, 2] - rotation[2, 0],
-                                 rotation[1, 0] - rotation[0, 1]])) / 2.0
+    sine = (
+        float(
+            np.linalg.norm(
+                [
+                    rotation[2, 1] - rotation[1, 2],
+                    rotation[0, 2] - rotation[2, 0],
+                    rotation[1, 0] - rotation[0, 1],
+                ]
+            )
+        )
+        / 2.0
+    )
     return math.atan2(sine, cosine)
 
 
@@ -219,8 +277,13 @@ def configurations(tree: KinematicTree, count: int = CONFIGURATIONS) -> list[dic
 
 def _range(joint: Joint) -> tuple[float, float]:
     limit = joint.limit
-    if (joint.type is not JointType.CONTINUOUS and limit is not None and limit.lower is not None
-            and limit.upper is not None and limit.lower < limit.upper):
+    if (
+        joint.type is not JointType.CONTINUOUS
+        and limit is not None
+        and limit.lower is not None
+        and limit.upper is not None
+        and limit.lower < limit.upper
+    ):
         return limit.lower, limit.upper
     return (-0.5, 0.5) if joint.type is JointType.PRISMATIC else (-math.pi, math.pi)
 
