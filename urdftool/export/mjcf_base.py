@@ -8,7 +8,8 @@
   convention for a robot fixed in place); a ``floating`` joint from it gives a
   free joint. Otherwise the base is free when the robot is *mobile* — it has
   wheels (a continuous joint whose child link has a cylinder or sphere, or a
-  link or joint named ``*wheel*``), or legs (at least two kinematic chains of
+  link or joint named ``*wheel*``), rotors (a moving joint or its link named
+  ``*rotor*`` or ``*propeller*``), or legs (at least two kinematic chains of
   two or more moving joints whose tips reach below the root, at the zero
   configuration, by more than a quarter of the robot's size) — and fixed
   otherwise (arms, hands, pan-tilt heads).
@@ -70,6 +71,8 @@ def mobility(robot: Robot, tree: KinematicTree) -> str | None:
         named = "wheel" in joint.name.lower() or "wheel" in link.name.lower()
         if joint.type is JointType.CONTINUOUS and (round_shape or named):
             return "wheels"
+        if joint.type.is_moving and any(k in f"{joint.name} {link.name}".lower() for k in ("rotor", "propeller")):
+            return "rotors"
     legs = _legs(tree)
     return f"{legs} legs" if legs >= 2 else None
 
