@@ -23,12 +23,12 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass, field
-from typing import Any
+from functools import cached_property
 
 import numpy as np
 
 from urdftool.backends.pinocchio import FREE_FLYER, PinocchioModel, build_model
-from urdftool.dynamics.configurations import Configuration, configurations
+from urdftool.dynamics.configurations import Configuration, Samples, sample
 from urdftool.model import Joint, JointType, KinematicTree, Robot
 from urdftool.model.pose import Matrix
 
@@ -43,19 +43,34 @@ class Conditioning:
     """The worst-conditioned mass matrix among the samples.
 
     ``smallest`` and ``largest`` are its extreme eigenvalues (kg·m² for
-    revolute joints, kg for prismatic ones); ``light_joint`` is the joint that
-    moves most along the eigenvector of the smallest one (the direction that
-    carries almost no inertia), ``heavy_joint`` the same for the largest.
+    revolute joints, kg for prismatic ones); :attr:`light_joint` is the joint
+    that moves most along the eigenvector of the smallest one (the direction
+    that carries almost no inertia), :attr:`heavy_joint` the same for the largest.
     """
 
     condition: float
     smallest: float
     largest: float
-    light_joint: str
-    heavy_joint: str
     configuration: Configuration
     #: index of the sample (0 is the zero configuration)
     sample: int
+    #: the reduced mass matrix and the joint behind each of its columns
+    matrix: Matrix = field(repr=False, compare=False)
+    names: tuple[str, ...] = field(repr=False, compare=False)
+
+    @cached_property
+    def _vectors(self) -> Matrix:
+        # Eigenvectors only when a rule reports them: on 40-DOF robots they cost
+        # more than the rest of the pass.
+        return np.linalg.eigh(self.matrix)[1]
+
+    @property
+    def light_joint(self) -> str:
+        return self.names[int(np.argmax(np.abs(self._vectors[:, 0])))]
+
+    @property
+    def heavy_joint(self) -> str:
+        return self.names[int(np.argmax(np.abs(self._vectors[:, -1])))]
 
 
 @dataclass(frozen=True)
@@ -92,26 +107,29 @@ def analyse(robot: Robot, tree: KinematicTree, floating: bool, base_reason: str,
     g_map, independent = pm.mimic_projection()
     names = _velocity_names(pm)
     column_names = [names[i] for i in independent]
-    poses = configurations(tree, samples)
+    drawn = sample(tree, samples)
     holds = not floating and not robot.loop_closures and not _has_floating_joint(tree)
-    out = DynamicsAnalysis(floating, base_reason, len(independent), len(poses), None, gravity_computed=holds)
+    out = DynamicsAnalysis(floating, base_reason, len(independent), len(drawn), None, gravity_computed=holds)
     if not independent:
         return out
-    worst: Conditioning | None = None
-    loads: dict[str, GravityLoad] = {}
-    for index, pose in enumerate(poses):
-        q = pinocchio_configuration(pm, robot, pose)
+    qs = pinocchio_configurations(pm, robot, drawn)
+    masses = np.empty((len(drawn), len(independent), len(independent)))
+    torques = np.zeros((len(drawn), len(independent)))
+    for row, q in enumerate(qs):
         mass = pin.crba(pm.model, data, q)
         mass = np.triu(mass) + np.triu(mass, 1).T  # Pinocchio fills the upper triangle
-        reduced = g_map.T @ mass @ g_map
-        current = _conditioning(reduced, column_names, pose, index)
-        if worst is None or current.condition > worst.condition:
-            worst = current
+        masses[row] = g_map.T @ mass @ g_map
         if holds:
-            torques = g_map.T @ pin.computeGeneralizedGravity(pm.model, data, q)
-            _keep_largest(loads, tree, column_names, torques, pose, index)
-    out.conditioning = worst
-    out.gravity = [loads[j.name] for j in tree.joints_in_order if j.name in loads]
+            torques[row] = g_map.T @ pin.computeGeneralizedGravity(pm.model, data, q)
+    # One batched call: per-matrix LAPACK calls cost more than the algebra on small robots.
+    eigenvalues = np.linalg.eigvalsh(masses)
+    with np.errstate(divide="ignore"):
+        conditions = np.where(eigenvalues[:, 0] > 0, eigenvalues[:, -1] / eigenvalues[:, 0], np.inf)
+    worst = int(np.argmax(conditions))
+    out.conditioning = _conditioning(masses[worst], eigenvalues[worst], column_names,
+                                     drawn.configuration(worst), worst)
+    if holds:
+        out.gravity = _largest_loads(tree, column_names, np.abs(torques), drawn)
     return out
 
 
@@ -130,26 +148,27 @@ def _velocity_names(pm: PinocchioModel) -> list[str]:
     return names
 
 
-def pinocchio_configuration(pm: PinocchioModel, robot: Robot, pose: Configuration) -> Matrix:
-    """Pinocchio's q for *pose*: the free flyer at the origin, mimic joints following their leader."""
+def pinocchio_configurations(pm: PinocchioModel, robot: Robot, drawn: Samples) -> Matrix:
+    """Pinocchio's q for every sample (rows): the free flyer at the origin, mimic joints
+    following their leader."""
     import pinocchio as pin
 
-    q = np.array(pin.neutral(pm.model))
-    for name, value in pose.items():
-        if name not in pm.joints:
-            continue
-        start = pm.idx_q(name)
-        joint = robot.joint(name)
-        assert joint is not None
-        q[start:start + _nq(joint)] = _pinocchio_coordinates(joint, value)
-    for follower, (leader, multiplier, offset) in pm.mimics.items():
-        if follower in pm.joints and leader in pm.joints:
-            q[pm.idx_q(follower)] = offset + multiplier * q[pm.idx_q(leader)]
-    return q
-
-
-def _nq(joint: Joint) -> int:
-    return {JointType.SPHERICAL: 4, JointType.PLANAR: 4}.get(joint.type, 1)
+    qs = np.tile(np.array(pin.neutral(pm.model)), (len(drawn), 1))
+    columns = [c for c, joint in enumerate(drawn.joints) if joint.name in pm.joints]
+    qs[:, [pm.idx_q(drawn.joints[c].name) for c in columns]] = drawn.values[:, columns]
+    for row, other in enumerate(drawn.others):
+        for name, value in other.items():
+            joint = robot.joint(name)
+            if name in pm.joints and joint is not None:
+                start = pm.idx_q(name)
+                coordinates = _pinocchio_coordinates(joint, value)
+                qs[row, start:start + len(coordinates)] = coordinates
+    mimics = [(pm.idx_q(f), pm.idx_q(l), m, o) for f, (l, m, o) in pm.mimics.items()
+              if f in pm.joints and l in pm.joints]
+    for _ in mimics:  # one pass per mimic settles chains of joints that mimic mimics
+        for follower, leader, multiplier, offset in mimics:
+            qs[:, follower] = offset + multiplier * qs[:, leader]
+    return qs
 
 
 def _pinocchio_coordinates(joint: Joint, value: float | Sequence[float]) -> list[float]:
@@ -162,23 +181,21 @@ def _pinocchio_coordinates(joint: Joint, value: float | Sequence[float]) -> list
     return [float(value)] if not isinstance(value, Sequence) else [float(value[0])]
 
 
-def _conditioning(mass: Matrix, names: list[str], pose: Configuration, sample: int) -> Conditioning:
-    eigenvalues, vectors = np.linalg.eigh(mass)
+def _conditioning(mass: Matrix, eigenvalues: Matrix, names: list[str], pose: Configuration,
+                  sample: int) -> Conditioning:
     smallest, largest = float(eigenvalues[0]), float(eigenvalues[-1])
     condition = largest / smallest if smallest > 0 else float("inf")
-    return Conditioning(condition, smallest, largest, names[int(np.argmax(np.abs(vectors[:, 0])))],
-                        names[int(np.argmax(np.abs(vectors[:, -1])))], pose, sample)
+    return Conditioning(condition, smallest, largest, pose, sample, mass, tuple(names))
 
 
-def _keep_largest(loads: dict[str, GravityLoad], tree: KinematicTree, names: list[str], torques: Any,
-                  pose: Configuration, sample: int) -> None:
-    """Record, per one-DOF joint, the sample where its gravity torque is largest."""
-    seen: set[str] = set()
-    for name, torque in zip(names, np.asarray(torques, dtype=float)):
+def _largest_loads(tree: KinematicTree, names: list[str], magnitudes: Matrix,
+                   drawn: Samples) -> list[GravityLoad]:
+    """Per one-DOF joint (in tree order), the sample where its gravity torque is largest."""
+    out: list[GravityLoad] = []
+    for column, name in enumerate(names):
         joint = tree.robot.joint(name)
-        if joint is None or joint.dof != 1 or name in seen:
+        if joint is None or joint.dof != 1:
             continue
-        seen.add(name)
-        magnitude = abs(float(torque))
-        if name not in loads or magnitude > loads[name].torque:
-            loads[name] = GravityLoad(joint, magnitude, pose, sample)
+        row = int(np.argmax(magnitudes[:, column]))
+        out.append(GravityLoad(joint, float(magnitudes[row, column]), drawn.configuration(row), row))
+    return out
