@@ -372,15 +372,29 @@ def _read_all(todo: dict[str, list[str]], jobs: int | None) -> dict[str, MeshFac
             _, value = _read_for_pool(first[key])
             results[key] = MeshError(value) if isinstance(value, str) else value
         return results
-    from concurrent.futures import ProcessPoolExecutor
-
-    import trimesh  # noqa: F401  (imported once here, inherited by forked workers)
-
     by_path = {first[key]: key for key in order}
-    with ProcessPoolExecutor(max_workers=workers) as pool:
-        for path, value in pool.map(_read_for_pool, [first[k] for k in order], chunksize=1):
-            results[by_path[path]] = MeshError(value) if isinstance(value, str) else value
+    for path, value in _pool(workers).map(_read_for_pool, [first[k] for k in order], chunksize=1):
+        results[by_path[path]] = MeshError(value) if isinstance(value, str) else value
     return results
+
+
+_POOL: Any = None
+
+
+def _pool(workers: int) -> Any:
+    """One worker pool for the whole run: a check of many robots starts its workers once."""
+    global _POOL
+    if _POOL is None or _POOL._max_workers < workers:
+        import atexit
+        from concurrent.futures import ProcessPoolExecutor
+
+        import trimesh  # noqa: F401  (imported once here, inherited by forked workers)
+
+        if _POOL is not None:
+            _POOL.shutdown()
+        _POOL = ProcessPoolExecutor(max_workers=workers)
+        atexit.register(_POOL.shutdown)
+    return _POOL
 
 
 def _size(path: str) -> int:
