@@ -57,8 +57,9 @@ def _children_cpu() -> float:
     return usage.ru_utime + usage.ru_stime
 
 
-def timed(command: list[str], env: dict[str, str] | None = None
-          ) -> tuple[float, float, subprocess.CompletedProcess[str]]:
+def timed(
+    command: list[str], env: dict[str, str] | None = None
+) -> tuple[float, float, subprocess.CompletedProcess[str]]:
     """Wall-clock and CPU seconds (the process and its workers) of *command*.
 
     CPU time is printed too because the machine may be shared: wall clock then
@@ -73,14 +74,21 @@ def timed(command: list[str], env: dict[str, str] | None = None
 def main() -> None:
     assert ERD is not None, "example-robot-data is needed"
     package_dir = str(ERD.parent.parent)
-    probe = subprocess.run([sys.executable, "-c", PINOCCHIO_PROBE, package_dir, *erd_urdfs()],
-                           capture_output=True, text=True, check=True)
+    probe = subprocess.run(
+        [sys.executable, "-c", PINOCCHIO_PROBE, package_dir, *erd_urdfs()],
+        capture_output=True,
+        text=True,
+        check=True,
+    )
     files = probe.stdout.split()
     print(f"example-robot-data: {len(files)} of {len(erd_urdfs())} URDFs load in Pinocchio")
 
     anchor, anchor_cpu, done = timed([sys.executable, "-c", PINOCCHIO, package_dir, *files])
     assert done.returncode == 0, done.stderr[-2000:]
-    print(f"  Pinocchio buildGeomFromUrdf (collision + visual): {anchor:.2f} s wall, {anchor_cpu:.2f} s CPU")
+    print(
+        f"  Pinocchio buildGeomFromUrdf (collision + visual): {anchor:.2f} s wall, "
+        f"{anchor_cpu:.2f} s CPU"
+    )
 
     with tempfile.TemporaryDirectory() as cache:
         env = {**os.environ, "URDFTOOL_CACHE_DIR": cache}
@@ -90,13 +98,24 @@ def main() -> None:
         assert done.returncode in (0, 1), done.stderr[-2000:]
         warm, warm_cpu, _ = timed(command, env)
         entries = sum(1 for _ in Path(cache).rglob("*.json"))
-    print(f"  urdftool check --select M, cold cache: {cold:.2f} s wall, {cold_cpu:.2f} s CPU "
-          f"({entries} mesh files cached)")
+    print(
+        f"  urdftool check --select M, cold cache: {cold:.2f} s wall, {cold_cpu:.2f} s CPU "
+        f"({entries} mesh files cached)"
+    )
     print(f"  urdftool check --select M, warm cache: {warm:.2f} s wall, {warm_cpu:.2f} s CPU")
-    print(f"  cold ratio: {cold / anchor:.3f}x wall, {cold_cpu / anchor_cpu:.3f}x CPU   (goal <= 0.5x)")
-    print(f"  warm ratio: {warm / anchor:.3f}x wall, {warm_cpu / anchor_cpu:.3f}x CPU   (goal <= 0.1x)")
-    print(f"  ({os.cpu_count()} cores, load average {os.getloadavg()[0]:.1f}; mesh files are read in "
-          "parallel worker processes)")
+    print(
+        f"  cold ratio: {cold / anchor:.3f}x wall, {cold_cpu / anchor_cpu:.3f}x CPU"
+        "   (goal <= 0.5x)"
+    )
+    print(
+        f"  warm ratio: {warm / anchor:.3f}x wall, {warm_cpu / anchor_cpu:.3f}x CPU"
+        "   (goal <= 0.1x)"
+    )
+    print(
+        f"  ({os.cpu_count()} cores, load average {os.getloadavg()[0]:.1f}; mesh files are read in "
+        "parallel worker processes)"
+    )
+
 
 if __name__ == "__main__":
     main()

@@ -8,7 +8,10 @@ import pytest
 
 from urdftool.check import CheckOptions, check_file
 
-INERTIAL = '<inertial><mass value="1"/><inertia ixx="0.01" ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0.01"/></inertial>'
+INERTIAL = (
+    '<inertial><mass value="1"/>'
+    '<inertia ixx="0.01" ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0.01"/></inertial>'
+)
 
 
 def wheel(name: str, x: float, y: float, radius: float = 0.1) -> str:
@@ -27,37 +30,53 @@ def robot(tmp_path: Path, body: str) -> list:
 
 
 def test_ros2_diff_drive_with_two_wheel_pairs_checks_each_pair(tmp_path: Path) -> None:
-    body = (wheel("fl", 0.2, 0.2) + wheel("fr", 0.2, -0.2) + wheel("rl", -0.2, 0.25) + wheel("rr", -0.2, -0.25)
-            + '<gazebo><plugin name="dd" filename="libgazebo_ros_diff_drive.so"><num_wheel_pairs>2</num_wheel_pairs>'
-            "<left_joint>fl_joint</left_joint><right_joint>fr_joint</right_joint>"
-            "<left_joint>rl_joint</left_joint><right_joint>rr_joint</right_joint>"
-            "<wheel_separation>0.4</wheel_separation><wheel_separation>0.4</wheel_separation>"
-            "<wheel_diameter>0.2</wheel_diameter><wheel_diameter>0.2</wheel_diameter></plugin></gazebo>")
+    body = (
+        wheel("fl", 0.2, 0.2)
+        + wheel("fr", 0.2, -0.2)
+        + wheel("rl", -0.2, 0.25)
+        + wheel("rr", -0.2, -0.25)
+        + '<gazebo><plugin name="dd" filename="libgazebo_ros_diff_drive.so">'
+        + "<num_wheel_pairs>2</num_wheel_pairs>"
+        "<left_joint>fl_joint</left_joint><right_joint>fr_joint</right_joint>"
+        "<left_joint>rl_joint</left_joint><right_joint>rr_joint</right_joint>"
+        "<wheel_separation>0.4</wheel_separation><wheel_separation>0.4</wheel_separation>"
+        "<wheel_diameter>0.2</wheel_diameter><wheel_diameter>0.2</wheel_diameter></plugin></gazebo>"
+    )
     found = [d for d in robot(tmp_path, body) if d.code == "G004"]
     assert [round(d.data["measured_m"], 3) for d in found] == [0.5]  # only the rear pair is off
 
 
 def test_skid_steer_compares_with_the_mean_of_both_axles(tmp_path: Path) -> None:
-    body = (wheel("lf", 0.2, 0.2) + wheel("rf", 0.2, -0.2) + wheel("lr", -0.2, 0.2) + wheel("rr", -0.2, -0.2)
-            + '<gazebo><plugin name="skid" filename="libgazebo_ros_skid_steer_drive.so">'
-            "<leftFrontJoint>lf_joint</leftFrontJoint><rightFrontJoint>rf_joint</rightFrontJoint>"
-            "<leftRearJoint>lr_joint</leftRearJoint><rightRearJoint>rr_joint</rightRearJoint>"
-            "<wheelSeparation>0.4</wheelSeparation><wheelDiameter>0.25</wheelDiameter></plugin></gazebo>")
+    body = (
+        wheel("lf", 0.2, 0.2)
+        + wheel("rf", 0.2, -0.2)
+        + wheel("lr", -0.2, 0.2)
+        + wheel("rr", -0.2, -0.2)
+        + '<gazebo><plugin name="skid" filename="libgazebo_ros_skid_steer_drive.so">'
+        "<leftFrontJoint>lf_joint</leftFrontJoint><rightFrontJoint>rf_joint</rightFrontJoint>"
+        "<leftRearJoint>lr_joint</leftRearJoint><rightRearJoint>rr_joint</rightRearJoint>"
+        "<wheelSeparation>0.4</wheelSeparation><wheelDiameter>0.25</wheelDiameter></plugin></gazebo>"
+    )
     found = [d for d in robot(tmp_path, body) if d.code == "G004"]
     assert len(found) == 1 and "diameter" in found[0].message
     assert found[0].data["measured_m"] == pytest.approx(0.2)
 
 
 def test_plugin_may_name_joints_that_gazebo_blocks_define(tmp_path: Path) -> None:
-    body = ('<gazebo><joint name="world_hinge" type="revolute"><parent>world</parent><child>base</child></joint>'
-            '<plugin name="jsp" filename="libgazebo_ros_joint_state_publisher.so">'
-            "<jointName>world_hinge</jointName></plugin></gazebo>")
+    body = (
+        '<gazebo><joint name="world_hinge" type="revolute">'
+        "<parent>world</parent><child>base</child></joint>"
+        '<plugin name="jsp" filename="libgazebo_ros_joint_state_publisher.so">'
+        "<jointName>world_hinge</jointName></plugin></gazebo>"
+    )
     assert [d for d in robot(tmp_path, body) if d.code == "G003"] == []
 
 
 def test_unexpanded_substitutions_are_left_to_the_syntax_rules(tmp_path: Path) -> None:
-    body = ('<gazebo><plugin name="jsp" filename="libgazebo_ros_joint_state_publisher.so">'
-            "<jointName>${prefix}joint</jointName></plugin></gazebo>")
+    body = (
+        '<gazebo><plugin name="jsp" filename="libgazebo_ros_joint_state_publisher.so">'
+        "<jointName>${prefix}joint</jointName></plugin></gazebo>"
+    )
     assert [d for d in robot(tmp_path, body) if d.code == "G003"] == []
 
 

@@ -37,8 +37,12 @@ def test_scaled_facts_equal_trimesh_on_the_scaled_mesh(private_cache: Path, scal
     sign = 1.0 if solid.volume > 0 else -1.0
     assert info.volume == pytest.approx(abs(solid.volume), rel=1e-9)
     np.testing.assert_allclose(info.center_mass, solid.center_mass, rtol=1e-9, atol=1e-12)
-    np.testing.assert_allclose(info.inertia_unit_density, sign * solid.moment_inertia,
-                               rtol=1e-7, atol=1e-12 * np.abs(solid.moment_inertia).max())
+    np.testing.assert_allclose(
+        info.inertia_unit_density,
+        sign * solid.moment_inertia,
+        rtol=1e-7,
+        atol=1e-12 * np.abs(solid.moment_inertia).max(),
+    )
     np.testing.assert_allclose(info.bounds_min, mesh.bounds[0], atol=1e-12)
 
 
@@ -83,13 +87,17 @@ def test_cache_folder_names_the_trimesh_version(private_cache: Path) -> None:
     assert root is not None and root.name.endswith(f"trimesh{trimesh.__version__}")
 
 
-def test_parallel_loading_matches_one_by_one(private_cache: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+def test_parallel_loading_matches_one_by_one(
+    private_cache: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
     paths = sorted(str(p) for p in (FIXTURES / "rules").glob("M00*/meshes/*") if p.stat().st_size)
     together = meshes.load_many(paths, jobs=2)
     monkeypatch.setattr(meshes, "_FACTS", {})
     monkeypatch.setenv("URDFTOOL_NO_CACHE", "1")
     alone = {p: _result(p) for p in paths}
-    assert {p: _describe(v) for p, v in together.items()} == {p: _describe(v) for p, v in alone.items()}
+    assert {p: _describe(v) for p, v in together.items()} == {
+        p: _describe(v) for p, v in alone.items()
+    }
 
 
 def _result(path: str) -> meshes.MeshFacts | meshes.MeshError:
@@ -116,8 +124,10 @@ def test_collada_unit_is_applied(private_cache: Path, tmp_path: Path) -> None:
 
 def test_collada_with_entities_is_refused(private_cache: Path, tmp_path: Path) -> None:
     path = tmp_path / "evil.dae"
-    path.write_text('<?xml version="1.0"?><!DOCTYPE c [<!ENTITY x SYSTEM "file:///etc/passwd">]>'
-                    "<COLLADA>&x;</COLLADA>")
+    path.write_text(
+        '<?xml version="1.0"?><!DOCTYPE c [<!ENTITY x SYSTEM "file:///etc/passwd">]>'
+        "<COLLADA>&x;</COLLADA>"
+    )
     with pytest.raises(meshes.MeshError, match="entities"):
         meshes.facts_for(str(path))
 
@@ -155,7 +165,9 @@ def _imports_trimesh(path: Path, select: str, cache: Path) -> bool:
         "print('trimesh' in sys.modules)\n"
     )
     env = {**os.environ, "URDFTOOL_CACHE_DIR": str(cache)}
-    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True, env=env)
+    out = subprocess.run(
+        [sys.executable, "-c", code], capture_output=True, text=True, check=True, env=env
+    )
     return out.stdout.strip() == "True"
 
 

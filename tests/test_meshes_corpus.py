@@ -22,7 +22,14 @@ from urdftool.diagnostics import Diagnostic
 TURTLEBOT = SEEDS / "turtlebot3" / "turtlebot3_description"
 MY_ROBOT = SEEDS / "go_chase_it" / "my_robot" / "urdf" / "my_robot.xacro"
 M_ROBOT = SEEDS / "hyundai_ngv" / "m_robot_description" / "urdf" / "m_robot.xacro"
-DIFFBOT = Path(__file__).resolve().parent.parent / "urdftool" / "examples" / "diffbot" / "urdf" / "diffbot.urdf.xacro"
+DIFFBOT = (
+    Path(__file__).resolve().parent.parent
+    / "urdftool"
+    / "examples"
+    / "diffbot"
+    / "urdf"
+    / "diffbot.urdf.xacro"
+)
 
 
 def findings(path: Path, select: str) -> list[Diagnostic]:
@@ -54,7 +61,9 @@ def test_turtlebot_existing_meshes_raise_no_mesh_errors() -> None:
         codes = Counter(d.name for d in findings(urdf, "M"))
         assert codes["mesh-not-found"] == 1, urdf.name
         assert not codes["mesh-unreadable"] and not codes["unresolved-package"]
-        assert not codes["mesh-units-suspect"], "TurtleBot's scale 0.001 meshes are in millimetres, correctly"
+        assert not codes["mesh-units-suspect"], (
+            "TurtleBot's scale 0.001 meshes are in millimetres, correctly"
+        )
 
 
 def test_my_robot_drive_plugin_separation_is_reported() -> None:
@@ -130,8 +139,11 @@ def test_erd_meshes_are_all_readable_and_plausibly_sized(erd_report: dict) -> No
 
 
 def test_erd_simple_humanoid_ascii_stl_is_unsupported_by_both_engines(erd_report: dict) -> None:
-    warnings = [(p, d) for p, d in _by_rule(erd_report)["mesh-format-unsupported"]
-                if d["severity"] == "warning"]
+    warnings = [
+        (p, d)
+        for p, d in _by_rule(erd_report)["mesh-format-unsupported"]
+        if d["severity"] == "warning"
+    ]
     assert [(os.path.basename(p), d["data"]["format"]) for p, d in warnings] == [
         ("simple_humanoid.urdf", "stl-ascii")
     ]

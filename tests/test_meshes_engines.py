@@ -21,8 +21,10 @@ CASES = ["cube.stl", "ascii.stl", "cube.obj", "cube.dae"]
 def mujoco_reads(path: Path) -> bool:
     import mujoco
 
-    xml = (f'<mujoco><asset><mesh name="m" file="{path}"/></asset><worldbody><body>'
-           '<freejoint/><geom type="mesh" mesh="m"/></body></worldbody></mujoco>')
+    xml = (
+        f'<mujoco><asset><mesh name="m" file="{path}"/></asset><worldbody><body>'
+        '<freejoint/><geom type="mesh" mesh="m"/></body></worldbody></mujoco>'
+    )
     try:
         mujoco.MjModel.from_xml_string(xml)
     except ValueError:

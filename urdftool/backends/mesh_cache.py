@@ -16,6 +16,7 @@ checks faster, never different, and never makes them fail.
 
 from __future__ import annotations
 
+import contextlib
 import json
 import os
 import tempfile
@@ -83,10 +84,8 @@ def put(key: str, value: dict[str, Any]) -> None:
                 json.dump(value, handle, separators=(",", ":"), sort_keys=True)
             os.replace(tmp, target)
         except BaseException:
-            try:
+            with contextlib.suppress(OSError):
                 os.unlink(tmp)
-            except OSError:
-                pass
             raise
     except OSError:
         return

@@ -203,7 +203,10 @@ def collada_declares_entities(path: str) -> bool:
 
 
 def load_trimesh(path: str):  # type: ignore[no-untyped-def]
-    """The file as one ``trimesh.Trimesh`` in metres (scenes are concatenated, COLLADA units applied)."""
+    """The file as one ``trimesh.Trimesh`` in metres.
+
+    Scenes are concatenated and COLLADA units applied.
+    """
     import trimesh
 
     if collada_declares_entities(path):
@@ -212,7 +215,9 @@ def load_trimesh(path: str):  # type: ignore[no-untyped-def]
         loaded = trimesh.load(path, force="mesh", process=True)
     except Exception as exc:  # trimesh raises many kinds for bad files
         raise MeshError(f"{type(exc).__name__}: {exc}".strip().rstrip(":")) from exc
-    if (not isinstance(loaded, trimesh.Trimesh) or len(loaded.faces) == 0) and path.lower().endswith(".dae"):
+    if (
+        not isinstance(loaded, trimesh.Trimesh) or len(loaded.faces) == 0
+    ) and path.lower().endswith(".dae"):
         loaded = _collada_geometry_only(path)
     if not isinstance(loaded, trimesh.Trimesh) or len(loaded.faces) == 0:
         raise MeshError("the file holds no triangles")
@@ -235,7 +240,9 @@ def _collada_geometry_only(path: str) -> Any:
     import trimesh
     from lxml import etree
 
-    parser = etree.XMLParser(resolve_entities=False, no_network=True, load_dtd=False, huge_tree=True)
+    parser = etree.XMLParser(
+        resolve_entities=False, no_network=True, load_dtd=False, huge_tree=True
+    )
     try:
         root = etree.parse(path, parser).getroot()
     except (OSError, etree.XMLSyntaxError):
@@ -245,7 +252,9 @@ def _collada_geometry_only(path: str) -> Any:
         for element in list(root.iter(f"{{{namespace}}}{tag}" if namespace else tag)):
             element.getparent().remove(element)
     try:
-        return trimesh.load(io.BytesIO(etree.tostring(root)), file_type="dae", force="mesh", process=True)
+        return trimesh.load(
+            io.BytesIO(etree.tostring(root)), file_type="dae", force="mesh", process=True
+        )
     except Exception:  # the geometry itself is broken: the caller reports the file
         return None
 

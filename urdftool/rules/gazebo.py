@@ -22,22 +22,45 @@ from urdftool.rules.suggest import did_you_mean
 
 #: Keys of ``<gazebo>`` blocks that sdformat's URDF converter reads (from text
 #: or from a ``value`` attribute); anything else is copied into the SDF as is.
-CONVERTER_KEYS = frozenset({
-    "material", "static", "turnGravityOff", "dampingFactor", "maxVel", "minDepth", "mu1", "mu2",
-    "fdir1", "kp", "kd", "selfCollide", "maxContacts", "laserRetro", "springReference",
-    "springStiffness", "stopCfm", "stopErp", "fudgeFactor", "provideFeedback", "canonicalBody",
-    "cfmDamping", "implicitSpringDamper", "disableFixedJointLumping", "preserveFixedJoint",
-})
+CONVERTER_KEYS = frozenset(
+    {
+        "material",
+        "static",
+        "turnGravityOff",
+        "dampingFactor",
+        "maxVel",
+        "minDepth",
+        "mu1",
+        "mu2",
+        "fdir1",
+        "kp",
+        "kd",
+        "selfCollide",
+        "maxContacts",
+        "laserRetro",
+        "springReference",
+        "springStiffness",
+        "stopCfm",
+        "stopErp",
+        "fudgeFactor",
+        "provideFeedback",
+        "canonicalBody",
+        "cfmDamping",
+        "implicitSpringDamper",
+        "disableFixedJointLumping",
+        "preserveFixedJoint",
+    }
+)
 
 #: Where each SDF-only element of a URDF link or joint belongs instead.
 SDF_ISM_FIX = {
     "pose": "URDF places a link only through its parent joint's <origin>",
-    "sensor": "Gazebo reads sensors from <gazebo reference=\"…\"><sensor>",
-    "self_collide": "write it as <gazebo reference=\"…\"><selfCollide>",
-    "gravity": "write <gazebo reference=\"…\"><turnGravityOff>true</turnGravityOff>",
-    "kinematic": "write it inside <gazebo reference=\"…\">",
-    "velocity_decay": "write it inside <gazebo reference=\"…\">",
-    "must_be_base_link": "write it inside <gazebo reference=\"…\">",
+    "sensor": 'Gazebo reads sensors from <gazebo reference="…"><sensor>',
+    "self_collide": 'write it as <gazebo reference="…"><selfCollide>',
+    "gravity": 'write <gazebo reference="…"><turnGravityOff>true</turnGravityOff>',
+    "kinematic": 'write it inside <gazebo reference="…">',
+    "velocity_decay": 'write it inside <gazebo reference="…">',
+    "must_be_base_link": 'write it inside <gazebo reference="…">',
 }
 
 
@@ -87,7 +110,7 @@ class GazeboReferenceMissing(_Gazebo):
             if reference is None or reference in names or "$" in reference:
                 continue
             yield self.diagnostic(
-                f"<gazebo reference=\"{reference}\"> names no link or joint"
+                f'<gazebo reference="{reference}"> names no link or joint'
                 + did_you_mean(reference, names),
                 span_of(block),
                 element=f"gazebo[{reference}]",
@@ -172,7 +195,9 @@ class PluginJointMissing(_Gazebo):
         yield from _joint_refs(self, ctx, refs, "plugin")
 
 
-def _joint_refs(rule: Rule, ctx: CheckContext, refs: Iterable[gz.JointRef], what: str) -> Iterator[Diagnostic]:
+def _joint_refs(
+    rule: Rule, ctx: CheckContext, refs: Iterable[gz.JointRef], what: str
+) -> Iterator[Diagnostic]:
     joints = {joint.name: joint for joint in ctx.robot.joints}
     extra = gz.gazebo_defined_joints(ctx.robot)
     kept = gz.preserved_fixed_joints(ctx.robot)
@@ -195,7 +220,7 @@ def _joint_refs(rule: Rule, ctx: CheckContext, refs: Iterable[gz.JointRef], what
                 severity=Severity.WARNING,  # the name is right; only Gazebo's lumping loses it
                 element=f"{what}/{ref.element.tag}[{ref.name}]",
                 help=f"make '{ref.name}' a moving joint, or keep it with <gazebo reference="
-                f"\"{ref.name}\"><preserveFixedJoint>true</preserveFixedJoint></gazebo>",
+                f'"{ref.name}"><preserveFixedJoint>true</preserveFixedJoint></gazebo>',
                 data={"joint": ref.name, "owner": ref.owner, "fixed": True},
             )
 
@@ -243,16 +268,19 @@ class DriveGeometryMismatch(_Gazebo):
             return
         poses = ctx.tree.forward_kinematics()
         for plugin in plugins:
-            pairs = [(drive.measure_wheel(ctx, left, poses), drive.measure_wheel(ctx, right, poses))
-                     for left, right in plugin.pairs]
+            pairs = [
+                (drive.measure_wheel(ctx, left, poses), drive.measure_wheel(ctx, right, poses))
+                for left, right in plugin.pairs
+            ]
             measured = [(a, b) for a, b in pairs if a is not None and b is not None]
             if not measured:
                 continue
             yield from self._separation(plugin, measured)
             yield from self._diameter(plugin, [w for pair in measured for w in pair])
 
-    def _separation(self, plugin: gz.DrivePlugin, pairs: list[tuple[drive.Wheel, drive.Wheel]]
-                    ) -> Iterator[Diagnostic]:
+    def _separation(
+        self, plugin: gz.DrivePlugin, pairs: list[tuple[drive.Wheel, drive.Wheel]]
+    ) -> Iterator[Diagnostic]:
         for index, (declared, element) in enumerate(plugin.separations):
             left, right = pairs[min(index, len(pairs) - 1)]
             # A single declared value serves every pair (skid steer): compare with their mean.
@@ -266,10 +294,14 @@ class DriveGeometryMismatch(_Gazebo):
                 f"{_fmt(declared)} m, but wheel joints {joints} are {_fmt(measured)} m apart",
                 span_of(element),
                 element=f"plugin[{plugin.element.get('name')}]/{element.tag}",
-                help=f"write <{element.tag}>{measured:.4g}</{element.tag}> (the distance between the "
+                help=f"write <{element.tag}>{measured:.4g}</{element.tag}> (the distance between "
+                "the "
                 "wheel centres along the axle), or move the wheel joints",
-                data={"declared_m": declared, "measured_m": measured,
-                      "joints": [w.joint.name for pair in group for w in pair]},
+                data={
+                    "declared_m": declared,
+                    "measured_m": measured,
+                    "joints": [w.joint.name for pair in group for w in pair],
+                },
             )
 
     def _diameter(self, plugin: gz.DrivePlugin, wheels: list[drive.Wheel]) -> Iterator[Diagnostic]:
@@ -283,13 +315,17 @@ class DriveGeometryMismatch(_Gazebo):
             return
         yield self.diagnostic(
             f"{plugin.kind} {gz.plugin_label(plugin.element)} declares wheel "
-            f"{'radius' if factor < 1 else 'diameter'} {_fmt(declared * factor)} m, but the wheels' "
+            f"{'radius' if factor < 1 else 'diameter'} {_fmt(declared * factor)} m, "
+            "but the wheels' "
             f"collision shapes measure {_fmt(measured * factor)} m",
             span_of(element),
             element=f"plugin[{plugin.element.get('name')}]/{element.tag}",
             help=f"write <{element.tag}>{measured * factor:.4g}</{element.tag}>",
-            data={"declared_m": declared * factor, "measured_m": measured * factor,
-                  "joints": [w.joint.name for w in wheels]},
+            data={
+                "declared_m": declared * factor,
+                "measured_m": measured * factor,
+                "joints": [w.joint.name for w in wheels],
+            },
         )
 
 
@@ -340,9 +376,11 @@ class SdfElementInUrdf(_Gazebo):
             for extension in joint.extensions:
                 if extension.tag in SDF_ISM_FIX:
                     values = gz.text_of(extension.element).split()
-                    fix = (f"write it as <origin {_origin_text(values)}/>"
-                           if extension.tag == "pose" and len(values) == 6
-                           else SDF_ISM_FIX[extension.tag].replace("…", joint.name))
+                    fix = (
+                        f"write it as <origin {_origin_text(values)}/>"
+                        if extension.tag == "pose" and len(values) == 6
+                        else SDF_ISM_FIX[extension.tag].replace("…", joint.name)
+                    )
                     yield self.diagnostic(
                         f"joint '{joint.name}': <{extension.tag}> is SDF; URDF loaders ignore it",
                         extension.span,
@@ -360,30 +398,51 @@ class SdfElementInUrdf(_Gazebo):
             values = gz.text_of(extension.element).split()
             data["pose"] = values
             joint = ctx.tree.parent_joint.get(link.name)
-            what += f", so the link is not moved by {' '.join(values)}" if any(
-                _nonzero(v) for v in values) else " (its value is zero, so nothing is lost)"
-            now = (f"xyz=\"{' '.join(f'{v:g}' for v in joint.origin.xyz)}\" "
-                   f"rpy=\"{' '.join(f'{v:g}' for v in joint.origin.rpy)}\"") if joint else ""
+            what += (
+                f", so the link is not moved by {' '.join(values)}"
+                if any(_nonzero(v) for v in values)
+                else " (its value is zero, so nothing is lost)"
+            )
+            now = (
+                (
+                    f'xyz="{" ".join(f"{v:g}" for v in joint.origin.xyz)}" '
+                    f'rpy="{" ".join(f"{v:g}" for v in joint.origin.rpy)}"'
+                )
+                if joint
+                else ""
+            )
             target = _origin_text(values) if len(values) == 6 else "…"
-            fix = (f"move it into joint '{joint.name}': <origin {target}/> relative to the model "
-                   f"(the joint's origin is now {now})" if joint
-                   else "set the robot's spawn pose instead (the link is the root)")
-        return self.diagnostic(what, extension.span, element=f"link[{link.name}]/{extension.tag}",
-                               help=fix, data=data)
+            fix = (
+                f"move it into joint '{joint.name}': <origin {target}/> relative to the model "
+                f"(the joint's origin is now {now})"
+                if joint
+                else "set the robot's spawn pose instead (the link is the root)"
+            )
+        return self.diagnostic(
+            what, extension.span, element=f"link[{link.name}]/{extension.tag}", help=fix, data=data
+        )
 
     def _legacy_keys(self, ctx: CheckContext) -> Iterator[Diagnostic]:
         for block, child in gz.legacy_value_keys(ctx.robot):
             value = child.get("value")
-            where = f"<gazebo reference=\"{block.get('reference')}\">" if block.get("reference") else "<gazebo>"
+            where = (
+                f'<gazebo reference="{block.get("reference")}">'
+                if block.get("reference")
+                else "<gazebo>"
+            )
             known = child.tag in CONVERTER_KEYS
             yield self.diagnostic(
-                f"{where}: <{child.tag} value=\"{value}\"/> is the old Gazebo form; "
-                + ("sdformat still reads it, newer tools may not" if known
-                   else f"Gazebo no longer knows <{child.tag}> and ignores it"),
+                f'{where}: <{child.tag} value="{value}"/> is the old Gazebo form; '
+                + (
+                    "sdformat still reads it, newer tools may not"
+                    if known
+                    else f"Gazebo no longer knows <{child.tag}> and ignores it"
+                ),
                 span_of(child),
                 severity=Severity.INFO if known else Severity.WARNING,
                 element=f"gazebo/{child.tag}",
-                help=f"write <{child.tag}>{value}</{child.tag}>" if known
+                help=f"write <{child.tag}>{value}</{child.tag}>"
+                if known
                 else f"remove it, or use the SDF element that replaced <{child.tag}>",
                 data={"key": child.tag, "value": value, "read_by_sdformat": known},
             )

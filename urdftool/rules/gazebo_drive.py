@@ -30,7 +30,7 @@ TOLERANCE = 0.05
 
 @dataclass(frozen=True)
 class Wheel:
-    """A wheel at the zero configuration, in the world (root) frame: centre (m) and axle direction."""
+    """A wheel at the zero configuration in the world (root) frame: centre (m) and axle."""
 
     joint: Joint
     centre: Matrix

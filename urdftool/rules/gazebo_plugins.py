@@ -24,20 +24,39 @@ from urdftool.source import SRC_ATTRIBUTE
 
 #: Plugin child elements whose text names one joint (or, for ``jointName``, a
 #: comma-separated list of joints).
-JOINT_TAGS = frozenset({
-    "leftJoint", "rightJoint", "left_joint", "right_joint",
-    "leftFrontJoint", "leftRearJoint", "rightFrontJoint", "rightRearJoint",
-    "front_left_joint", "front_right_joint", "rear_left_joint", "rear_right_joint",
-    "left_steering_joint", "right_steering_joint", "steering_wheel_joint",
-    "steeringJoint", "actuatedWheelJoint",
-    "jointName", "joint_name",
-    "joint", "mimicJoint",
-    "actuatedJoint", "virtualJoint",
-})
+JOINT_TAGS = frozenset(
+    {
+        "leftJoint",
+        "rightJoint",
+        "left_joint",
+        "right_joint",
+        "leftFrontJoint",
+        "leftRearJoint",
+        "rightFrontJoint",
+        "rightRearJoint",
+        "front_left_joint",
+        "front_right_joint",
+        "rear_left_joint",
+        "rear_right_joint",
+        "left_steering_joint",
+        "right_steering_joint",
+        "steering_wheel_joint",
+        "steeringJoint",
+        "actuatedWheelJoint",
+        "jointName",
+        "joint_name",
+        "joint",
+        "mimicJoint",
+        "actuatedJoint",
+        "virtualJoint",
+    }
+)
 
 #: ``<transmission>`` children that name a joint in a ``name`` attribute (ROS 1
 #: transmissions, including PR2's wrist and gripper transmissions).
-TRANSMISSION_JOINT_TAGS = frozenset({"joint", "flexJoint", "rollJoint", "gap_joint", "passive_joint"})
+TRANSMISSION_JOINT_TAGS = frozenset(
+    {"joint", "flexJoint", "rollJoint", "gap_joint", "passive_joint"}
+)
 
 _SPLIT = re.compile(r"[,\s]+")
 
@@ -189,13 +208,16 @@ def _read_drive(plugin: Any, kind: str) -> DrivePlugin:
         if isinstance(child.tag, str):
             values.setdefault(child.tag, []).append(child)
     if kind == "skid-steer":
-        for front, rear in (("leftFrontJoint", "rightFrontJoint"), ("leftRearJoint", "rightRearJoint")):
+        for front, rear in (
+            ("leftFrontJoint", "rightFrontJoint"),
+            ("leftRearJoint", "rightRearJoint"),
+        ):
             if front in values and rear in values:
                 found.pairs.append((text_of(values[front][0]), text_of(values[rear][0])))
     else:
         lefts = values.get("leftJoint", []) + values.get("left_joint", [])
         rights = values.get("rightJoint", []) + values.get("right_joint", [])
-        found.pairs = [(text_of(a), text_of(b)) for a, b in zip(lefts, rights)]
+        found.pairs = [(text_of(a), text_of(b)) for a, b in zip(lefts, rights, strict=False)]
     for tag in ("wheelSeparation", "wheel_separation"):
         found.separations += [(v, e) for e in values.get(tag, []) if (v := _number(e)) is not None]
     for tag, factor in (("wheelDiameter", 1.0), ("wheel_diameter", 1.0), ("wheel_radius", 2.0)):

@@ -11,7 +11,18 @@ from collections.abc import Iterator
 
 import numpy as np
 
-from urdftool.model import Box, Capsule, Cylinder, Ellipsoid, Geometry, Joint, JointType, Link, Mesh, Sphere
+from urdftool.model import (
+    Box,
+    Capsule,
+    Cylinder,
+    Ellipsoid,
+    Geometry,
+    Joint,
+    JointType,
+    Link,
+    Mesh,
+    Sphere,
+)
 from urdftool.model.tree import KinematicTree
 from urdftool.rules.registry import CheckContext
 
@@ -32,7 +43,11 @@ UNITS_TOO_SMALL = 1.0 / 300.0
 def degenerate_shape(geometry: Geometry | None) -> str | None:
     """What is degenerate about a primitive shape or a mesh scale, in words; ``None`` if nothing."""
     if isinstance(geometry, Box):
-        bad = [f"{axis}={value:g}" for axis, value in zip("xyz", geometry.size) if not value > 0]
+        bad = [
+            f"{axis}={value:g}"
+            for axis, value in zip("xyz", geometry.size, strict=True)
+            if not value > 0
+        ]
         return f"box has a size that is not positive ({', '.join(bad)} m)" if bad else None
     if isinstance(geometry, Sphere):
         return None if geometry.radius > 0 else f"sphere has radius {geometry.radius:g} m"
@@ -110,4 +125,3 @@ def suggested_factor(ratio: float) -> float:
     thousands = round(exponent / 3) * 3
     k = thousands if thousands != 0 else round(exponent)
     return float(10.0 ** (-k))
-

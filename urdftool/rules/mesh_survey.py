@@ -52,7 +52,7 @@ class MeshUse:
 
 
 def has_substitution(filename: str) -> bool:
-    """A filename still holding ``$(…)`` or ``${…}``: the syntax rules report it, not the mesh rules."""
+    """A filename still holding ``$(…)`` or ``${…}`` (the syntax rules report it, not these)."""
     return "$(" in filename or "${" in filename
 
 
@@ -127,7 +127,11 @@ def mesh_format(ctx: CheckContext, path: str) -> MeshFormat | None:
 def contents(ctx: CheckContext) -> dict[str, MeshFacts | MeshError]:
     """Facts (or the read error) for every existing mesh file trimesh can read, loaded once."""
     if "mesh-contents" not in ctx.cache:
-        paths = [p for p in by_file(ctx) if (fmt := mesh_format(ctx, p)) is not None and fmt.trimesh_reads]
+        paths = [
+            p
+            for p in by_file(ctx)
+            if (fmt := mesh_format(ctx, p)) is not None and fmt.trimesh_reads
+        ]
         if paths:
             from urdftool.backends.meshes import load_many
 
@@ -139,7 +143,7 @@ def contents(ctx: CheckContext) -> dict[str, MeshFacts | MeshError]:
 
 
 def other_places(uses: list[MeshUse]) -> str:
-    """", also used at file:line, …" for the second and later elements of a group."""
+    """ ", also used at file:line, …" for the second and later elements of a group."""
     spots = [str(u.location) for u in uses[1:] if u.location is not None]
     if not spots:
         return ""

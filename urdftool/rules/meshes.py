@@ -91,16 +91,24 @@ class UnresolvedPackage(_Meshes):
             found = survey.lookup(ctx, first)
             count = f" (and {len(uses) - 1} more mesh element(s))" if len(uses) > 1 else ""
             beside = _beside_the_file(first, ctx.robot.path)
-            hint = (f"; a file exists at {beside}, where PyBullet finds it, but ROS tools need the "
-                    "package" if beside else "")
+            hint = (
+                f"; a file exists at {beside}, where PyBullet finds it, but ROS tools need the "
+                "package"
+                if beside
+                else ""
+            )
             yield self.diagnostic(
                 f"{first.describe}: package '{package}' is not found{count}",
                 first.location,
                 element=first.element,
                 help=f"pass --package {package}=DIR or --package-path DIR (a folder holding its "
                 f"package.xml){hint}; searched: {_tried(found.tried)}",
-                data={"package": package, "uri": first.mesh.filename, "tried": found.tried,
-                      "uses": len(uses)},
+                data={
+                    "package": package,
+                    "uri": first.mesh.filename,
+                    "tried": found.tried,
+                    "uses": len(uses),
+                },
             )
 
 
@@ -157,7 +165,11 @@ class MeshNotFound(_Meshes):
             first = uses[0]
             found = survey.lookup(ctx, first)
             tried = found.tried or [path]
-            where = f" (package '{found.package}' is at {found.package_dir})" if found.package_dir else ""
+            where = (
+                f" (package '{found.package}' is at {found.package_dir})"
+                if found.package_dir
+                else ""
+            )
             nearby = near_misses(path)
             hint = f"; a similar file exists: {', '.join(nearby)}" if nearby else ""
             yield self.diagnostic(
@@ -165,15 +177,20 @@ class MeshNotFound(_Meshes):
                 first.location,
                 element=first.element,
                 help=f"looked for {path}{where}{hint}{survey.other_places(uses)}",
-                data={"uri": first.mesh.filename, "path": path, "tried": tried,
-                      "similar": nearby, "uses": len(uses)},
+                data={
+                    "uri": first.mesh.filename,
+                    "path": path,
+                    "tried": tried,
+                    "similar": nearby,
+                    "uses": len(uses),
+                },
             )
 
 
 def near_misses(path: str, limit: int = 3) -> list[str]:
     """Files that the author may have meant: the same name in another case or with another
     mesh extension, in the same folder or up to two folders above it."""
-    stem, extension = os.path.splitext(os.path.basename(path))
+    stem = os.path.splitext(os.path.basename(path))[0]
     wanted = stem.lower()
     found: list[str] = []
     folder = os.path.dirname(path)
@@ -242,8 +259,14 @@ class MeshUnreadable(_Meshes):
                 f"{first.describe} cannot be read: {result}",
                 first.location,
                 element=first.element,
-                help=f"{_lfs_hint(path)}re-export the mesh from its source{survey.other_places(uses)}",
-                data={"uri": first.mesh.filename, "path": path, "error": str(result), "uses": len(uses)},
+                help=f"{_lfs_hint(path)}re-export the mesh from its source"
+                + survey.other_places(uses),
+                data={
+                    "uri": first.mesh.filename,
+                    "path": path,
+                    "error": str(result),
+                    "uses": len(uses),
+                },
             )
 
 
@@ -309,8 +332,14 @@ class MeshFormatUnsupported(_Meshes):
                 element=first.element,
                 severity=Severity.WARNING if len(refusing) == len(ENGINE_NAMES) else Severity.INFO,
                 help=f"{why}; give {names} a binary STL or OBJ copy{survey.other_places(uses)}",
-                data={"uri": first.mesh.filename, "path": path, "format": fmt.kind,
-                      "faces": fmt.faces, "engines": sorted(refusing), "uses": len(uses)},
+                data={
+                    "uri": first.mesh.filename,
+                    "path": path,
+                    "format": fmt.kind,
+                    "faces": fmt.faces,
+                    "engines": sorted(refusing),
+                    "uses": len(uses),
+                },
             )
 
 
@@ -371,23 +400,32 @@ class MeshUnitsSuspect(_Meshes):
             reported.add((path, use.mesh.scale))
             yield self._finding(use, diagonal, ratio, size, basis)
 
-    def _finding(self, use: survey.MeshUse, diagonal: float, ratio: float, size: float,
-                 basis: str) -> Diagnostic:
+    def _finding(
+        self, use: survey.MeshUse, diagonal: float, ratio: float, size: float, basis: str
+    ) -> Diagnostic:
         factor = suggested_factor(ratio)
         scale = tuple(s * factor for s in use.mesh.scale)
         new_scale = " ".join(_fmt(s) for s in scale)
         what = "larger" if ratio > 1 else "smaller"
         times = ratio if ratio > 1 else 1 / ratio
-        unit_hint = " (a mesh in millimetres?)" if factor == 1e-3 else (
-            " (a scale applied twice?)" if factor == 1e3 else "")
+        unit_hint = (
+            " (a mesh in millimetres?)"
+            if factor == 1e-3
+            else (" (a scale applied twice?)" if factor == 1e3 else "")
+        )
         return self.diagnostic(
             f"{use.describe} is {_fmt(diagonal)} m across, {_fmt(times)}× {what} than the robot "
             f"({_fmt(size)} m {basis}){unit_hint}",
             use.location,
             element=use.element,
             help=f'if the file is in other units, write scale="{new_scale}"',
-            data={"uri": use.mesh.filename, "diagonal_m": diagonal, "robot_size_m": size,
-                  "ratio": ratio, "suggested_scale": list(scale)},
+            data={
+                "uri": use.mesh.filename,
+                "diagonal_m": diagonal,
+                "robot_size_m": size,
+                "ratio": ratio,
+                "suggested_scale": list(scale),
+            },
         )
 
 
@@ -436,8 +474,12 @@ class CollisionMeshTooComplex(_Meshes):
                 element=first.element,
                 help="use a convex hull, a decimated copy (a few thousand triangles at most) or "
                 f"primitive shapes for <collision>{survey.other_places(uses)}",
-                data={"uri": first.mesh.filename, "faces": facts.faces, "budget": FACE_BUDGET,
-                      "uses": len(uses)},
+                data={
+                    "uri": first.mesh.filename,
+                    "faces": facts.faces,
+                    "budget": FACE_BUDGET,
+                    "uses": len(uses),
+                },
             )
 
 
@@ -474,8 +516,11 @@ class NoCollisionGeometry(_Meshes):
     severity = Severity.WARNING
 
     def check(self, ctx: CheckContext) -> Iterator[Diagnostic]:
-        bare = [(joint, group) for joint, group in moving_groups(ctx.tree)
-                if not any(link.collisions for link in group) and any(link.visuals for link in group)]
+        bare = [
+            (joint, group)
+            for joint, group in moving_groups(ctx.tree)
+            if not any(link.collisions for link in group) and any(link.visuals for link in group)
+        ]
         if bare and not any(link.collisions for link in ctx.robot.links):
             # A model with no collision geometry at all is one decision, reported once.
             yield self._whole_robot(ctx, [group[0].name for _, group in bare])
@@ -589,4 +634,3 @@ def _extents(facts: MeshFacts) -> tuple[float, float, float]:
 def _is_flat(facts: MeshFacts) -> bool:
     extents = _extents(facts)
     return facts.volume <= 0.0 or min(extents) <= 1e-9 * max(max(extents), 1e-300)
-
