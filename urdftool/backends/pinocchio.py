@@ -58,22 +58,39 @@ class PinocchioModel:
 
     def mimic_projection(self) -> tuple[Matrix, list[int]]:
         """``(G, independent)``: ``v = G @ v[independent]`` for velocities that respect every
-        mimic relation (``G`` is nv × len(independent))."""
+        mimic relation (``G`` is nv × len(independent)).
+
+        Chains of mimics compose their multipliers; a follower whose chain loops back
+        on itself (a mimic cycle, reported by ``mimic-cycle``) is kept independent.
+        """
         nv = int(self.model.nv)
-        followers = {self.idx_v(name) for name in self.mimics if name in self.joints}
+        ultimate = {name: self._ultimate_leader(name) for name in self.mimics if name in self.joints}
+        followers = {self.idx_v(name) for name, lead in ultimate.items() if lead is not None}
         independent = [i for i in range(nv) if i not in followers]
         column = {v: c for c, v in enumerate(independent)}
         g = np.zeros((nv, len(independent)))
         for v, c in column.items():
             g[v, c] = 1.0
-        for name, (leader, multiplier, _) in self.mimics.items():
-            if name in self.joints and leader in self.joints:
-                lead = self.idx_v(leader)
-                while lead not in column:  # a leader that itself mimics another joint
-                    lead = next(self.idx_v(l) for f, (l, _, _) in self.mimics.items()
-                                if self.idx_v(f) == lead)
-                g[self.idx_v(name), column[lead]] += multiplier
+        for name, lead in ultimate.items():
+            if lead is not None:
+                leader, gain = lead
+                g[self.idx_v(name), column[self.idx_v(leader)]] += gain
         return g, independent
+
+    def _ultimate_leader(self, follower: str) -> tuple[str, float] | None:
+        """The independent joint at the end of *follower*'s mimic chain and the product of the
+        multipliers along it; ``None`` for a cycle or a leader missing from the model."""
+        gain = 1.0
+        seen = {follower}
+        current = follower
+        while current in self.mimics:
+            leader, multiplier, _ = self.mimics[current]
+            if leader in seen or leader not in self.joints:
+                return None
+            seen.add(leader)
+            gain *= multiplier
+            current = leader
+        return current, gain
 
 
 def _se3(transform: Matrix) -> Any:
