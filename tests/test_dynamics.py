@@ -216,3 +216,9 @@ def test_every_example_robot_data_model_gets_through_the_pass() -> None:
             else:
                 checked += 1
     assert checked >= 45 and skipped >= 10, (checked, skipped)
+
+
+def test_mimic_cycle_is_not_covered_and_does_not_hang() -> None:
+    found = dynamics_findings(RULES / "J009" / "bad.urdf")
+    assert [d.code for d in found] == ["D004"]
+    assert "mimic joints follow each other in a cycle" in found[0].message

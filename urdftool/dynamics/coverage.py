@@ -59,11 +59,27 @@ def not_covered(robot: Robot, tree: KinematicTree) -> NotCovered | None:
     if len(tree.roots) > 1:
         return NotCovered(f"the robot has {len(tree.roots)} roots; the dynamics need one tree",
                           tuple(tree.roots))
+    cycle = mimic_cycle(robot)
+    if cycle:
+        return NotCovered("mimic joints follow each other in a cycle (" + " → ".join(cycle) + ")", cycle)
     unsupported = [j for j in tree.joints_in_order if j.type not in PINOCCHIO_JOINT_TYPES]
     if unsupported:
         names = ", ".join(f"'{j.name}' ({j.type.value})" for j in unsupported[:3])
         return NotCovered(f"joint {names} has no rigid-body model here", tuple(j.name for j in unsupported))
     return None
+
+
+def mimic_cycle(robot: Robot) -> tuple[str, ...]:
+    """The first cycle of joints mimicking each other (a joint may mimic itself), or ``()``."""
+    for joint in robot.joints:
+        chain = [joint.name]
+        current = joint
+        while current is not None and current.mimic is not None:
+            if current.mimic.joint in chain:
+                return (*chain[chain.index(current.mimic.joint):], current.mimic.joint)
+            chain.append(current.mimic.joint)
+            current = robot.joint(current.mimic.joint)
+    return ()
 
 
 def floating_base(robot: Robot, tree: KinematicTree) -> tuple[bool, str]:
