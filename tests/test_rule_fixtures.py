@@ -27,11 +27,14 @@ _EXPECT_FILE = re.compile(r"<!--\s*expect-file:\s*([A-Z0-9, ]+?)\s*-->")
 #: Conversion rules fire on export, not on check: their fixtures (fixtures/rules/C*/)
 #: are run through the MJCF exporter by tests/test_mjcf_rules.py.
 EXPORT_ONLY = {"C001", "C002", "C003", "C004", "C005"}
+#: Runtime rules fire only when the simulation runs, which `check` does not do by default:
+#: their fixtures (fixtures/rules/R*/) are run with the simulation by tests/test_sim_rules.py.
+SIM_ONLY = {"R001", "R002", "R003", "R004", "R005"}
 
 
 def fixture_files(kind: str) -> list[Path]:
     return sorted(p for p in RULES_DIR.glob(f"*/{kind}.*")
-                  if not p.name.endswith((".stl", ".obj", ".dae")) and p.parent.name not in EXPORT_ONLY)
+                  if not p.name.endswith((".stl", ".obj", ".dae")) and p.parent.name not in EXPORT_ONLY | SIM_ONLY)
 
 
 def expected_marks(path: Path, code: str) -> tuple[set[int], bool]:
@@ -78,6 +81,7 @@ def test_good_fixture_is_quiet(path: Path) -> None:
 #: Rules that no input file can trigger, each with a dedicated test instead.
 NO_FIXTURE = {"S000"}  # internal-error: see test_rule_crash_becomes_internal_error
 NO_FIXTURE |= EXPORT_ONLY
+NO_FIXTURE |= SIM_ONLY  # runtime rules: see tests/test_sim_rules.py
 
 
 def test_every_rule_has_both_fixtures() -> None:

@@ -14,7 +14,17 @@ PyBullet) are imported only by the functions that need them.
 
 from __future__ import annotations
 
-from urdftool.api import ConversionRefused, LoadError, check, load, to_dot, to_mjcf, to_sdf, to_urdf
+from urdftool.api import (
+    ConversionRefused,
+    LoadError,
+    check,
+    load,
+    simulate,
+    to_dot,
+    to_mjcf,
+    to_sdf,
+    to_urdf,
+)
 from urdftool.diagnostics import Diagnostic, FileReport, Report, Severity
 from urdftool.model import Robot
 from urdftool.source import Span
@@ -33,6 +43,7 @@ __all__ = [
     "__version__",
     "check",
     "load",
+    "simulate",
     "to_dot",
     "to_mjcf",
     "to_sdf",

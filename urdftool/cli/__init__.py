@@ -10,6 +10,7 @@ from urdftool.cli.convert import convert_command
 from urdftool.cli.graph import graph_command
 from urdftool.cli.info import info_command
 from urdftool.cli.rule import rule_command
+from urdftool.cli.sim import sim_command
 
 
 @click.group(context_settings={"help_option_names": ["-h", "--help"], "max_content_width": 100})
@@ -27,5 +28,6 @@ main.add_command(convert_command)
 main.add_command(graph_command)
 main.add_command(info_command)
 main.add_command(rule_command)
+main.add_command(sim_command)
 
 __all__ = ["main"]

@@ -40,6 +40,9 @@ PROGRESS_FROM = 4
 @click.option("-o", "--output", type=click.Path(dir_okay=False), help="Write the report to this file.")
 @click.option("--model", "model_name", help="For files with several models (SDF worlds): check only this one.")
 @click.option("--no-dynamics", is_flag=True, help="Skip the dynamics pass (Pinocchio: mass matrix, gravity torques).")
+@click.option("--sim", is_flag=True, help="Also run the smoke simulation (runtime rules R; see `urdftool sim`).")
+@click.option("--engine", type=click.Choice(["mujoco", "pybullet", "all"]), default="all", show_default=True,
+              help="With --sim: the engine(s) to simulate in.")
 def check_command(
     paths: Sequence[str],
     xacro_args: Sequence[str],
@@ -54,9 +57,16 @@ def check_command(
     output: str | None,
     model_name: str | None,
     no_dynamics: bool = False,
+    sim: bool = False,
+    engine: str = "all",
 ) -> None:
     """Load each model (files, or directories searched recursively) and report diagnostics."""
-    options = build_options(xacro_args, packages, package_paths, select, ignore, dynamics=not no_dynamics)
+    from urdftool.dynamics.sim import engine_names, rule_options_for
+    from urdftool.dynamics.sim_scene import SimOptions
+
+    simulation = rule_options_for(SimOptions(engine_names(engine))) if sim else {}
+    options = build_options(xacro_args, packages, package_paths, select, ignore, dynamics=not no_dynamics,
+                            **simulation)
     for path in paths:
         if not os.path.exists(path):
             raise InputProblem(f"{path}: no such file or directory")

@@ -42,6 +42,8 @@ from urdftool.model import Joint
 from urdftool.model.pose import quaternion_to_matrix
 
 FILE_NAME = "robot.urdf"
+#: Joint speed clamp (rad/s or m/s), far above the instability bound (PyBullet's default is 100).
+MAX_JOINT_VELOCITY = 1e4
 
 
 def run_pybullet(scene: Scene, options: SimOptions) -> EngineRun:
@@ -63,9 +65,30 @@ def run_pybullet(scene: Scene, options: SimOptions) -> EngineRun:
             if loaded is not None:
                 run.refused = [_rejected(scene, loaded)]
                 return run
+            run.penetrations = _penetrations(p, path, scene, options)
             return world.simulate(options, run)
         finally:
             p.disconnect(physicsClientId=client)
+
+
+def _penetrations(p: Any, path: Path, scene: Scene, options: SimOptions) -> list[Penetration]:
+    """Overlapping links at the start pose, measured in a second client that loads the robot with
+    self-collision on: PyBullet answers no query about two links of one body without it, and the
+    simulation itself keeps PyBullet's default (self-collision off)."""
+    from urdftool.backends.pybullet import captured_output
+
+    with captured_output():
+        client = p.connect(p.DIRECT)
+    try:
+        probe = _World(p, client, scene, self_collision=True)
+        with captured_output():
+            failed = probe.load(path, options)
+        if failed is not None:
+            return []
+        probe.call("performCollisionDetection")
+        return probe.penetrations()
+    finally:
+        p.disconnect(physicsClientId=client)
 
 
 def _export(scene: Scene, options: SimOptions, folder: Path, run: EngineRun) -> Path | None:
@@ -96,8 +119,9 @@ def _rejected(scene: Scene, message: str) -> Any:
 class _World:
     """One PyBullet client holding the robot (and the ground for mobile robots)."""
 
-    def __init__(self, p: Any, client: int, scene: Scene):
+    def __init__(self, p: Any, client: int, scene: Scene, self_collision: bool = False):
         self.p, self.client, self.scene = p, client, scene
+        self.self_collision = self_collision
         self.body = -1
         self.joints: list[Joint] = []
         self.indices: list[int] = []
@@ -116,8 +140,8 @@ class _World:
             plane = self.call("createCollisionShape", p.GEOM_PLANE)
             self.call("createMultiBody", 0, plane)
         try:
-            self.body = self.call("loadURDF", str(path), flags=p.URDF_USE_INERTIA_FROM_FILE,
-                                  useFixedBase=not self.scene.floating)
+            flags = p.URDF_USE_INERTIA_FROM_FILE | (p.URDF_USE_SELF_COLLISION if self.self_collision else 0)
+            self.body = self.call("loadURDF", str(path), flags=flags, useFixedBase=not self.scene.floating)
         except p.error as exc:
             return str(exc)
         self._map_joints()
@@ -142,7 +166,9 @@ class _World:
         self.call("setJointMotorControlArray", self.body, self.indices, p.VELOCITY_CONTROL,
                   forces=[0.0] * len(self.indices))
         for link in self.links:
-            self.call("changeDynamics", self.body, link, linearDamping=0.0, angularDamping=0.0)
+            # PyBullet clamps joint speeds at 100 rad/s by default, which hides a blow-up.
+            self.call("changeDynamics", self.body, link, linearDamping=0.0, angularDamping=0.0,
+                      maxJointVelocity=MAX_JOINT_VELOCITY)
         for joint, index in zip(self.joints, self.indices):
             damping = joint.dynamics.damping if joint.dynamics else 0.0
             self.call("changeDynamics", self.body, index, jointDamping=float(damping))
@@ -151,8 +177,6 @@ class _World:
     def simulate(self, options: SimOptions, run: EngineRun) -> EngineRun:
         if self.scene.floating:
             self._place_on_ground()
-        self.call("performCollisionDetection")
-        run.penetrations = self._penetrations()
         timestep = float(self.call("getPhysicsEngineParameters")["fixedTimeStep"])
         steps = max(1, round(options.duration / timestep))
         recorder = Recorder(run, self.joints, steps, timestep)
@@ -199,7 +223,7 @@ class _World:
             return str(self.call("getBodyInfo", self.body)[0].decode())
         return str(self.call("getJointInfo", self.body, link)[12].decode())
 
-    def _penetrations(self) -> list[Penetration]:
+    def penetrations(self) -> list[Penetration]:
         """Pairs of non-neighbouring links whose collision shapes overlap by more than the tolerance."""
         colliding = [link for link in self.links if self.call("getCollisionShapeData", self.body, link)]
         names = {link: self._link_name(link) for link in colliding}

@@ -35,7 +35,7 @@ DRIFT_DISTANCE = 0.02
 HOLD_DRIFT_SPEED = 0.05
 #: How far (rad, or m for prismatic joints) beyond a limit counts as a violation: MuJoCo's
 #: soft limits and PyBullet's limit constraints both let a loaded joint sink a little.
-LIMIT_TOLERANCE = {JointType.REVOLUTE: 0.05, JointType.PRISMATIC: 0.01}
+LIMIT_TOLERANCE = {JointType.REVOLUTE: 0.1, JointType.PRISMATIC: 0.01}
 
 
 class _Runtime(Rule):
@@ -99,7 +99,7 @@ def beyond_limits(robot: Robot, run: EngineRun) -> list[tuple[Joint, LimitViolat
     out = []
     for violation in run.limit_violations:
         joint = robot.joint(violation.joint)
-        if joint is not None and violation.amount > LIMIT_TOLERANCE.get(joint.type, 0.05):
+        if joint is not None and violation.amount > LIMIT_TOLERANCE.get(joint.type, 0.1):
             out.append((joint, violation))
     return out
 
@@ -184,14 +184,17 @@ class SimInitialPenetration(_Runtime):
             if not run.penetrations:
                 continue
             worst = run.penetrations[0]
-            link = ctx.robot.link(worst.link_a)
+            # Point at the link further down the tree: its placement is the likelier mistake.
+            order = {name: i for i, name in enumerate(ctx.tree.order)}
+            deeper = max((worst.link_a, worst.link_b), key=lambda name: order.get(name, -1))
+            link = ctx.robot.link(deeper)
             collision = link.collisions[0] if link and link.collisions else None
             span = collision.span if collision and collision.span else (link.span if link else None)
             more = f" and {len(run.penetrations) - 1} more pair(s)" if len(run.penetrations) > 1 else ""
             yield self.diagnostic(
                 f"{display_name(run.engine)}: links '{worst.link_a}' and '{worst.link_b}' overlap by "
                 f"{worst.depth * 1000:.1f} mm at the start{more}",
-                span, element=f"link[{worst.link_a}]/collision",
+                span, element=f"link[{deeper}]/collision",
                 data={**_summary(run), "pairs": [[p.link_a, p.link_b, p.depth] for p in run.penetrations]})
 
 
@@ -249,7 +252,7 @@ class SimJointLimitViolation(_Runtime):
     ## What it does
     Records every limited revolute and prismatic joint at every step of the
     smoke simulation and reports the furthest each one went past its lower
-    or upper limit, when that is more than 0.05 rad (0.01 m for prismatic
+    or upper limit, when that is more than 0.1 rad (0.01 m for prismatic
     joints), with the time and position in `data`.
 
     ## Why it matters
@@ -338,7 +341,7 @@ def _verdict(robot: Robot, run: EngineRun, floating: bool, hold: bool) -> str:
         ("unstable", unstable_because(run)), ("penetrating at start", run.penetrations),
         ("not settled", drift_because(run, floating, hold)),
         ("past joint limits", beyond_limits(robot, run))) if found]
-    numbers = (f"{run.steps} steps of {run.timestep * 1000:g} ms; max joint speed "
+    numbers = (f"{run.steps} steps of {run.timestep * 1000:.3g} ms; max joint speed "
                f"{fmt(run.max_joint_speed)}, energy drift {fmt(run.energy_growth)}, base moved "
                f"{fmt(run.base_displacement)} m, penetration {run.penetration_depth * 1000:.1f} mm")
     return ("passed" if not problems else "failed (" + ", ".join(problems) + ")") + f": {numbers}"
