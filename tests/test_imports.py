@@ -37,15 +37,27 @@ def test_import_urdftool_loads_no_engine() -> None:
     ids=["clean-arm", "broken-arm"],
 )
 def test_check_of_a_urdf_loads_no_engine(path) -> None:
+    # The dynamics pass (Pinocchio) runs by default; --no-dynamics keeps check engine-free.
     code = (
         "import sys\n"
         "from urdftool.cli import main\n"
         "try:\n"
-        f"    main(['check', {str(path)!r}])\n"
+        f"    main(['check', '--no-dynamics', {str(path)!r}])\n"
         "except SystemExit as exc:\n"
         "    assert exc.code in (0, 1), exc.code\n"
     )
     assert _heavy_modules_after(code) == []
+
+
+def test_default_check_loads_only_pinocchio() -> None:
+    code = (
+        "from urdftool.cli import main\n"
+        "try:\n"
+        f"    main(['check', {str(FIXTURES / 'robots' / 'two_link_arm.urdf')!r}])\n"
+        "except SystemExit as exc:\n"
+        "    assert exc.code in (0, 1), exc.code\n"
+    )
+    assert _heavy_modules_after(code) == ["pinocchio"]
 
 
 def test_the_probe_sees_an_engine_when_one_is_imported() -> None:
