@@ -21,8 +21,8 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 
-from tests.conftest import ERD, erd_urdfs  # noqa: E402
-from urdftool.check import CheckOptions, check_file  # noqa: E402
+from tests.conftest import ERD, erd_urdfs
+from urdftool.check import CheckOptions, check_file
 
 REPEAT = 3
 GOAL = 1.20

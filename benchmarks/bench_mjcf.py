@@ -26,11 +26,11 @@ import mujoco
 
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 
-from tests.conftest import ERD, pybullet_robots  # noqa: E402
-from urdftool.export import ExportOptions  # noqa: E402
-from urdftool.export.mjcf import build  # noqa: E402
-from urdftool.export.mjcf_assets import _convert_cached  # noqa: E402
-from urdftool.parse import read  # noqa: E402
+from tests.conftest import ERD, pybullet_robots
+from urdftool.export import ExportOptions
+from urdftool.export.mjcf import build
+from urdftool.export.mjcf_assets import _convert_cached
+from urdftool.parse import read
 
 _PACKAGE = re.compile(r"package://([^/\"']+)/")
 

@@ -50,7 +50,9 @@ def test_structural_findings(path: str, name: str) -> None:
     assert reports, "every file gets a report"
     diags = [d for r in reports for d in r.diagnostics]
     assert not [d for d in diags if d.name == "internal-error"]
-    errors = {(d.name, d.location.line if d.location else None) for d in diags if d.severity is Severity.ERROR}
+    errors = {
+        (d.name, d.location.line if d.location else None) for d in diags if d.severity is Severity.ERROR
+    }
     expected = EXPECTED_ERRORS.get(name)
     if expected is None:
         assert not errors, f"{name}: unexpected structural errors {sorted(errors)}"

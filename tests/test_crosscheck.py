@@ -72,9 +72,15 @@ def random_configuration(robot: Robot, rng: np.random.Generator) -> dict[str, fl
         if joint.type.dof != 1 or joint.mimic is not None:
             continue
         lo, hi = -math.pi, math.pi
-        if joint.type is not JointType.CONTINUOUS and joint.limit is not None:
-            if joint.limit.lower is not None and joint.limit.upper is not None and joint.limit.lower <= joint.limit.upper:
-                lo, hi = joint.limit.lower, joint.limit.upper
+        limit = joint.limit
+        if (
+            joint.type is not JointType.CONTINUOUS
+            and limit is not None
+            and limit.lower is not None
+            and limit.upper is not None
+            and limit.lower <= limit.upper
+        ):
+            lo, hi = limit.lower, limit.upper
         q[joint.name] = float(rng.uniform(lo, hi))
     return q
 

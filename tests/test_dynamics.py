@@ -13,9 +13,9 @@ from tests.conftest import ERD, FIXTURES, ROOT
 from urdftool.check import CheckOptions, check_file
 from urdftool.diagnostics import Diagnostic
 from urdftool.dynamics.analysis import analyse
+from urdftool.dynamics.com import center_of_mass
 from urdftool.dynamics.configurations import configurations, joint_range, zero_configuration
 from urdftool.dynamics.coverage import floating_base, not_covered
-from urdftool.dynamics.com import center_of_mass
 from urdftool.model import JointType, KinematicTree
 from urdftool.parse import read
 
@@ -87,7 +87,9 @@ def test_no_dynamics_check_does_not_import_pinocchio() -> None:
         "import sys\n"
         "from click.testing import CliRunner\n"
         "from urdftool.cli import main\n"
-        f"result = CliRunner().invoke(main, ['check', '--no-dynamics', {str(RULES / 'D003' / 'bad.urdf')!r}])\n"
+        "result = CliRunner().invoke(\n"
+        f"    main, ['check', '--no-dynamics', {str(RULES / 'D003' / 'bad.urdf')!r}]\n"
+        ")\n"
         "assert result.exit_code == 0, result.output\n"
         "print('pinocchio' in sys.modules)\n"
     )
@@ -172,7 +174,9 @@ def test_unsupported_joint_types_are_not_covered() -> None:
     import dataclasses
 
     robot = load(FIXTURES / "robots" / "two_link_arm.urdf")
-    joints = tuple(dataclasses.replace(j, type=JointType.SCREW) if j.name == "elbow" else j for j in robot.joints)
+    joints = tuple(
+        dataclasses.replace(j, type=JointType.SCREW) if j.name == "elbow" else j for j in robot.joints
+    )
     screwed = dataclasses.replace(robot, joints=joints)
     reason = not_covered(screwed, KinematicTree.of(screwed))
     assert reason is not None and "'elbow' (screw)" in reason.reason

@@ -27,7 +27,10 @@ TREES = [p for p in erd_urdfs() if _tree_shaped(p)]
 
 
 def _configuration(robot: Robot, tree: KinematicTree, seed: int) -> dict[str, float]:
-    """Random positions (rad or m) for every 1-DOF joint; mimic joints follow their target as in the source."""
+    """Random positions (rad or m) for every 1-DOF joint.
+
+    Mimic joints follow their target as in the source.
+    """
     rng = np.random.default_rng(seed)
     q = {j.name: float(rng.uniform(-1.5, 1.5)) for j in tree.joints_in_order if j.dof == 1}
     for joint in tree.joints_in_order:

@@ -76,7 +76,11 @@ def test_urdf_export_is_deterministic_and_rereads_identically(tmp_path: Path) ->
     again.write_text(first)
     assert urdftool.to_urdf(again) == first
     original, reread = read(str(source))[0].robot, read(str(again))[0].robot
-    assert (original.links, original.joints, original.materials) == (reread.links, reread.joints, reread.materials)
+    assert (original.links, original.joints, original.materials) == (
+        reread.links,
+        reread.joints,
+        reread.materials,
+    )
 
 
 def test_cli_convert_sdf_to_urdf_and_never_over_the_input(tmp_path: Path) -> None:

@@ -10,10 +10,9 @@ import pytest
 
 from tests.conftest import ERD, FIXTURES
 from urdftool.check import CheckOptions, check_file
-from urdftool.model import JointType, KinematicTree
+from urdftool.model import Joint, JointType, KinematicTree, Limit
 from urdftool.parse import read
 from urdftool.parse.sdf_tree import spanning_tree
-from urdftool.model import Joint, Limit
 
 FOUR_BAR = FIXTURES / "robots" / "four_bar.sdf"
 CASSIE = sorted(glob.glob(str(ERD / "cassie_description" / "robots" / "*.sdf"))) if ERD else []
@@ -127,7 +126,9 @@ def _j(name: str, parent: str, child: str) -> str:
 
 
 def test_urdf_diamond_is_one_multiple_parents_error(tmp_path: Path) -> None:
-    path = _urdf(tmp_path, _j("a", "l1", "l2") + _j("b", "l1", "l3") + _j("c", "l2", "l4") + _j("d", "l3", "l4"))
+    path = _urdf(
+        tmp_path, _j("a", "l1", "l2") + _j("b", "l1", "l3") + _j("c", "l2", "l4") + _j("d", "l3", "l4")
+    )
     assert _codes(path, "L002", "S018", "L001") == [("L002", 5)]
 
 

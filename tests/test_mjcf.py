@@ -24,7 +24,10 @@ from urdftool.parse import read
 from urdftool.parse.packages import PackageResolver
 
 ARM = FIXTURES / "robots" / "two_link_arm.urdf"
-BOX = '<inertial><mass value="1"/><inertia ixx="0.01" ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0.01"/></inertial>'
+BOX = (
+    '<inertial><mass value="1"/>'
+    '<inertia ixx="0.01" ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0.01"/></inertial>'
+)
 
 JOINTS_URDF = f"""<?xml version="1.0"?>
 <robot name="joints">
@@ -42,12 +45,15 @@ JOINTS_URDF = f"""<?xml version="1.0"?>
     <origin xyz="0 0 0.1" rpy="0 0.5 0"/><axis xyz="1 1 0"/>
     <limit lower="0.2" upper="0.4" effort="50" velocity="1"/><dynamics damping="0.5" friction="0.1"/></joint>
   <joint name="plane" type="planar"><parent link="slider"/><child link="planar"/><axis xyz="0 1 1"/></joint>
-  <joint name="sphere" type="spherical"><parent link="planar"/><child link="ball"/><origin xyz="0.2 0 0"/></joint>
+  <joint name="sphere" type="spherical"><parent link="planar"/><child link="ball"/>
+    <origin xyz="0.2 0 0"/></joint>
   <joint name="spin" type="continuous"><parent link="ball"/><child link="wheel"/><axis xyz="0 0 1"/>
     <limit effort="3" velocity="10"/></joint>
   <joint name="follow" type="revolute"><parent link="wheel"/><child link="finger"/><axis xyz="1 0 0"/>
-    <limit lower="-2" upper="2" effort="1" velocity="1"/><mimic joint="spin" multiplier="-0.5" offset="0.25"/></joint>
-  <joint name="weld" type="fixed"><parent link="finger"/><child link="tilted"/><origin xyz="0 0.1 0" rpy="1 0 0"/></joint>
+    <limit lower="-2" upper="2" effort="1" velocity="1"/>
+    <mimic joint="spin" multiplier="-0.5" offset="0.25"/></joint>
+  <joint name="weld" type="fixed"><parent link="finger"/><child link="tilted"/>
+    <origin xyz="0 0.1 0" rpy="1 0 0"/></joint>
 </robot>
 """
 
@@ -171,10 +177,12 @@ def test_mesh_assets_named_by_content_and_deduplicated(tmp_path: Path) -> None:
     shutil.copy(dae, tmp_path / "copy" / "x.dae")
     # a different mesh under the same file name
     (tmp_path / "collision" / "x.dae").write_text(dae.read_text().replace("0.05", "0.07"))
-    link = (f'<link name="base">{BOX}'
-            '<visual><geometry><mesh filename="visual/x.dae"/></geometry></visual>'
-            '<visual><geometry><mesh filename="copy/x.dae"/></geometry></visual>'
-            '<collision><geometry><mesh filename="collision/x.dae" scale="2 2 2"/></geometry></collision></link>')
+    link = (
+        f'<link name="base">{BOX}'
+        '<visual><geometry><mesh filename="visual/x.dae"/></geometry></visual>'
+        '<visual><geometry><mesh filename="copy/x.dae"/></geometry></visual>'
+        '<collision><geometry><mesh filename="collision/x.dae" scale="2 2 2"/></geometry></collision></link>'
+    )
     robot = load_text(tmp_path, f'<robot name="m">{link}</robot>')
     out, root = exported(robot, tmp_path)
     meshes = root.findall("asset/mesh")
@@ -190,7 +198,7 @@ def test_mesh_assets_named_by_content_and_deduplicated(tmp_path: Path) -> None:
 
 
 def test_visual_and_collision_groups(tmp_path: Path) -> None:
-    out, root = exported(read(ARM)[0].robot, tmp_path)
+    out, _root = exported(read(ARM)[0].robot, tmp_path)
     model = mujoco.MjModel.from_xml_path(str(out))
     visual = [i for i in range(model.ngeom) if model.geom_group[i] == 2]
     collision = [i for i in range(model.ngeom) if model.geom_group[i] == 3]

@@ -95,9 +95,13 @@ def test_every_link_is_a_body_frame_and_mimics_are_listed() -> None:
 
 def test_planar_joint_moves_in_the_plane_normal_to_its_axis(tmp_path) -> None:  # type: ignore[no-untyped-def]
     path = tmp_path / "planar.urdf"
-    inertial = '<inertial><mass value="1"/><inertia ixx="1" ixy="0" ixz="0" iyy="1" iyz="0" izz="1"/></inertial>'
-    path.write_text(f'<robot name="p"><link name="a">{inertial}</link><link name="b">{inertial}</link>'
-                    '<joint name="j" type="planar"><parent link="a"/><child link="b"/><axis xyz="1 0 0"/></joint></robot>')
+    inertial = (
+        '<inertial><mass value="1"/><inertia ixx="1" ixy="0" ixz="0" iyy="1" iyz="0" izz="1"/></inertial>'
+    )
+    path.write_text(
+        f'<robot name="p"><link name="a">{inertial}</link><link name="b">{inertial}</link>'
+        '<joint name="j" type="planar"><parent link="a"/><child link="b"/><axis xyz="1 0 0"/></joint></robot>'
+    )
     robot = read(path)[0].robot
     assert robot is not None
     ours = build_model(robot)

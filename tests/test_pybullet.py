@@ -247,7 +247,7 @@ def test_seed_lidar_dae_is_loaded_as_coloured_obj(seed: str, tmp_path: Path) -> 
         shapes = p.getVisualShapeData(loaded.body, physicsClientId=client)
     lidar = [s for s in shapes if s[4].decode().endswith(".obj") and "hokuyo" in s[4].decode()]
     assert lidar, "the Hokuyo mesh is loaded"
-    assert all(math.isclose(a, b, abs_tol=1e-6) for a, b in zip(lidar[0][7], colour))
+    assert all(math.isclose(a, b, abs_tol=1e-6) for a, b in zip(lidar[0][7], colour, strict=True))
 
 
 def test_copy_assets_puts_every_mesh_beside_out(tmp_path: Path) -> None:

@@ -174,7 +174,9 @@ def test_cli_model_option_picks_one_model() -> None:
     result = CliRunner().invoke(main, ["check", world, "--model", "nope"])
     assert result.exit_code == 2
     result = CliRunner().invoke(main, ["check", world, "--model", "shelf", "--format", "json"])
-    assert result.exit_code in (0, 1) and '"robot": "shelf"' in result.output and '"cart"' not in result.output
+    assert (
+        result.exit_code in (0, 1) and '"robot": "shelf"' in result.output and '"cart"' not in result.output
+    )
 
 
 def test_joint_types_are_read() -> None:

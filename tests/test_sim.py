@@ -31,7 +31,13 @@ def test_sim_command_gives_a_verdict_per_engine() -> None:
     assert set(verdicts) == {"mujoco", "pybullet"}
     assert all(": passed:" in message for message in verdicts.values())
     summary = next(d["data"]["summary"] for d in diagnostics if d["code"] == "R005")
-    for key in ("max_joint_speed", "energy_drift", "final_base_displacement", "penetration_depth", "wall_time"):
+    for key in (
+        "max_joint_speed",
+        "energy_drift",
+        "final_base_displacement",
+        "penetration_depth",
+        "wall_time",
+    ):
         assert key in summary
 
 
@@ -48,7 +54,9 @@ def test_sim_command_usage_errors_exit_2(tmp_path: Path) -> None:
 
 def test_check_sim_adds_the_runtime_verdicts() -> None:
     plain = CliRunner().invoke(main, ["check", str(ARM), "--format", "json"])
-    with_sim = CliRunner().invoke(main, ["check", str(ARM), "--sim", "--engine", "mujoco", "--format", "json"])
+    with_sim = CliRunner().invoke(
+        main, ["check", str(ARM), "--sim", "--engine", "mujoco", "--format", "json"]
+    )
     codes = [d["code"] for f in json.loads(with_sim.output)["files"] for d in f["diagnostics"]]
     assert "R005" in codes and "R005" not in plain.output
 

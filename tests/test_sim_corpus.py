@@ -47,5 +47,7 @@ def test_model_gets_a_verdict_or_the_exporters_reasons(path: str) -> None:
             if summary["ran"]:
                 assert math.isfinite(summary["energy_initial"]) and summary["steps"] > 0, engine
             else:
-                refusals = [d for d in report.diagnostics if d.code != "R005" and d.severity is Severity.ERROR]
+                refusals = [
+                    d for d in report.diagnostics if d.code != "R005" and d.severity is Severity.ERROR
+                ]
                 assert refusals and all(d.location is not None for d in refusals), (engine, verdict.message)
