@@ -90,7 +90,8 @@ class Inertial:
     def inertia_in_link_frame(self) -> Matrix:
         """The tensor about the centre of mass, rotated into the link frame."""
         rot = self.origin.rotation
-        return rot @ self.inertia_matrix @ rot.T
+        rotated: Matrix = rot @ self.inertia_matrix @ rot.T
+        return rotated
 
     @staticmethod
     def tensor(ixx: float, ixy: float, ixz: float, iyy: float, iyz: float, izz: float) -> Inertia3:

@@ -200,5 +200,5 @@ def joint_motion(joint: Joint, q: Mapping[str, float | Sequence[float]], robot: 
         e1 /= np.linalg.norm(e1)
         e2 = np.cross(unit, e1)
         x, y, theta = (float(v) for v in value)
-        return homogeneous(axis_angle_matrix(tuple(unit), theta), e1 * x + e2 * y)  # type: ignore[arg-type]
+        return homogeneous(axis_angle_matrix(tuple(unit), theta), e1 * x + e2 * y)
     return np.eye(4)

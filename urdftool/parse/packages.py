@@ -30,7 +30,9 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 _NAME = re.compile(rb"<name>\s*([^<\s]+)\s*</name>")
-_SKIP_DIRS = {".git", ".hg", ".svn", "node_modules", "__pycache__", ".venv", "venv", "build", "install", "log"}
+_SKIP_DIRS = {
+    ".git", ".hg", ".svn", "node_modules", "__pycache__", ".venv", "venv", "build", "install", "log",
+}
 SCAN_DEPTH = 3
 ANCESTOR_LEVELS = 6
 

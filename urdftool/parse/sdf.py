@@ -52,7 +52,9 @@ def read_sdf(path: str, resolver: PackageResolver) -> list[Loaded]:
     models = _read_models(root, version, path, resolver)
     if not models and not _has_world(root):
         problems.append(
-            SdfModelMissing.diagnostic("the SDF file holds no <model> and no <world>", span_of(root), element="sdf")
+            SdfModelMissing.diagnostic(
+                "the SDF file holds no <model> and no <world>", span_of(root), element="sdf"
+            )
         )
     if not models:
         return [Loaded(path, "sdf", None, problems, [path])]
@@ -82,7 +84,7 @@ def _version(root: etree._Element, problems: list[Diagnostic]) -> tuple[int, int
         clamped = min(max(version, OLDEST), NEWEST)
         problems.append(
             SdfVersion.diagnostic(
-                f"SDF version \"{raw}\" is outside 1.4–1.11; read with the rules of {clamped[0]}.{clamped[1]}",
+                f'SDF version "{raw}" is outside 1.4–1.11; read with the rules of {clamped[0]}.{clamped[1]}',
                 values.attr_span(root, "version"),
                 element="sdf",
                 data={"version": raw},
@@ -130,7 +132,11 @@ def _included(include: etree._Element, path: str, resolver: PackageResolver) -> 
             found.diagnostics.append(
                 SdfModelMissing.diagnostic(f"'{found.uri}' holds no <model>", span_of(root), element="sdf")
             )
-        return Loaded(path, "sdf", None, found.diagnostics, [path, found.path or path]) if found.diagnostics else None
+        return (
+            Loaded(path, "sdf", None, found.diagnostics, [path, found.path or path])
+            if found.diagnostics
+            else None
+        )
     values = SdfValues(SourceIndex())
     pose_el = include.find("pose")
     name = (include.findtext("name") or "").strip() or None

@@ -118,13 +118,17 @@ class LinkBodyReader:
             name=name,
             span=span_of(element),
         )
-        return PlacedElement(collision, _relative_to(pose_el), span_of(pose_el) if pose_el is not None else None)
+        return PlacedElement(
+            collision, _relative_to(pose_el), span_of(pose_el) if pose_el is not None else None
+        )
 
     def geometry(self, parent: etree._Element, where: str) -> Geometry | None:
         geometry = self.values.child(parent, "geometry")
         if geometry is None:
             self.values.diagnostics.append(
-                MissingElement.diagnostic(f"{where}: <{parent.tag}> has no <geometry>", span_of(parent), element=where)
+                MissingElement.diagnostic(
+                    f"{where}: <{parent.tag}> has no <geometry>", span_of(parent), element=where
+                )
             )
             return None
         shapes = [c for c in geometry if isinstance(c.tag, str)]
@@ -144,7 +148,9 @@ class LinkBodyReader:
         if not known:
             if not shapes:
                 self.values.diagnostics.append(
-                    MissingElement.diagnostic(f"{where}: <geometry> has no shape", span_of(geometry), element=where)
+                    MissingElement.diagnostic(
+                        f"{where}: <geometry> has no shape", span_of(geometry), element=where
+                    )
                 )
             return None
         return self.shape(known[0], f"{where}/geometry/{known[0].tag}")
@@ -192,7 +198,11 @@ class LinkBodyReader:
         v = self.values
         color = None
         for tag in ("diffuse", "ambient"):
-            rgba = v.text_numbers(v.child(element, tag), f"material/{tag}", (3, 4)) if v.child(element, tag) is not None else None
+            rgba = (
+                v.text_numbers(v.child(element, tag), f"material/{tag}", (3, 4))
+                if v.child(element, tag) is not None
+                else None
+            )
             if rgba:
                 color = (rgba[0], rgba[1], rgba[2], rgba[3] if len(rgba) == 4 else 1.0)
                 break
@@ -233,7 +243,7 @@ def joint_type(values: SdfValues, element: etree._Element, where: str) -> JointT
         return JOINT_TYPES[raw]
     values.diagnostics.append(
         UnknownJointType.diagnostic(
-            f"{where}: unknown SDF joint type \"{raw}\"" + did_you_mean(raw, JOINT_TYPES) + " (read as fixed)",
+            f'{where}: unknown SDF joint type "{raw}"' + did_you_mean(raw, JOINT_TYPES) + " (read as fixed)",
             values.attr_span(element, "type"),
             element=where,
             data={"type": raw},
@@ -242,7 +252,9 @@ def joint_type(values: SdfValues, element: etree._Element, where: str) -> JointT
     return JointType.FIXED
 
 
-def joint_details(values: SdfValues, element: etree._Element, where: str, version: tuple[int, int]) -> JointDetails:
+def joint_details(
+    values: SdfValues, element: etree._Element, where: str, version: tuple[int, int]
+) -> JointDetails:
     """Type, axis, limit and dynamics of one ``<joint>``; SDF 1.4 axes are in the model frame."""
     jtype = joint_type(values, element, where)
     axis_el = values.child(element, "axis")
@@ -259,7 +271,9 @@ def joint_details(values: SdfValues, element: etree._Element, where: str, versio
     limit, dynamics = _limit(values, axis_el, here), _dynamics(values, axis_el, here)
     if jtype is JointType.REVOLUTE and _unbounded(limit):
         jtype = JointType.CONTINUOUS
-    return JointDetails(jtype, axis, frame, limit, dynamics, span_of(axis_el) if axis_el is not None else None)
+    return JointDetails(
+        jtype, axis, frame, limit, dynamics, span_of(axis_el) if axis_el is not None else None
+    )
 
 
 def _unbounded(limit: Limit | None) -> bool:

@@ -97,7 +97,9 @@ class FrameGraph:
             self._report_cycle(chain[chain.index(name):], "relative_to")
             return np.eye(4)
         target = self.canonical(node.relative_to)
-        if target == WORLD_FRAME or not self.check_reference(node.relative_to, node.span, f"{node.kind}[{name}]/pose"):
+        if target == WORLD_FRAME or not self.check_reference(
+            node.relative_to, node.span, f"{node.kind}[{name}]/pose"
+        ):
             base = np.eye(4)
         else:
             base = self._resolve(target, [*chain, name])

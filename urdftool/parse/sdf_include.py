@@ -71,7 +71,8 @@ def read_include(include: etree._Element, resolver: PackageResolver, base: str) 
                 f"included model '{uri}' was not found",
                 span_of(include.find("uri")) or where,
                 element="include",
-                help=f"add the folder that holds it with --package-path or GZ_SIM_RESOURCE_PATH (tried: {tried})",
+                help="add the folder that holds it with --package-path or GZ_SIM_RESOURCE_PATH"
+                f" (tried: {tried})",
                 data={"uri": uri, "tried": lookup.tried},
             )
         ])
@@ -107,7 +108,7 @@ def _model_file(location: str) -> str | None:
 
 
 def _config_sdf(config: Path) -> str | None:
-    document, problems = read_file(str(config))
+    document, _problems = read_file(str(config))
     if document is None:
         return None
     entries = []

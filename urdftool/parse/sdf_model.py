@@ -26,6 +26,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from lxml import etree
 
+from urdftool.diagnostics import Diagnostic
 from urdftool.model import Collision, Extension, Joint, JointType, Link, LoopClosure, Pose, Robot, Visual
 from urdftool.model.pose import Matrix
 from urdftool.parse.packages import PackageResolver
@@ -88,7 +89,7 @@ class SdfModelReader:
     extensions: list[Extension] = field(default_factory=list)
 
     @property
-    def diagnostics(self) -> list:
+    def diagnostics(self) -> list[Diagnostic]:
         return self.values.diagnostics + self.graph.diagnostics
 
     def read(self, model: etree._Element, version: tuple[int, int], name: str | None = None,
@@ -97,7 +98,9 @@ class SdfModelReader:
         name = name or model.get("name")
         if not name:
             self.values.diagnostics.append(
-                MissingAttribute.diagnostic("<model> needs a 'name' attribute", span_of(model), element="model")
+                MissingAttribute.diagnostic(
+                    "<model> needs a 'name' attribute", span_of(model), element="model"
+                )
             )
         canonical = self._collect(model, "", version)
         self.graph.add(FrameNode(MODEL_FRAME, "model", Pose(), "", canonical or "", span_of(model)))
@@ -132,7 +135,7 @@ class SdfModelReader:
                 nested_canonical = nested_canonical or found
             elif tag not in _MODEL_PARTS and not scope:
                 self.extensions.append(_extension(child))
-        attribute = model.get("canonical_link")
+        attribute: str | None = model.get("canonical_link")
         if attribute:
             return scope + attribute
         return first_link or nested_canonical
@@ -173,7 +176,9 @@ class SdfModelReader:
         # frames) but common in converted URDF; its frame gets a private key.
         key = name if name not in self.graph.nodes else f"{name}\x00joint"
         self.joints.append(_RawJoint(name, element, ends["parent"], ends["child"], scope, version, key))
-        self._pose_node(element, key, "joint", scope, ends["child"] or scope + MODEL_FRAME, ends["child"], version)
+        self._pose_node(
+            element, key, "joint", scope, ends["child"] or scope + MODEL_FRAME, ends["child"], version
+        )
 
     def _collect_frame(self, element: etree._Element, scope: str, version: tuple[int, int]) -> None:
         name = scope + (self.values.text(element, "name", "frame", required=True) or "")
@@ -345,7 +350,9 @@ class SdfModelReader:
                     item_in_link = np.linalg.inv(frame) @ self.graph.pose_in_model(target) @ item_in_link
             moved = dataclasses.replace(placed.item, origin=_moved(shift, item_in_link))
             (visuals if child.tag == "visual" else collisions).append(moved)  # type: ignore[arg-type]
-        extras = tuple(_extension(c) for c in raw.element if isinstance(c.tag, str) and c.tag not in _LINK_PARTS)
+        extras = tuple(
+            _extension(c) for c in raw.element if isinstance(c.tag, str) and c.tag not in _LINK_PARTS
+        )
         return Link(raw.name, inertial, tuple(visuals), tuple(collisions), span_of(raw.element), extras)
 
     def _frame_extensions(self, frames: dict[str, Matrix]) -> list[Extension]:
@@ -356,8 +363,12 @@ class SdfModelReader:
             if link is None or link not in frames:
                 continue
             pose = Pose.from_matrix(np.linalg.inv(frames[link]) @ self.graph.pose_in_model(raw.name))
-            attributes = {"name": raw.name, "attached_to": link,
-                          "xyz": " ".join(repr(v) for v in pose.xyz), "rpy": " ".join(repr(v) for v in pose.rpy)}
+            attributes = {
+                "name": raw.name,
+                "attached_to": link,
+                "xyz": " ".join(repr(v) for v in pose.xyz),
+                "rpy": " ".join(repr(v) for v in pose.rpy),
+            }
             out.append(Extension("frame", attributes, raw.element, span_of(raw.element)))
         return out
 

@@ -46,7 +46,7 @@ def spanning_tree(
     children = {j.child for j in usable}
     roots = [name for name in links if name not in children]
     if canonical in names:
-        roots.sort(key=lambda r: r != _root_of(canonical, usable))  # type: ignore[arg-type]
+        roots.sort(key=lambda r: r != _root_of(canonical, usable))
     order = {id(j): i for i, j in enumerate(joints)}
     kept: dict[str, Joint] = {}
     reached: set[str] = set()
@@ -86,7 +86,7 @@ def _next_level(
 
 def _root_of(link: str, joints: list[Joint]) -> str:
     """Follow the first parent joint of each link upwards (cycle-safe)."""
-    parents = {}
+    parents: dict[str, str] = {}
     for joint in joints:
         parents.setdefault(joint.child, joint.parent)
     seen = {link}

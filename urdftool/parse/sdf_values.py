@@ -47,7 +47,9 @@ class SdfValues(ValueReader):
             return None
         return text
 
-    def text_numbers(self, element: etree._Element | None, where: str, lengths: tuple[int, ...]) -> list[float] | None:
+    def text_numbers(
+        self, element: etree._Element | None, where: str, lengths: tuple[int, ...]
+    ) -> list[float] | None:
         """The element's text as numbers, when their count is one of *lengths*; else ``None`` (reported)."""
         if element is None:
             return None
@@ -83,13 +85,17 @@ class SdfValues(ValueReader):
             return None
         return [v for v in values if v is not None]
 
-    def text_number(self, parent: etree._Element | None, tag: str, where: str, default: float | None = None) -> float | None:
+    def text_number(
+        self, parent: etree._Element | None, tag: str, where: str, default: float | None = None
+    ) -> float | None:
         """The number in child ``<tag>`` of *parent*, or *default* when absent or malformed."""
         element = self.child(parent, tag)
         values = self.text_numbers(element, f"{where}/{tag}", (1,))
         return values[0] if values else default
 
-    def text_vector(self, parent: etree._Element | None, tag: str, where: str, length: int = 3) -> tuple[float, ...] | None:
+    def text_vector(
+        self, parent: etree._Element | None, tag: str, where: str, length: int = 3
+    ) -> tuple[float, ...] | None:
         values = self.text_numbers(self.child(parent, tag), f"{where}/{tag}", (length,))
         return tuple(values) if values else None
 

@@ -428,7 +428,9 @@ class UrdfReader:
                 )
             if radius is None or length is None:
                 return None
-            return Cylinder(radius, length, span) if shape.tag == "cylinder" else Capsule(radius, length, span)
+            return (
+                Cylinder(radius, length, span) if shape.tag == "cylinder" else Capsule(radius, length, span)
+            )
         filename = v.text(shape, "filename", where, required=True)
         if filename is None:
             return None

@@ -48,7 +48,7 @@ class ValueReader:
         return self.sources.attribute_span(span, attribute)
 
     def text(self, element: etree._Element, attribute: str, where: str, required: bool = False) -> str | None:
-        value = element.get(attribute)
+        value: str | None = element.get(attribute)
         if value is None:
             if required:
                 self.diagnostics.append(
@@ -119,7 +119,9 @@ class ValueReader:
             return None
         return tuple(v for v in values if v is not None)
 
-    def _invalid(self, element: etree._Element, attribute: str, where: str, raw: str, bad: str | None = None) -> None:
+    def _invalid(
+        self, element: etree._Element, attribute: str, where: str, raw: str, bad: str | None = None
+    ) -> None:
         token = bad if bad is not None else raw
         hint = _hint(token)
         self.diagnostics.append(

@@ -271,9 +271,9 @@ def expand(
     args: Mapping[str, str] | None = None,
 ) -> XacroResult:
     """Expand the xacro file *path*; failures become diagnostics, never exceptions."""
-    from urdftool.rules.xacro import PackageMissing, XacroError, XacroWarning
-
     import xacro
+
+    from urdftool.rules.xacro import PackageMissing, XacroError, XacroWarning
 
     top = os.path.abspath(path)
     session = _Session(resolver, top)
