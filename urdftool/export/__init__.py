@@ -113,12 +113,16 @@ def _module(target: str) -> Any:
         raise
 
 
-def export_model(robot: Robot, target: str, out: str | os.PathLike[str], options: ExportOptions) -> ExportResult:
+def export_model(
+    robot: Robot, target: str, out: str | os.PathLike[str], options: ExportOptions
+) -> ExportResult:
     """Run the exporter for *target*; returns the files it would write."""
     return _module(target).export(robot, Path(out), options)  # type: ignore[no-any-return]
 
 
-def verify_model(robot: Robot, target: str, out: str | os.PathLike[str], options: ExportOptions) -> VerifyResult:
+def verify_model(
+    robot: Robot, target: str, out: str | os.PathLike[str], options: ExportOptions
+) -> VerifyResult:
     module = _module(target)
     if not hasattr(module, "verify"):
         raise UnknownTarget(f"--verify is not available for {target}")

@@ -48,7 +48,7 @@ def is_binary_stl(data: bytes) -> bool:
     """A binary STL has exactly 84 + 50 × (triangle count) bytes; ASCII STL does not."""
     if len(data) < 84:
         return False
-    (count,) = struct.unpack_from("<I", data, 80)
+    count: int = struct.unpack_from("<I", data, 80)[0]
     return len(data) == 84 + 50 * count
 
 

@@ -60,7 +60,7 @@ def is_binary_stl(data: bytes) -> bool:
     """A binary STL has exactly 84 + 50 × (triangle count) bytes; ASCII STL does not."""
     if len(data) < 84:
         return False
-    (count,) = struct.unpack_from("<I", data, 80)
+    count: int = struct.unpack_from("<I", data, 80)[0]
     return len(data) == 84 + 50 * count
 
 
@@ -133,7 +133,8 @@ class AssetPlan:
         if mesh.resolved is None:
             raise MeshUnavailable(f"'{mesh.filename}' did not resolve to a file")
         content, reference = self._file_for(mesh.resolved)
-        key = (content, tuple(float(s) for s in mesh.scale))
+        sx, sy, sz = mesh.scale
+        key = (content, (float(sx), float(sy), float(sz)))
         if key in self._by_content:
             return self._by_content[key]
         base = f"{_safe_stem(mesh.resolved)}-{content[:8]}"
@@ -143,7 +144,7 @@ class AssetPlan:
             n += 1
             name = f"{base}-s{n}"
         self._by_content[key] = name
-        self.meshes.append(MeshAsset(name, reference, key[1]))  # type: ignore[arg-type]
+        self.meshes.append(MeshAsset(name, reference, key[1]))
         return name
 
     def _file_for(self, path: str) -> tuple[str, str]:

@@ -71,7 +71,9 @@ def mobility(robot: Robot, tree: KinematicTree) -> str | None:
         named = "wheel" in joint.name.lower() or "wheel" in link.name.lower()
         if joint.type is JointType.CONTINUOUS and (round_shape or named):
             return "wheels"
-        if joint.type.is_moving and any(k in f"{joint.name} {link.name}".lower() for k in ("rotor", "propeller")):
+        if joint.type.is_moving and any(
+            k in f"{joint.name} {link.name}".lower() for k in ("rotor", "propeller")
+        ):
             return "rotors"
     legs = _legs(tree)
     return f"{legs} legs" if legs >= 2 else None

@@ -196,7 +196,11 @@ class BodyWriter:
         axis = unit_axis(joint)
         e1, e2 = planar_directions(axis)
         dyn = self._dynamics(joint)
-        for suffix, kind, direction in (("x", "slide", e1), ("y", "slide", e2), ("rot", "hinge", np.array(axis))):
+        for suffix, kind, direction in (
+            ("x", "slide", e1),
+            ("y", "slide", e2),
+            ("rot", "hinge", np.array(axis)),
+        ):
             name = f"{joint.name}_{suffix}"
             etree.SubElement(body, "joint", {"name": name, "type": kind, "axis": vec(direction), **dyn})
             self.result.joints.append(MjJoint(name, kind, joint.name, (0.0,)))

@@ -15,9 +15,22 @@ from lxml import etree
 from urdftool.diagnostics import Diagnostic, Severity
 from urdftool.export.mjcf_assets import AssetPlan, MeshUnavailable
 from urdftool.export.mjcf_format import num, pose_attributes, vec
-from urdftool.model import Box, Capsule, Cylinder, Ellipsoid, Geometry, Link, Material, Mesh, Plane, Robot, Sphere
+from urdftool.model import (
+    Box,
+    Capsule,
+    Cylinder,
+    Ellipsoid,
+    Geometry,
+    Link,
+    Material,
+    Mesh,
+    Plane,
+    Robot,
+    Sphere,
+)
 from urdftool.model.pose import Pose
 from urdftool.rules.conversion import ConversionDropped, MeshNotExportable
+from urdftool.source import Span
 
 VISUAL_CLASS = "visual"
 COLLISION_CLASS = "collision"
@@ -81,7 +94,7 @@ class GeomWriter:
                 etree.SubElement(body, "geom", {"class": COLLISION_CLASS, **attrs})
 
     def _shape(self, geometry: Geometry | None, origin: Pose, where: str, moving: bool,
-               span) -> dict[str, str] | None:  # type: ignore[no-untyped-def]
+               span: Span | None) -> dict[str, str] | None:
         if geometry is None:
             return None
         location = geometry.span or span

@@ -109,7 +109,8 @@ def repaired_tensor(tensor: Matrix, mass: float) -> Matrix:
         a, b, c = a + delta, b + delta, c - delta
     moments[order] = (a, b, c)
     out: Matrix = vectors @ np.diag(moments) @ vectors.T
-    return 0.5 * (out + out.T)
+    symmetric: Matrix = 0.5 * (out + out.T)
+    return symmetric
 
 
 def _with_tensor(inertial: Inertial, tensor: Matrix) -> Inertial:

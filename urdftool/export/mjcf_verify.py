@@ -23,7 +23,7 @@ import numpy as np
 from urdftool.diagnostics import Diagnostic
 from urdftool.export import ExportOptions, VerifyResult
 from urdftool.export.mjcf_base import decide_base
-from urdftool.model import Joint, JointType, KinematicTree, Robot
+from urdftool.model import Collision, Joint, JointType, KinematicTree, Robot, Visual
 from urdftool.model.pose import Matrix, quaternion_to_matrix
 from urdftool.rules.conversion import EngineRejected
 
@@ -50,7 +50,8 @@ class JointMap:
 
 def _random_quaternion(rng: np.random.Generator) -> np.ndarray:
     q = rng.normal(size=4)
-    return q / np.linalg.norm(q)  # (w, x, y, z)
+    unit: np.ndarray = q / np.linalg.norm(q)
+    return unit  # (w, x, y, z)
 
 
 def _bounds(joint: Joint) -> tuple[float, float]:
@@ -65,7 +66,9 @@ def _bounds(joint: Joint) -> tuple[float, float]:
     return (-math.pi, math.pi)
 
 
-def build_maps(robot: Robot, tree: KinematicTree, mj: Any, pin: Any, free_joint: str | None) -> list[JointMap]:
+def build_maps(
+    robot: Robot, tree: KinematicTree, mj: Any, pin: Any, free_joint: str | None
+) -> list[JointMap]:
     """The joint map; raises ``KeyError`` naming a joint MuJoCo does not have."""
     from urdftool.backends.mujoco import name_to_id
     from urdftool.backends.pinocchio import FREE_FLYER
@@ -206,7 +209,11 @@ def _compare(robot: Robot, mj: Any, pin: Any, maps: list[JointMap], configuratio
                 pos, rot = np.zeros(3), np.eye(3)  # the world link is the world body
             else:
                 pos, rot = data.xpos[body], data.xmat[body].reshape(3, 3)
-            yield name, float(np.linalg.norm(pos - placement.translation)), _rotation_error(rot, placement.rotation)
+            yield (
+                name,
+                float(np.linalg.norm(pos - placement.translation)),
+                _rotation_error(rot, placement.rotation),
+            )
         scale = max(float(np.max(np.abs(m_pin))) if m_pin.size else 0.0, 1e-300)
         diff = m_pin - t.T @ m_mj @ t
         yield "", -1.0, float(np.max(np.abs(diff)) / scale) if diff.size else 0.0
@@ -297,8 +304,11 @@ def _mesh_span(robot: Robot, mesh_name: str, out: Path):  # type: ignore[no-unty
             continue
         body = geom.getparent()
         link = robot.link(body.get("name", "")) if body is not None else None
-        for element in (*link.visuals, *link.collisions) if link else ():
+        elements: tuple[Visual | Collision, ...] = (*link.visuals, *link.collisions) if link else ()
+        for element in elements:
             geometry = element.geometry
-            if isinstance(geometry, Mesh) and mesh_name.startswith(Path(geometry.filename).name.split(".")[0]):
+            if isinstance(geometry, Mesh) and mesh_name.startswith(
+                Path(geometry.filename).name.split(".")[0]
+            ):
                 return geometry.span or element.span
     return None

@@ -39,7 +39,7 @@ LOAD_FLAGS = "p.URDF_USE_INERTIA_FROM_FILE"
 #: The most joints of one body whose state PyBullet 3.2 can report (128 fails).
 MAX_JOINTS = 127
 
-PYBULLET_JOINT_TYPES = {
+PYBULLET_JOINT_TYPES: dict[JointType, str] = {
     t: name for t, name in URDF_JOINT_TYPES.items() if t is not JointType.FLOATING
 }
 PYBULLET_JOINT_TYPES[JointType.SPHERICAL] = "spherical"
@@ -115,7 +115,8 @@ def _structure(robot: Robot, tree: KinematicTree) -> list[Diagnostic]:
     if len(tree.roots) > 1:
         return [
             MultipleRoots.diagnostic(
-                f"the robot has {len(tree.roots)} roots ({', '.join(tree.roots[:5])}); PyBullet loads one tree",
+                f"the robot has {len(tree.roots)} roots ({', '.join(tree.roots[:5])});"
+                " PyBullet loads one tree",
                 robot.span,
             )
         ]

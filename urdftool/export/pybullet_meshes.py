@@ -19,6 +19,7 @@ from __future__ import annotations
 import dataclasses
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import cast
 
 from urdftool.diagnostics import Diagnostic
 from urdftool.export.assets import MeshFiles, MeshUnavailable, is_binary_stl
@@ -44,7 +45,7 @@ def convert_to_obj(path: str) -> bytes:
         mesh = load_trimesh(path)
     except MeshError as exc:
         raise MeshUnavailable(f"trimesh cannot read it ({exc})") from exc
-    text = export_obj(
+    text: str = export_obj(
         mesh, include_normals=False, include_color=False, include_texture=False, header=None
     )
     return text.encode("utf-8")
@@ -56,7 +57,7 @@ def dominant_colour(path: str) -> RGBA | None:
     import trimesh
 
     try:
-        scene = trimesh.load(path, force="scene")
+        scene = cast(trimesh.Scene, trimesh.load(path, force="scene"))
     except Exception:  # trimesh raises many kinds; a colour is optional
         return None
     votes: dict[RGBA, int] = {}

@@ -26,7 +26,7 @@ from urdftool.backends.pybullet import EngineJoint, EngineLink, PyBulletLoad
 from urdftool.diagnostics import Diagnostic
 from urdftool.export import ExportOptions, VerifyResult
 from urdftool.export.pybullet_inertia import plan_inertia
-from urdftool.model import Inertial, Joint, JointType, KinematicTree, Robot
+from urdftool.model import Inertial, Joint, JointType, KinematicTree, Link, Robot
 from urdftool.model.pose import Matrix
 from urdftool.model.tree import _mimic_value as mimic_value
 from urdftool.physics.inertia import principal_moments
@@ -116,7 +116,8 @@ def verify_pybullet(robot: Robot, out: Path, options: ExportOptions | None = Non
 
 def _engine_message(robot: Robot, message: str) -> Diagnostic:
     """A PyBullet warning, located at the link or joint it names (else the robot)."""
-    for item in (*robot.links, *robot.joints):
+    items: tuple[Link | Joint, ...] = (*robot.links, *robot.joints)
+    for item in items:
         if re.search(rf"(?<![\w-]){re.escape(item.name)}(?![\w-])", message):
             kind = "link" if item in robot.links else "joint"
             return EngineRejected.diagnostic(
@@ -193,7 +194,8 @@ def compare_joints(
 
 def _unit(joint: Joint) -> Matrix:
     axis = np.asarray(joint.axis, dtype=float)
-    return axis / np.linalg.norm(axis)
+    unit: Matrix = axis / np.linalg.norm(axis)
+    return unit
 
 
 def _limit_error(joint: Joint, built: EngineJoint) -> float:

@@ -71,7 +71,13 @@ def _world_root(robot: Robot, tree: KinematicTree) -> str | None:
     """The root link named ``world`` that carries nothing, if the model has one."""
     root = tree.root
     link = robot.link(root) if root else None
-    if link is not None and link.name == "world" and not link.inertial and not link.visuals and not link.collisions:
+    if (
+        link is not None
+        and link.name == "world"
+        and not link.inertial
+        and not link.visuals
+        and not link.collisions
+    ):
         return link.name
     return None
 
@@ -267,8 +273,13 @@ class SdfWriter:
         if joint.type.is_moving:
             element.append(self.axis(joint))
         if joint.mimic is not None:
-            self._drop(f"joint '{joint.name}': mimic is not in SDF 1.7; the joint moves freely",
-                       joint.mimic.span or joint.span, f"joint[{joint.name}]/mimic", "mimic", Severity.WARNING)
+            self._drop(
+                f"joint '{joint.name}': mimic is not in SDF 1.7; the joint moves freely",
+                joint.mimic.span or joint.span,
+                f"joint[{joint.name}]/mimic",
+                "mimic",
+                Severity.WARNING,
+            )
         return element
 
     def joint_name(self, joint: Joint) -> str:

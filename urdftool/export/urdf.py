@@ -251,8 +251,13 @@ class UrdfWriter:
             etree.SubElement(element, "dynamics", damping=num(joint.dynamics.damping),
                              friction=num(joint.dynamics.friction))
         if joint.mimic is not None:
-            etree.SubElement(element, "mimic", joint=joint.mimic.joint, multiplier=num(joint.mimic.multiplier),
-                             offset=num(joint.mimic.offset))
+            etree.SubElement(
+                element,
+                "mimic",
+                joint=joint.mimic.joint,
+                multiplier=num(joint.mimic.multiplier),
+                offset=num(joint.mimic.offset),
+            )
         if joint.safety_controller is not None:
             sc = joint.safety_controller
             etree.SubElement(element, "safety_controller", k_velocity=num(sc.k_velocity),
@@ -275,7 +280,9 @@ class UrdfWriter:
         name = frame.attributes["name"]
         link = etree.Element("link", name=name)
         joint = etree.Element("joint", name=f"{name}_frame", type="fixed")
-        etree.SubElement(joint, "origin", xyz=_vec_text(frame.attributes["xyz"]), rpy=_vec_text(frame.attributes["rpy"]))
+        etree.SubElement(
+            joint, "origin", xyz=_vec_text(frame.attributes["xyz"]), rpy=_vec_text(frame.attributes["rpy"])
+        )
         etree.SubElement(joint, "parent", link=frame.attributes["attached_to"])
         etree.SubElement(joint, "child", link=name)
         return [link, joint]
@@ -336,7 +343,8 @@ def clean_copy(element: etree._Element) -> etree._Element:
 def to_bytes(root: etree._Element) -> bytes:
     """Deterministic, indented UTF-8 with an XML declaration and a trailing newline."""
     etree.indent(root, space="  ")
-    return etree.tostring(root, xml_declaration=True, encoding="utf-8", pretty_print=True)
+    data: bytes = etree.tostring(root, xml_declaration=True, encoding="utf-8", pretty_print=True)
+    return data
 
 
 def robot_element(robot: Robot, flavor: UrdfFlavor = URDF) -> tuple[etree._Element, list[Diagnostic]]:
