@@ -171,7 +171,9 @@ def _export_text(
     result = export_model(robot, target, name, ExportOptions())
     if result.failed:
         reasons = "; ".join(d.message for d in result.diagnostics if d.severity.value == "error")
-        raise ConversionRefused(f"{robot.name}: not converted to {target.upper()}: {reasons}", result.diagnostics)
+        raise ConversionRefused(
+            f"{robot.name}: not converted to {target.upper()}: {reasons}", result.diagnostics
+        )
     data = result.files[name]
     if out is not None:
         write_bytes_atomic(out, data, inputs)

@@ -35,7 +35,9 @@ class CheckOptions:
         return PackageResolver.create(self.packages, self.package_paths)
 
 
-def run_rules(robot: Robot, selection: Selection, options: Mapping[str, Any] | None = None) -> list[Diagnostic]:
+def run_rules(
+    robot: Robot, selection: Selection, options: Mapping[str, Any] | None = None
+) -> list[Diagnostic]:
     """The reader's findings plus every selected model rule's, sorted by location."""
     found = [d for d in robot.diagnostics if selection.enabled_code(d.code)]
     ctx = CheckContext(robot, KinematicTree.of(robot), dict(options or {}))

@@ -51,17 +51,26 @@ def format_summary(summary: dict[str, Any]) -> str:
     lines = [
         f"robot:       {summary['robot']}",
         f"file:        {summary['path']} ({summary['format']})",
-        f"root:        {summary['root']}" + (
-            f"  (also: {', '.join(summary['roots'][1:])})" if len(summary["roots"]) > 1 else ""
-        ),
+        f"root:        {summary['root']}"
+        + (f"  (also: {', '.join(summary['roots'][1:])})" if len(summary["roots"]) > 1 else ""),
         f"links:       {summary['links']}"
-        + (f" ({summary['links_without_inertial']} without <inertial>)" if summary["links_without_inertial"] else ""),
+        + (
+            f" ({summary['links_without_inertial']} without <inertial>)"
+            if summary["links_without_inertial"]
+            else ""
+        ),
         f"joints:      {summary['joints']}"
-        + (" (" + ", ".join(f"{n} {t}" for t, n in summary["joints_by_type"].items()) + ")" if summary["joints"] else ""),
-        f"DOF:         {summary['dof']}" + (f" (+{summary['mimic_joints']} mimic)" if summary["mimic_joints"] else ""),
+        + (
+            " (" + ", ".join(f"{n} {t}" for t, n in summary["joints_by_type"].items()) + ")"
+            if summary["joints"]
+            else ""
+        ),
+        f"DOF:         {summary['dof']}"
+        + (f" (+{summary['mimic_joints']} mimic)" if summary["mimic_joints"] else ""),
         f"total mass:  {summary['total_mass']:.6g} kg",
         f"COM:         {_com_text(summary.get('center_of_mass'))}",
-        f"loops:       {len(summary['loops'])}" + (f" (closed by {', '.join(summary['loops'])})" if summary["loops"] else ""),
+        f"loops:       {len(summary['loops'])}"
+        + (f" (closed by {', '.join(summary['loops'])})" if summary["loops"] else ""),
         "",
         "tree:",
     ]

@@ -25,7 +25,7 @@ import threading
 from collections.abc import Iterator, Mapping
 from dataclasses import dataclass, field
 from types import ModuleType, TracebackType
-from typing import Any
+from typing import Any, cast
 
 from urdftool.model.pose import Matrix, Vec3, homogeneous, quaternion_to_matrix
 
@@ -67,7 +67,7 @@ def captured_output() -> Iterator[list[str]]:
                 sys.stdout.flush()
                 sys.stderr.flush()
                 libc.fflush(None)  # C's stdout is fully buffered when it is a file
-                for fd, copy in zip((1, 2), saved):
+                for fd, copy in zip((1, 2), saved, strict=True):
                     os.dup2(copy, fd)
                     os.close(copy)
                 sink.seek(0)
@@ -99,7 +99,7 @@ def import_pybullet() -> ModuleType:
         return sys.modules["pybullet"]
     with captured_output():
         import pybullet
-    return pybullet
+    return cast(ModuleType, pybullet)
 
 
 @dataclass(frozen=True)
@@ -135,7 +135,8 @@ class EngineJoint:
 
 def _frame(position: Any, orientation: Any) -> Matrix:
     x, y, z, w = (float(v) for v in orientation)
-    return homogeneous(quaternion_to_matrix((w, x, y, z)), tuple(float(v) for v in position))
+    px, py, pz = (float(v) for v in position)
+    return homogeneous(quaternion_to_matrix((w, x, y, z)), (px, py, pz))
 
 
 @dataclass

@@ -38,9 +38,15 @@ PROGRESS_FROM = 4
               help="Worker processes; 0 picks one per core.")
 @click.option("-q", "--quiet", is_flag=True, help="Text output: errors and the summary only.")
 @click.option("-o", "--output", type=click.Path(dir_okay=False), help="Write the report to this file.")
-@click.option("--model", "model_name", help="For files with several models (SDF worlds): check only this one.")
-@click.option("--no-dynamics", is_flag=True, help="Skip the dynamics pass (Pinocchio: mass matrix, gravity torques).")
-@click.option("--sim", is_flag=True, help="Also run the smoke simulation (runtime rules R; see `urdftool sim`).")
+@click.option(
+    "--model", "model_name", help="For files with several models (SDF worlds): check only this one."
+)
+@click.option(
+    "--no-dynamics", is_flag=True, help="Skip the dynamics pass (Pinocchio: mass matrix, gravity torques)."
+)
+@click.option(
+    "--sim", is_flag=True, help="Also run the smoke simulation (runtime rules R; see `urdftool sim`)."
+)
 @click.option("--engine", type=click.Choice(["mujoco", "pybullet", "all"]), default="all", show_default=True,
               help="With --sim: the engine(s) to simulate in.")
 def check_command(

@@ -30,12 +30,23 @@ def _emit(diagnostics: Sequence[Diagnostic]) -> None:
 @click.option("-o", "--output", "out", required=True, type=click.Path(dir_okay=False), help="Output file.")
 @click.option("--to", "to", type=click.Choice(["mjcf", "urdf", "pybullet", "sdf", "dot"]),
               help="Target; by default it follows OUT's suffix.")
-@click.option("--check", "check_only", is_flag=True, help="Exit 1 when OUT (and its assets) differ from what would be written; write nothing.")
+@click.option(
+    "--check",
+    "check_only",
+    is_flag=True,
+    help="Exit 1 when OUT (and its assets) differ from what would be written; write nothing.",
+)
 @click.option("--verify", is_flag=True, help="Load the output in its engine and compare it with the source.")
 @click.option("--model", "model_name", help="For files with several models (SDF worlds): which one.")
-@click.option("--floating-base", type=click.Choice(["auto", "free", "fixed"]), default="auto", show_default=True)
-@click.option("--actuators", type=click.Choice(["none", "motor", "position"]), default="none", show_default=True)
-@click.option("--repair-inertia", is_flag=True, help="Repair physically invalid inertia (each change is reported).")
+@click.option(
+    "--floating-base", type=click.Choice(["auto", "free", "fixed"]), default="auto", show_default=True
+)
+@click.option(
+    "--actuators", type=click.Choice(["none", "motor", "position"]), default="none", show_default=True
+)
+@click.option(
+    "--repair-inertia", is_flag=True, help="Repair physically invalid inertia (each change is reported)."
+)
 @click.option("--copy-assets", is_flag=True, help="Copy meshes into an assets folder beside OUT.")
 @click.option("--scene", is_flag=True, help="MJCF: add a ground plane and a light.")
 @model_options

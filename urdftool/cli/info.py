@@ -8,7 +8,14 @@ from collections.abc import Sequence
 
 import click
 
-from urdftool.cli.common import EXIT_FINDINGS, EXIT_OK, InputProblem, build_options, input_error, model_options
+from urdftool.cli.common import (
+    EXIT_FINDINGS,
+    EXIT_OK,
+    InputProblem,
+    build_options,
+    input_error,
+    model_options,
+)
 from urdftool.info import format_summary, summarize
 from urdftool.parse import InputError, read
 from urdftool.render.text import render_diagnostic

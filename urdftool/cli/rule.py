@@ -18,8 +18,8 @@ def rule_command(code_or_name: str | None, show_all: bool) -> None:
         for rule in all_rules():
             click.echo(f"{rule.code:6} {rule.name:34} {rule.severity.value:8} {rule.summary()}")
         return
-    rule = lookup(code_or_name)
-    if rule is None:
+    found = lookup(code_or_name)
+    if found is None:
         click.echo(f"urdftool: no rule with code or name '{code_or_name}'", err=True)
         raise SystemExit(EXIT_USAGE)
-    click.echo(rule_markdown(rule))
+    click.echo(rule_markdown(found))

@@ -8,14 +8,22 @@ from collections.abc import Sequence
 
 import click
 
-from urdftool.cli.common import EXIT_FINDINGS, EXIT_OK, InputProblem, build_options, input_error, model_options
+from urdftool.cli.common import (
+    EXIT_FINDINGS,
+    EXIT_OK,
+    F,
+    InputProblem,
+    build_options,
+    input_error,
+    model_options,
+)
 from urdftool.dynamics.sim import engine_names
 from urdftool.dynamics.sim_scene import DURATION, SimOptions
 from urdftool.parse import InputError, detect_format
 from urdftool.render import render_json, render_text
 
 
-def sim_options(func):  # type: ignore[no-untyped-def]
+def sim_options(func: F) -> F:
     """``--engine``, ``--duration``, ``--timestep``, ``--hold``, ``--repair-inertia``."""
     for option in reversed((
         click.option("--engine", type=click.Choice(["mujoco", "pybullet", "all"]), default="all",

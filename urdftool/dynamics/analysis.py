@@ -163,8 +163,8 @@ def pinocchio_configurations(pm: PinocchioModel, robot: Robot, drawn: Samples) -
                 start = pm.idx_q(name)
                 coordinates = _pinocchio_coordinates(joint, value)
                 qs[row, start:start + len(coordinates)] = coordinates
-    mimics = [(pm.idx_q(f), pm.idx_q(l), m, o) for f, (l, m, o) in pm.mimics.items()
-              if f in pm.joints and l in pm.joints]
+    mimics = [(pm.idx_q(f), pm.idx_q(leader), m, o) for f, (leader, m, o) in pm.mimics.items()
+              if f in pm.joints and leader in pm.joints]
     for _ in mimics:  # one pass per mimic settles chains of joints that mimic mimics
         for follower, leader, multiplier, offset in mimics:
             qs[:, follower] = offset + multiplier * qs[:, leader]

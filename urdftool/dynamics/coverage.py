@@ -12,7 +12,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from urdftool.model import JointType, KinematicTree, Link, Robot
+from urdftool.model import Joint, JointType, KinematicTree, Link, Robot
 from urdftool.physics.inertia import MIN_MOMENT, assess
 
 #: Joint types the Pinocchio backend builds (the others have no model there).
@@ -73,7 +73,7 @@ def mimic_cycle(robot: Robot) -> tuple[str, ...]:
     """The first cycle of joints mimicking each other (a joint may mimic itself), or ``()``."""
     for joint in robot.joints:
         chain = [joint.name]
-        current = joint
+        current: Joint | None = joint
         while current is not None and current.mimic is not None:
             if current.mimic.joint in chain:
                 return (*chain[chain.index(current.mimic.joint):], current.mimic.joint)

@@ -18,7 +18,13 @@ import numpy as np
 
 from urdftool.diagnostics import Diagnostic, Severity
 from urdftool.dynamics.sim_record import EngineRun, Penetration, Recorder
-from urdftool.dynamics.sim_scene import DROP_CLEARANCE, PENETRATION_TOLERANCE, HoldController, Scene, SimOptions
+from urdftool.dynamics.sim_scene import (
+    DROP_CLEARANCE,
+    PENETRATION_TOLERANCE,
+    HoldController,
+    Scene,
+    SimOptions,
+)
 from urdftool.model import Joint
 from urdftool.rules.conversion import EngineRejected
 
@@ -37,7 +43,7 @@ def run_mujoco(scene: Scene, options: SimOptions) -> EngineRun:
     model.opt.enableflags |= int(mujoco.mjtEnableBit.mjENBL_ENERGY)
     data = mujoco.MjData(model)
     joints, qpos, dofs = _one_dof_joints(model, scene)
-    for joint, address in zip(joints, qpos):
+    for joint, address in zip(joints, qpos, strict=True):
         data.qpos[address] = scene.start.get(joint.name, 0.0)
     free = _free_joint(model) if scene.floating else None
     if free is not None:
@@ -166,8 +172,11 @@ def _penetrations(model: Any, data: Any, scene: Scene) -> list[Penetration]:
             continue
         key = frozenset((a, b))
         found[key] = max(found.get(key, 0.0), -float(contact.dist))
-    return sorted((Penetration(*sorted(pair), depth) for pair, depth in found.items()),
-                  key=lambda p: (-p.depth, p.link_a, p.link_b))
+    penetrations = []
+    for pair, depth in found.items():
+        link_a, link_b = sorted(pair)
+        penetrations.append(Penetration(link_a, link_b, depth))
+    return sorted(penetrations, key=lambda p: (-p.depth, p.link_a, p.link_b))
 
 
 def _hold_gains(model: Any, data: Any, joints: list[Joint], dofs: list[int]) -> HoldController:

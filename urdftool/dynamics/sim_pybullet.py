@@ -169,7 +169,7 @@ class _World:
             # PyBullet clamps joint speeds at 100 rad/s by default, which hides a blow-up.
             self.call("changeDynamics", self.body, link, linearDamping=0.0, angularDamping=0.0,
                       maxJointVelocity=MAX_JOINT_VELOCITY)
-        for joint, index in zip(self.joints, self.indices):
+        for joint, index in zip(self.joints, self.indices, strict=True):
             damping = joint.dynamics.damping if joint.dynamics else 0.0
             self.call("changeDynamics", self.body, index, jointDamping=float(damping))
             self.call("resetJointState", self.body, index, self.scene.start.get(joint.name, 0.0))
@@ -235,7 +235,8 @@ class _World:
                 points = self.call("getClosestPoints", self.body, self.body, 0.0, a, b)
                 depth = max((-pt[8] for pt in points), default=0.0)
                 if depth > PENETRATION_TOLERANCE:
-                    found.append(Penetration(*sorted((names[a], names[b])), float(depth)))
+                    link_a, link_b = sorted((names[a], names[b]))
+                    found.append(Penetration(link_a, link_b, float(depth)))
         return sorted(found, key=lambda p: (-p.depth, p.link_a, p.link_b))
 
     def _hold(self) -> HoldController:
@@ -271,7 +272,7 @@ class _Energy:
             states = w.call("getLinkStates", w.body, w.links[1:], computeLinkVelocity=1)
             frames += [(s[0], s[1], s[6], s[7]) for s in states]
         energy = 0.0
-        for (pos, quat, v, omega), m, diagonal in zip(frames, self.mass, self.inertia):
+        for (pos, quat, v, omega), m, diagonal in zip(frames, self.mass, self.inertia, strict=True):
             x, y, z, qw = quat
             rotation = quaternion_to_matrix((qw, x, y, z))
             local = rotation.T @ np.asarray(omega)

@@ -282,8 +282,14 @@ class DynamicsNotChecked(_Dynamics):
             closing = ctx.robot.loop_closures[0].joint
             yield self.diagnostic(
                 f"gravity torques not checked: joint '{closing.name}' closes a kinematic loop, which "
-                "carries part of the load", closing.span, element=f"joint[{closing.name}]",
-                data={"reason": "closed chain", "elements": [lc.joint.name for lc in ctx.robot.loop_closures]})
+                "carries part of the load",
+                closing.span,
+                element=f"joint[{closing.name}]",
+                data={
+                    "reason": "closed chain",
+                    "elements": [lc.joint.name for lc in ctx.robot.loop_closures],
+                },
+            )
 
     @staticmethod
     def _where(ctx: CheckContext, name: str | None) -> tuple[Span | None, str | None]:

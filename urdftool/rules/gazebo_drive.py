@@ -59,7 +59,8 @@ def measure_wheel(ctx: CheckContext, joint_name: str, poses: dict[str, Matrix]) 
 
 
 def _wheel_shape(link: Link) -> Collision | Visual | None:
-    for item in (*link.collisions, *link.visuals):
+    items: tuple[Collision | Visual, ...] = (*link.collisions, *link.visuals)
+    for item in items:
         if isinstance(item.geometry, (Cylinder, Sphere, Capsule, Mesh)):
             return item
     return None

@@ -106,8 +106,14 @@ class ClosedChain(_Loops):
                     "joints": joints,
                     "cut_joint": joint.name,
                     "type": joint.type.value,
-                    "parent_anchor": {"xyz": list(closure.parent_anchor.xyz), "rpy": list(closure.parent_anchor.rpy)},
-                    "child_anchor": {"xyz": list(closure.child_anchor.xyz), "rpy": list(closure.child_anchor.rpy)},
+                    "parent_anchor": {
+                        "xyz": list(closure.parent_anchor.xyz),
+                        "rpy": list(closure.parent_anchor.rpy),
+                    },
+                    "child_anchor": {
+                        "xyz": list(closure.child_anchor.xyz),
+                        "rpy": list(closure.child_anchor.rpy),
+                    },
                 },
             )
 
@@ -153,7 +159,8 @@ class LinkMultipleParents(_Loops):
             if tree._is_ancestor(joint.child, joint.parent):
                 continue  # closes a directed cycle: kinematic-loop reports it
             yield self.diagnostic(
-                f"link '{joint.child}' is the child of joint '{first.name}' and again of joint '{joint.name}'",
+                f"link '{joint.child}' is the child of joint '{first.name}'"
+                f" and again of joint '{joint.name}'",
                 joint.span,
                 element=f"joint[{joint.name}]",
                 help="URDF links have one parent; keep the closed chain in SDF, or as an MJCF equality "

@@ -14,6 +14,7 @@ import numpy as np
 from urdftool.model import (
     Box,
     Capsule,
+    Collision,
     Cylinder,
     Ellipsoid,
     Geometry,
@@ -22,6 +23,7 @@ from urdftool.model import (
     Link,
     Mesh,
     Sphere,
+    Visual,
 )
 from urdftool.model.tree import KinematicTree
 from urdftool.rules.registry import CheckContext
@@ -108,7 +110,8 @@ def robot_size(ctx: CheckContext) -> tuple[float, str] | None:
 
 
 def _primitive_sizes(link: Link) -> Iterator[float]:
-    for item in (*link.visuals, *link.collisions):
+    items: tuple[Visual | Collision, ...] = (*link.visuals, *link.collisions)
+    for item in items:
         geometry = item.geometry
         if isinstance(geometry, Box):
             yield float(np.linalg.norm(geometry.size))

@@ -238,7 +238,9 @@ class SimDrift(_Runtime):
             why = drift_because(run, result.scene.floating, hold)
             if why is None:
                 continue
-            span, element = _root_span(ctx) if result.scene.floating else _joint_span(ctx, run.late_fastest_joint)
+            span, element = (
+                _root_span(ctx) if result.scene.floating else _joint_span(ctx, run.late_fastest_joint)
+            )
             yield self.diagnostic(
                 f"{display_name(run.engine)}: has not settled: {why}", span, element=element,
                 data={**_summary(run), "base_speed": run.base_late_speed,

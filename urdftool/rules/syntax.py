@@ -668,11 +668,14 @@ class KinematicLoop(_Syntax):
         for joint in tree.cycle_joints:
             if joint.parent == joint.child:
                 continue  # self-loop-joint
-            if joint.child in tree.parent_joint and tree.parent_joint[joint.child] is not joint:
-                # A second parent that does not close a directed cycle is a
-                # multiple-parent problem, reported by link-multiple-parents.
-                if not tree._is_ancestor(joint.child, joint.parent):
-                    continue
+            # A second parent that does not close a directed cycle is a
+            # multiple-parent problem, reported by link-multiple-parents.
+            if (
+                joint.child in tree.parent_joint
+                and tree.parent_joint[joint.child] is not joint
+                and not tree._is_ancestor(joint.child, joint.parent)
+            ):
+                continue
             path = tree.path_to_root(joint.parent)
             cycle = [joint.name]
             for j in path:
