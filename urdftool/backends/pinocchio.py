@@ -26,9 +26,13 @@ Units: m, rad, kg, kg·m²; frames as in URDF.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
-import numpy as np
+if TYPE_CHECKING:
+    import numpy as np
+else:
+    # NumPy is imported on first use: a structural check must not pay for it.
+    from urdftool.lazy import numpy as np
 
 from urdftool.model import Inertial, Joint, JointType, KinematicTree, Robot
 from urdftool.model.pose import Matrix

@@ -1,19 +1,49 @@
-"""The ``urdftool`` command line: one module per command, registered here."""
+"""The ``urdftool`` command line: one module per command, registered here.
+
+Commands are imported when they are run, not when ``urdftool`` starts: a CI
+gate that runs ``urdftool check`` should not pay for loading the exporters,
+Graphviz and simulation front ends.
+"""
 
 from __future__ import annotations
+
+import importlib
 
 import click
 
 from urdftool import __version__
-from urdftool.cli.check import check_command
-from urdftool.cli.convert import convert_command
-from urdftool.cli.graph import graph_command
-from urdftool.cli.info import info_command
-from urdftool.cli.rule import rule_command
-from urdftool.cli.sim import sim_command
+
+#: command name -> "module:attribute" of its click command
+COMMANDS: dict[str, str] = {
+    "check": "urdftool.cli.check:check_command",
+    "convert": "urdftool.cli.convert:convert_command",
+    "graph": "urdftool.cli.graph:graph_command",
+    "info": "urdftool.cli.info:info_command",
+    "rule": "urdftool.cli.rule:rule_command",
+    "sim": "urdftool.cli.sim:sim_command",
+}
 
 
-@click.group(context_settings={"help_option_names": ["-h", "--help"], "max_content_width": 100})
+class LazyGroup(click.Group):
+    """A click group whose subcommands are imported on first use."""
+
+    def list_commands(self, ctx: click.Context) -> list[str]:
+        return sorted(COMMANDS)
+
+    def get_command(self, ctx: click.Context, cmd_name: str) -> click.Command | None:
+        target = COMMANDS.get(cmd_name)
+        if target is None:
+            return None
+        module_name, attribute = target.split(":")
+        command = getattr(importlib.import_module(module_name), attribute)
+        assert isinstance(command, click.Command)
+        return command
+
+
+@click.group(
+    cls=LazyGroup,
+    context_settings={"help_option_names": ["-h", "--help"], "max_content_width": 100},
+)
 @click.version_option(__version__, prog_name="urdftool")
 def main() -> None:
     """Check, convert and draw robot descriptions (URDF, xacro, SDF).
@@ -23,11 +53,4 @@ def main() -> None:
     """
 
 
-main.add_command(check_command)
-main.add_command(convert_command)
-main.add_command(graph_command)
-main.add_command(info_command)
-main.add_command(rule_command)
-main.add_command(sim_command)
-
-__all__ = ["main"]
+__all__ = ["COMMANDS", "main"]

@@ -9,9 +9,13 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
-import numpy as np
+if TYPE_CHECKING:
+    import numpy as np
+else:
+    # NumPy is imported on first use: a structural check must not pay for it.
+    from urdftool.lazy import numpy as np
 
 from urdftool.diagnostics import Diagnostic
 from urdftool.model import Joint

@@ -210,8 +210,9 @@ class PackageResolver:
         absolute paths and paths relative to *base*'s folder. The returned path
         may not exist; ``tried`` lists where it looked.
         """
-        # abspath, not resolve(): no symlink walk per mesh (thousands per robot)
-        base_dir = Path(os.path.abspath(base)).parent
+        # os.path, not pathlib.resolve(): no symlink walk or object churn per mesh
+        # (a robot names thousands of them)
+        base_dir = os.path.dirname(os.path.abspath(base))
         for scheme, finder in (("package://", self.find_package), ("model://", self.find_model)):
             if uri.startswith(scheme):
                 rest = uri[len(scheme) :].lstrip("/")
@@ -219,11 +220,11 @@ class PackageResolver:
                 found = finder(pkg, base)
                 if found.path is None:
                     return found
-                target = Path(found.path) / rel
-                found.tried.append(str(target))
-                return Lookup(str(target), found.tried, pkg, package_dir=found.path)
+                target = os.path.join(found.path, rel)
+                found.tried.append(target)
+                return Lookup(target, found.tried, pkg, package_dir=found.path)
         if uri.startswith("file://"):
             path = uri[len("file://") :]
             return Lookup(path, [path])
-        target = Path(uri) if os.path.isabs(uri) else base_dir / uri
-        return Lookup(str(target), [str(target)])
+        target = uri if os.path.isabs(uri) else os.path.join(base_dir, uri)
+        return Lookup(target, [target])

@@ -11,8 +11,13 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from functools import cached_property
+from typing import TYPE_CHECKING
 
-import numpy as np
+if TYPE_CHECKING:
+    import numpy as np
+else:
+    # NumPy is imported on first use: a structural check must not pay for it.
+    from urdftool.lazy import numpy as np
 
 from urdftool.model import KinematicTree, Link
 from urdftool.model.pose import Matrix, Pose

@@ -6,9 +6,13 @@ geometry, a valid tensor for a link from its geometry at its mass.
 
 from __future__ import annotations
 
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
-import numpy as np
+if TYPE_CHECKING:
+    import numpy as np
+else:
+    # NumPy is imported on first use: a structural check must not pay for it.
+    from urdftool.lazy import numpy as np
 
 from urdftool.model import Link
 from urdftool.model.pose import Matrix

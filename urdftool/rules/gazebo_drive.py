@@ -15,8 +15,13 @@ values; this module measures them at the zero configuration:
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
-import numpy as np
+if TYPE_CHECKING:
+    import numpy as np
+else:
+    # NumPy is imported on first use: a structural check must not pay for it.
+    from urdftool.lazy import numpy as np
 
 from urdftool.model import Capsule, Collision, Cylinder, Joint, Link, Mesh, Sphere, Visual
 from urdftool.model.pose import Matrix

@@ -12,8 +12,13 @@ numbers and the reasons are in ``docs/inertia.md``.
 from __future__ import annotations
 
 from collections.abc import Iterator
+from typing import TYPE_CHECKING
 
-import numpy as np
+if TYPE_CHECKING:
+    import numpy as np
+else:
+    # NumPy is imported on first use: a structural check must not pay for it.
+    from urdftool.lazy import numpy as np
 
 from urdftool.diagnostics import Diagnostic, Severity
 from urdftool.model import Link

@@ -9,6 +9,7 @@ rule is selected at the lowest specificity.
 
 from __future__ import annotations
 
+import functools
 import re
 from collections.abc import Iterable
 from dataclasses import dataclass
@@ -65,10 +66,16 @@ class Selection:
         return best_ignore is None or best_select > best_ignore
 
     def enabled_code(self, code: str) -> bool:
-        from urdftool.rules.registry import REGISTRY
+        """Whether the rule with this code is on (memoised: called once per finding)."""
+        return _enabled_code(self, code)
 
-        rule = REGISTRY.get(code)
-        return rule is not None and self.enabled(rule)
+
+@functools.lru_cache(maxsize=4096)
+def _enabled_code(selection: Selection, code: str) -> bool:
+    from urdftool.rules.registry import REGISTRY
+
+    rule = REGISTRY.get(code)
+    return rule is not None and selection.enabled(rule)
 
 
 def _split(values: Iterable[str]) -> tuple[str, ...]:
