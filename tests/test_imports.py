@@ -63,3 +63,19 @@ def test_default_check_loads_only_pinocchio() -> None:
 def test_the_probe_sees_an_engine_when_one_is_imported() -> None:
     """The probe itself can fail: importing an engine is noticed."""
     assert _heavy_modules_after("import trimesh") == ["trimesh"]
+
+
+def test_structural_check_does_not_import_numpy() -> None:
+    """NumPy costs more to import than a structural check; the CLI start stays fast."""
+    code = (
+        "import sys\n"
+        "from urdftool.cli import main\n"
+        "try:\n"
+        f"    main(['check', '--select', 'S,X', {str(FIXTURES / 'robots' / 'two_link_arm.urdf')!r}])\n"
+        "except SystemExit as exc:\n"
+        "    assert exc.code == 0, exc.code\n"
+        "print('numpy' in sys.modules)\n"
+    )
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.strip().splitlines()[-1] == "False"
