@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import os
 from collections.abc import Iterable, Mapping
+from typing import TYPE_CHECKING
 
 from urdftool.check import CheckOptions, check_file, run_rules
 from urdftool.diagnostics import Diagnostic, FileReport, Report
@@ -11,6 +12,9 @@ from urdftool.model import Robot
 from urdftool.parse import InputError, read
 from urdftool.parse.packages import PackageResolver
 from urdftool.rules import Selection
+
+if TYPE_CHECKING:
+    from urdftool.export import ExportOptions
 
 PathLike = str | os.PathLike[str]
 
@@ -128,11 +132,7 @@ def to_dot(
 
     options = GraphOptions.of({"rankdir": rankdir, "collapse_fixed": collapse_fixed,
                                "diagnostics": diagnostics, "select": select, "ignore": ignore})
-    if isinstance(robot_or_path, Robot):
-        robot, inputs = robot_or_path, [robot_or_path.path] if robot_or_path.path else []
-    else:
-        robot = load(robot_or_path, xacro_args, packages, package_paths, model)
-        inputs = [os.fspath(robot_or_path)]
+    robot, inputs = _robot_and_inputs(robot_or_path, xacro_args, packages, package_paths, model)
     text = dot_text(robot, options)
     if out is not None:
         write_diagram(text, out, inputs, keep_dot)
@@ -147,37 +147,50 @@ class ConversionRefused(ValueError):
         self.diagnostics = tuple(diagnostics)
 
 
-def _export_text(
-    target: str,
+def _robot_and_inputs(
     robot_or_path: PathLike | Robot,
-    out: PathLike | None,
     xacro_args: Mapping[str, str] | None,
     packages: Mapping[str, PathLike] | None,
     package_paths: Iterable[PathLike],
     model: str | None,
+) -> tuple[Robot, list[str]]:
+    """The robot to export and the files it came from (never to be written over)."""
+    if isinstance(robot_or_path, Robot):
+        return robot_or_path, [robot_or_path.path] if robot_or_path.path else []
+    robot = load(robot_or_path, xacro_args, packages, package_paths, model)
+    return robot, [os.fspath(robot_or_path)]
+
+
+def _refuse_on_errors(robot: Robot, what: str, diagnostics: Iterable[Diagnostic]) -> None:
+    diagnostics = tuple(diagnostics)
+    errors = [d for d in diagnostics if d.severity.value == "error"]
+    if errors:
+        reasons = "; ".join(d.message for d in errors[:5])
+        raise ConversionRefused(f"{robot.name}: not converted {what}: {reasons}", diagnostics)
+
+
+def _export(
+    target: str,
+    suffix: str,
+    robot: Robot,
+    inputs: list[str],
+    out: PathLike | None,
+    options: ExportOptions,
 ) -> str:
-    """Run one text exporter; write atomically to *out* (never over an input) when given."""
+    """Run the exporter for *target*; with *out*, write its files atomically beside it."""
     from pathlib import Path
 
-    from urdftool.export import ExportOptions, export_model
+    from urdftool.export import export_model
     from urdftool.export.write import write_bytes_atomic
 
-    if isinstance(robot_or_path, Robot):
-        robot, inputs = robot_or_path, [robot_or_path.path] if robot_or_path.path else []
-    else:
-        robot = load(robot_or_path, xacro_args, packages, package_paths, model)
-        inputs = [os.fspath(robot_or_path)]
-    name = Path(out).name if out is not None else f"{robot.name or 'robot'}.{target}"
-    result = export_model(robot, target, name, ExportOptions())
-    if result.failed:
-        reasons = "; ".join(d.message for d in result.diagnostics if d.severity.value == "error")
-        raise ConversionRefused(
-            f"{robot.name}: not converted to {target.upper()}: {reasons}", result.diagnostics
-        )
-    data = result.files[name]
+    where = Path(out) if out is not None else Path(f"{robot.name or 'robot'}{suffix}")
+    result = export_model(robot, target, where, options)
+    _refuse_on_errors(robot, f"to {target}", result.diagnostics)
     if out is not None:
-        write_bytes_atomic(out, data, inputs)
-    return data.decode("utf-8")
+        folder = where.resolve().parent
+        for rel, data in sorted(result.files.items()):
+            write_bytes_atomic(folder / rel, data, inputs)
+    return result.files[where.name].decode("utf-8")
 
 
 def to_urdf(
@@ -204,45 +217,13 @@ def to_urdf(
     every link, invalid inertia refused unless *repair_inertia*. Without *out*
     paths are relative to the working directory and no asset is written.
     """
-    if flavor == "pybullet":
-        return _export_pybullet(robot_or_path, out, xacro_args, packages, package_paths, model,
-                                repair_inertia, copy_assets)
-    if flavor != "urdf":
+    if flavor not in ("urdf", "pybullet"):
         raise ValueError(f"unknown URDF flavor '{flavor}' (choose urdf or pybullet)")
-    return _export_text("urdf", robot_or_path, out, xacro_args, packages, package_paths, model)
+    from urdftool.export import ExportOptions
 
-
-def _export_pybullet(
-    robot_or_path: PathLike | Robot,
-    out: PathLike | None,
-    xacro_args: Mapping[str, str] | None,
-    packages: Mapping[str, PathLike] | None,
-    package_paths: Iterable[PathLike],
-    model: str | None,
-    repair_inertia: bool,
-    copy_assets: bool,
-) -> str:
-    """The PyBullet URDF as text; with *out*, it and its assets written atomically beside it."""
-    from pathlib import Path
-
-    from urdftool.export import ExportOptions, export_model
-    from urdftool.export.write import write_bytes_atomic
-
-    if isinstance(robot_or_path, Robot):
-        robot, inputs = robot_or_path, [robot_or_path.path] if robot_or_path.path else []
-    else:
-        robot = load(robot_or_path, xacro_args, packages, package_paths, model)
-        inputs = [os.fspath(robot_or_path)]
-    target = Path(out) if out is not None else Path(f"{robot.name or 'robot'}.urdf")
+    robot, inputs = _robot_and_inputs(robot_or_path, xacro_args, packages, package_paths, model)
     options = ExportOptions(repair_inertia=repair_inertia, copy_assets=copy_assets)
-    result = export_model(robot, "pybullet", target, options)
-    if result.failed:
-        reasons = "; ".join(d.message for d in result.diagnostics if d.severity.value == "error")
-        raise ConversionRefused(f"{robot.name}: not converted for PyBullet: {reasons}", result.diagnostics)
-    if out is not None:
-        for rel, data in sorted(result.files.items()):
-            write_bytes_atomic(target.resolve().parent / rel, data, inputs)
-    return result.files[target.name].decode("utf-8")
+    return _export(flavor, ".urdf", robot, inputs, out, options)
 
 
 def to_sdf(
@@ -259,7 +240,10 @@ def to_sdf(
     Raises :class:`ConversionRefused` for what SDF cannot hold (planar joints).
     The other arguments are those of :func:`load`.
     """
-    return _export_text("sdf", robot_or_path, out, xacro_args, packages, package_paths, model)
+    from urdftool.export import ExportOptions
+
+    robot, inputs = _robot_and_inputs(robot_or_path, xacro_args, packages, package_paths, model)
+    return _export("sdf", ".sdf", robot, inputs, out, ExportOptions())
 
 
 def to_mjcf(
@@ -293,19 +277,14 @@ def to_mjcf(
     from urdftool.export.mjcf import build
     from urdftool.export.write import write_bytes_atomic
 
-    if isinstance(robot_or_path, Robot):
-        robot, inputs = robot_or_path, [robot_or_path.path] if robot_or_path.path else []
-    else:
-        robot = load(robot_or_path, xacro_args, packages, package_paths, model)
-        inputs = [os.fspath(robot_or_path)]
+    robot, inputs = _robot_and_inputs(robot_or_path, xacro_args, packages, package_paths, model)
     options = ExportOptions(floating_base=floating_base, actuators=actuators, repair_inertia=repair_inertia,
                             copy_assets=copy_assets, scene=scene)
+    # Without OUT, meshes are referenced by absolute path (folder None), so this
+    # calls the builder rather than the file-producing export().
     folder = Path(out).resolve().parent if out is not None else None
     text, assets, diagnostics = build(robot, folder, options)
-    errors = [d for d in diagnostics if d.severity.value == "error"]
-    if errors:
-        reasons = "; ".join(d.message for d in errors[:5])
-        raise ConversionRefused(f"{robot.name}: not converted to MJCF: {reasons}", diagnostics)
+    _refuse_on_errors(robot, "to MJCF", diagnostics)
     if out is not None and folder is not None:
         for rel, data in assets.items():
             write_bytes_atomic(folder / rel, data, inputs)
