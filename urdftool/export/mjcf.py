@@ -34,7 +34,6 @@ from urdftool.export.mjcf_extras import (
     write_keyframe,
     write_scene,
 )
-from urdftool.export.mjcf_format import vec
 from urdftool.export.mjcf_geoms import (
     COLLISION_CLASS,
     COLLISION_GROUP,
@@ -43,6 +42,7 @@ from urdftool.export.mjcf_geoms import (
     GeomWriter,
 )
 from urdftool.export.mjcf_inertia import InertiaPlan
+from urdftool.export.numbers import vec
 from urdftool.model import KinematicTree, Robot
 from urdftool.model.pose import Matrix
 from urdftool.rules.syntax import EmptyRobot, MultipleRoots

@@ -26,8 +26,9 @@ from lxml import etree
 
 from urdftool.diagnostics import Diagnostic, Severity
 from urdftool.export.mjcf_base import BasePlan
-from urdftool.export.mjcf_format import num, pose_attributes, vec
+from urdftool.export.mjcf_format import pose_attributes
 from urdftool.export.mjcf_geoms import GeomWriter
+from urdftool.export.numbers import num, vec
 from urdftool.model import Inertial, Joint, JointType, KinematicTree, Link, Robot
 from urdftool.rules.conversion import ConversionDropped
 

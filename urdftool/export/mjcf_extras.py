@@ -18,7 +18,8 @@ from lxml import etree
 
 from urdftool.diagnostics import Diagnostic, Severity
 from urdftool.export.mjcf_bodies import MjJoint, clamp, unit_axis
-from urdftool.export.mjcf_format import num, pose_attributes, vec
+from urdftool.export.mjcf_format import pose_attributes
+from urdftool.export.numbers import num, vec
 from urdftool.model import Inertial, Joint, JointType, KinematicTree, LoopClosure, Robot
 from urdftool.model.pose import Matrix
 from urdftool.rules.conversion import ConversionDropped

@@ -7,25 +7,10 @@ at 1e-9 needs no slack for printing) and reruns give identical bytes.
 
 from __future__ import annotations
 
-from collections.abc import Iterable
-
 import numpy as np
 
+from urdftool.export.numbers import vec
 from urdftool.model.pose import Matrix, Pose, matrix_to_quaternion
-
-
-def num(value: float) -> str:
-    """Shortest text that parses back to exactly *value*; ``-0`` becomes ``0``, ``2.0`` becomes ``2``."""
-    value = float(value)
-    if value == 0.0:
-        return "0"
-    if value.is_integer() and abs(value) < 1e15:
-        return str(int(value))
-    return repr(value)
-
-
-def vec(values: Iterable[float]) -> str:
-    return " ".join(num(v) for v in values)
 
 
 def quat_of(rotation: Matrix) -> tuple[float, float, float, float]:

@@ -14,7 +14,8 @@ from lxml import etree
 
 from urdftool.diagnostics import Diagnostic, Severity
 from urdftool.export.mjcf_assets import AssetPlan, MeshUnavailable
-from urdftool.export.mjcf_format import num, pose_attributes, vec
+from urdftool.export.mjcf_format import pose_attributes
+from urdftool.export.numbers import num, vec
 from urdftool.model import (
     Box,
     Capsule,

@@ -22,7 +22,8 @@ from lxml import etree
 
 from urdftool.diagnostics import Diagnostic, Severity
 from urdftool.export import ExportOptions, ExportResult
-from urdftool.export.urdf import clean_copy, num, to_bytes, vec
+from urdftool.export.numbers import num, vec
+from urdftool.export.urdf import clean_copy, to_bytes
 from urdftool.model import (
     Box,
     Capsule,

@@ -26,6 +26,7 @@ from lxml import etree
 
 from urdftool.diagnostics import Diagnostic, Severity
 from urdftool.export import ExportOptions, ExportResult
+from urdftool.export.numbers import num, vec
 from urdftool.model import (
     Box,
     Collision,
@@ -54,20 +55,6 @@ URDF_JOINT_TYPES: dict[JointType, str] = {
     JointType.FLOATING: "floating",
     JointType.PLANAR: "planar",
 }
-
-
-def num(value: float) -> str:
-    """Shortest text that parses back to exactly *value*; ``-0`` is ``0``, ``2.0`` is ``2``."""
-    value = float(value)
-    if value == 0.0:
-        return "0"
-    if value.is_integer() and abs(value) < 1e15:
-        return str(int(value))
-    return repr(value)
-
-
-def vec(values: Iterable[float]) -> str:
-    return " ".join(num(v) for v in values)
 
 
 @dataclass(frozen=True)
