@@ -50,8 +50,9 @@ def ensure_system_tools() -> None:
 
 
 def ensure_venv(extras: str) -> None:
-    """Create the environment and install urdftool[extras] once (again when pyproject changes)."""
-    wanted = f"{extras}:{(ROOT / 'pyproject.toml').stat().st_mtime_ns}"
+    """Create the environment and install urdftool[extras] once (again when the pins change)."""
+    inputs = [ROOT / "pyproject.toml", ROOT / "constraints-test.txt"]
+    wanted = extras + "".join(f":{p.stat().st_mtime_ns}" for p in inputs if p.exists())
     if STAMP.exists() and STAMP.read_text() == wanted and Path(python()).exists():
         return
     if not Path(python()).exists():
@@ -59,7 +60,9 @@ def ensure_venv(extras: str) -> None:
         venv.EnvBuilder(with_pip=True).create(VENV)
     pip = [python(), "-m", "pip", "install", "--quiet", "--disable-pip-version-check"]
     subprocess.run([*pip, "--upgrade", "pip"], check=True)
-    subprocess.run([*pip, "-e", f"{ROOT}[{extras}]"], check=True)
+    constraints = ROOT / "constraints-test.txt"
+    pins = ["-c", str(constraints)] if constraints.exists() else []
+    subprocess.run([*pip, "-e", f"{ROOT}[{extras}]", *pins], check=True)
     STAMP.write_text(wanted)
 
 
