@@ -77,10 +77,8 @@ def read(
         if fmt == "xacro":
             return [_read_xacro(path, xacro_args or {}, resolver)]
         if fmt == "sdf":
-            try:
-                from urdftool.parse.sdf import read_sdf
-            except ImportError as exc:  # SDF input is being built (issue 4)
-                raise InputError(f"{path}: SDF input is not supported yet") from exc
+            from urdftool.parse.sdf import read_sdf
+
             return read_sdf(path, resolver)
         return [_read_urdf(path, resolver, xacro_args or {})]
     except OSError as exc:
