@@ -296,3 +296,22 @@ def test_rule_catalogue() -> None:
     assert any(
         line.startswith("X005") and "macros-only" in line for line in result.output.splitlines()
     )
+
+
+def test_convert_quiet_prints_errors_only(tmp_path) -> None:
+    """`convert -q` keeps the loss report's warnings out of CI logs; without -q they are printed."""
+    from click.testing import CliRunner
+
+    from urdftool.cli import main
+
+    source = FIXTURES / "robots" / "two_link_arm.urdf"
+    text = source.read_text().replace(
+        "</robot>", '<gazebo><plugin name="p" filename="libp.so"/></gazebo></robot>'
+    )
+    robot = tmp_path / "arm.urdf"
+    robot.write_text(text)
+    loud = CliRunner().invoke(main, ["convert", str(robot), "-o", str(tmp_path / "a.xml")])
+    quiet = CliRunner().invoke(main, ["convert", str(robot), "-o", str(tmp_path / "b.xml"), "-q"])
+    assert loud.exit_code == quiet.exit_code == 0
+    assert "conversion-dropped" in loud.output
+    assert "conversion-dropped" not in quiet.output

@@ -49,6 +49,7 @@ def _emit(diagnostics: Sequence[Diagnostic]) -> None:
 )
 @click.option("--copy-assets", is_flag=True, help="Copy meshes into an assets folder beside OUT.")
 @click.option("--scene", is_flag=True, help="MJCF: add a ground plane and a light.")
+@click.option("-q", "--quiet", is_flag=True, help="Print errors only (not the loss report's warnings).")
 @model_options
 def convert_command(
     source: str,
@@ -62,6 +63,7 @@ def convert_command(
     repair_inertia: bool,
     copy_assets: bool,
     scene: bool,
+    quiet: bool,
     xacro_args: Sequence[str],
     packages: Sequence[str],
     package_paths: Sequence[str],
@@ -103,7 +105,7 @@ def convert_command(
     except UnknownTarget as exc:
         click.echo(f"urdftool: {exc}", err=True)
         sys.exit(EXIT_USAGE)
-    _emit(result.diagnostics)
+    _emit([d for d in result.diagnostics if not quiet or d.severity is Severity.ERROR])
     if result.failed:
         click.echo(f"urdftool: {source}: not converted", err=True)
         sys.exit(EXIT_FINDINGS)
