@@ -202,19 +202,23 @@ def collada_declares_entities(path: str) -> bool:
     return b"<!ENTITY" in head.upper()
 
 
-def load_trimesh(path: str):  # type: ignore[no-untyped-def]
+def load_trimesh(path: str, lean: bool = True):  # type: ignore[no-untyped-def]
     """The file as one ``trimesh.Trimesh`` in metres.
 
-    Scenes are concatenated and COLLADA units applied.
+    Scenes are concatenated and COLLADA units applied. A ``.dae`` file is read
+    with the lean reader of :mod:`urdftool.backends.collada` when it handles
+    the file (*lean*), else with trimesh (pycollada); both give the same mesh.
     """
     import trimesh
 
     if collada_declares_entities(path):
         raise MeshError("the COLLADA file declares XML entities, which urdftool refuses to expand")
-    try:
-        loaded = trimesh.load(path, force="mesh", process=True)
-    except Exception as exc:  # trimesh raises many kinds for bad files
-        raise MeshError(f"{type(exc).__name__}: {exc}".strip().rstrip(":")) from exc
+    loaded = lean_collada(path) if lean and path.lower().endswith(".dae") else None
+    if loaded is None:
+        try:
+            loaded = trimesh.load(path, force="mesh", process=True)
+        except Exception as exc:  # trimesh raises many kinds for bad files
+            raise MeshError(f"{type(exc).__name__}: {exc}".strip().rstrip(":")) from exc
     if (
         not isinstance(loaded, trimesh.Trimesh) or len(loaded.faces) == 0
     ) and path.lower().endswith(".dae"):
@@ -224,6 +228,51 @@ def load_trimesh(path: str):  # type: ignore[no-untyped-def]
     unit = collada_unit(path)
     if unit != 1.0:
         loaded.apply_scale(unit)
+    return loaded
+
+
+def lean_collada(path: str) -> Any:
+    """The COLLADA file as trimesh would load it (before units), through the lean reader.
+
+    ``None`` when the reader does not handle the file or finds no triangles:
+    the caller then loads it with trimesh. Each primitive becomes a mesh whose
+    vertices are merged as trimesh merges them (by position, normal and, when
+    textured, texture coordinates), placed by its node's matrix; the meshes are
+    concatenated, as trimesh's scene ``to_mesh`` does.
+    """
+    import trimesh
+
+    from urdftool.backends import collada
+
+    try:
+        scene = collada.read(path)
+    except (collada.Unsupported, OSError, RecursionError, MemoryError):
+        return None
+    from trimesh.exchange.load import _load_kwargs
+
+    geometry: dict[str, dict[str, Any]] = {}
+    graph = []
+    for number, part in enumerate(scene.parts):
+        visual = None
+        if part.textured:
+            visual = trimesh.visual.TextureVisuals(
+                uv=part.uv, material=trimesh.visual.material.SimpleMaterial()
+            )
+        name = f"geometry_{number}"
+        geometry[name] = {
+            "vertices": part.vertices,
+            "faces": np.arange(len(part.vertices)).reshape(-1, 3),
+            "vertex_normals": part.normals,
+            "visual": visual,
+        }
+        graph.append({"frame_to": name, "matrix": part.matrix, "geometry": name})
+    if not geometry:
+        return None
+    # trimesh's own scene assembly, as for the scene its COLLADA loader returns
+    built: Any = _load_kwargs({"class": "Scene", "graph": graph, "geometry": geometry})
+    loaded = built.to_mesh()
+    if not isinstance(loaded, trimesh.Trimesh) or len(loaded.faces) == 0:
+        return None
     return loaded
 
 
@@ -259,9 +308,12 @@ def _collada_geometry_only(path: str) -> Any:
         return None
 
 
-def read_facts(path: str) -> MeshFacts:
-    """Read *path* with trimesh and measure it (no caching). Raises :class:`MeshError`."""
-    mesh = load_trimesh(path)
+def read_facts(path: str, lean: bool = True) -> MeshFacts:
+    """Read *path* with trimesh and measure it (no caching). Raises :class:`MeshError`.
+
+    *lean* reads COLLADA files with the lean reader where it can (see :func:`load_trimesh`).
+    """
+    mesh = load_trimesh(path, lean)
     watertight = bool(mesh.is_watertight)
     solid = mesh if watertight else _convex_hull(mesh)
     lo, hi = mesh.bounds
