@@ -11,15 +11,24 @@ are in ``docs/sim.md``.
 from __future__ import annotations
 
 from collections.abc import Iterator
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from urdftool.diagnostics import Diagnostic, Severity
-from urdftool.dynamics.sim import SimResult, display_name, options_from, simulate
-from urdftool.dynamics.sim_record import EngineRun, LimitViolation
 from urdftool.model import Joint, JointType, Robot
 from urdftool.physics.describe import fmt
 from urdftool.rules.registry import CheckContext, Family, Rule, register
 from urdftool.source import Span
+
+if TYPE_CHECKING:
+    from urdftool.dynamics.sim import SimResult
+    from urdftool.dynamics.sim_record import EngineRun, LimitViolation
+
+
+def display_name(engine: str) -> str:
+    """The engine's name as users know it (the simulation modules load only when a run is asked for)."""
+    from urdftool.dynamics.sim import display_name as name
+
+    return name(engine)
 
 #: A joint faster than this (rad/s, or m/s for prismatic joints) has blown up.
 JOINT_SPEED_LIMIT = 100.0
@@ -45,6 +54,8 @@ class _Runtime(Rule):
 def simulation(ctx: CheckContext) -> SimResult | None:
     """The smoke simulation of this robot, run once per check (``None`` when not asked for)."""
     if "sim" not in ctx.cache:
+        from urdftool.dynamics.sim import options_from, simulate
+
         options = options_from(ctx.options)
         ctx.cache["sim"] = simulate(ctx.robot, options) if options and ctx.robot.links else None
     return ctx.cache["sim"]  # type: ignore[no-any-return]
