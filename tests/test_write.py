@@ -35,3 +35,29 @@ def test_stale_detection(tmp_path) -> None:
     target.write_bytes(b"x")
     assert not is_stale(target, b"x")
     assert is_stale(target, b"y")
+
+
+def test_unwritable_folder_is_an_output_error(tmp_path) -> None:
+    blocker = tmp_path / "file"
+    blocker.write_text("not a folder")
+    with pytest.raises(OutputError, match="cannot write"):
+        write_bytes_atomic(blocker / "robot.xml", b"x")
+
+
+@pytest.mark.parametrize(
+    ("command", "name"),
+    [("check", "report.txt"), ("convert", "robot.xml"), ("graph", "tree.dot"), ("graph", "tree.svg")],
+)
+def test_cli_unwritable_output_exits_2_without_traceback(tmp_path, command, name) -> None:
+    from click.testing import CliRunner
+
+    from tests.conftest import FIXTURES
+    from urdftool.cli import main
+
+    blocker = tmp_path / "file"
+    blocker.write_text("not a folder")
+    out = str(blocker / name)
+    result = CliRunner().invoke(main, [command, str(FIXTURES / "robots" / "two_link_arm.urdf"), "-o", out])
+    assert result.exit_code == 2, result.output
+    assert result.exception is None or isinstance(result.exception, SystemExit)
+    assert "cannot write" in result.output

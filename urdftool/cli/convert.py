@@ -121,8 +121,12 @@ def convert_command(
         for rel in stale:
             click.echo(f"{folder / rel}: stale (differs from what would be written)", err=True)
         sys.exit(EXIT_FINDINGS if stale else EXIT_OK)
-    for rel, data in sorted(result.files.items()):
-        write_bytes_atomic(folder / rel, data, loaded.files or [source])
+    try:
+        for rel, data in sorted(result.files.items()):
+            write_bytes_atomic(folder / rel, data, loaded.files or [source])
+    except OutputError as exc:
+        click.echo(f"urdftool: {exc}", err=True)
+        sys.exit(EXIT_USAGE)
     if verify:
         try:
             outcome = verify_model(robot, target, out, export_options)

@@ -10,7 +10,8 @@ from pathlib import Path
 
 
 class OutputError(Exception):
-    """An output that must not or cannot be written (it would replace an input)."""
+    """An output that must not be written (it would replace an input) or cannot be (no permission,
+    no such folder, disk full)."""
 
 
 def _same_file(a: str | os.PathLike[str], b: str | os.PathLike[str]) -> bool:
@@ -29,35 +30,68 @@ def guard_inputs(output: str | os.PathLike[str], inputs: Iterable[str | os.PathL
             raise OutputError(f"{output}: refusing to write over the input file")
 
 
+def file_mode() -> int:
+    """The mode a plain ``open()`` would give: 0o666 less the umask (mkstemp makes 0o600).
+
+    Outputs are ordinary files to share, not private ones.
+    """
+    mask = os.umask(0)
+    os.umask(mask)
+    return 0o666 & ~mask
+
+
+def reserve(path: str | os.PathLike[str], inputs: Iterable[str | os.PathLike[str]] = ()) -> str:
+    """A new temporary file beside *path* to be filled and then :func:`commit`-ted over it.
+
+    Raises :class:`OutputError` when *path* is an input or its folder cannot be written.
+    """
+    guard_inputs(path, inputs)
+    target = Path(path)
+    try:
+        target.parent.mkdir(parents=True, exist_ok=True)
+        fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".tmp", dir=target.parent)
+        os.fchmod(fd, file_mode())
+        os.close(fd)
+    except OSError as exc:
+        raise OutputError(f"{path}: cannot write: {exc.strerror or exc}") from exc
+    return tmp
+
+
+def commit(tmp: str, path: str | os.PathLike[str]) -> None:
+    """Move the filled temporary *tmp* over *path* in one step (readers never see half a file)."""
+    try:
+        os.replace(tmp, path)
+    except OSError as exc:
+        discard(tmp)
+        raise OutputError(f"{path}: cannot write: {exc.strerror or exc}") from exc
+
+
+def discard(tmp: str) -> None:
+    with contextlib.suppress(OSError):
+        os.unlink(tmp)
+
+
 def write_bytes_atomic(
     path: str | os.PathLike[str], data: bytes, inputs: Iterable[str | os.PathLike[str]] = ()
 ) -> None:
     """Write *data* to *path* through a temporary file in the same folder, then rename.
 
     Readers never see a half-written file; an interrupted run leaves the old file.
+    Raises :class:`OutputError` when *path* is an input or cannot be written.
     """
-    guard_inputs(path, inputs)
-    target = Path(path)
-    target.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".tmp", dir=target.parent)
+    tmp = reserve(path, inputs)
     try:
-        # mkstemp creates 0600; outputs are ordinary files, so apply the user's umask.
-        os.fchmod(fd, 0o666 & ~_umask())
-        with os.fdopen(fd, "wb") as handle:
+        with open(tmp, "wb") as handle:
             handle.write(data)
             handle.flush()
             os.fsync(handle.fileno())
-        os.replace(tmp, target)
+    except OSError as exc:
+        discard(tmp)
+        raise OutputError(f"{path}: cannot write: {exc.strerror or exc}") from exc
     except BaseException:
-        with contextlib.suppress(OSError):
-            os.unlink(tmp)
+        discard(tmp)
         raise
-
-
-def _umask() -> int:
-    mask = os.umask(0)
-    os.umask(mask)
-    return mask
+    commit(tmp, path)
 
 
 def write_text_atomic(

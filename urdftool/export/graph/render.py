@@ -12,11 +12,10 @@ import os
 import re
 import shutil
 import subprocess
-import tempfile
 from collections.abc import Iterable, Mapping
 from pathlib import Path
 
-from urdftool.export.write import guard_inputs
+from urdftool.export.write import commit, discard, reserve
 
 #: output suffix -> Graphviz output format
 RENDERED_SUFFIXES: dict[str, str] = {".pdf": "pdf", ".svg": "svg", ".png": "png"}
@@ -68,13 +67,6 @@ def _stamp() -> bytes:
     return time.strftime("%Y%m%d%H%M%S", time.gmtime(epoch)).encode()
 
 
-def _file_mode() -> int:
-    """The mode a plain ``open()`` would give: 0o666 less the umask (mkstemp makes 0o600)."""
-    umask = os.umask(0)
-    os.umask(umask)
-    return 0o666 & ~umask
-
-
 def _normalise(fmt: str, path: str) -> None:
     if fmt != "pdf":
         return
@@ -103,12 +95,7 @@ def render_files(
     temporary: dict[Path, tuple[str, str]] = {}
     try:
         for out, fmt in outputs.items():
-            target = Path(out)
-            guard_inputs(target, sources)
-            target.parent.mkdir(parents=True, exist_ok=True)
-            fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".tmp", dir=target.parent)
-            os.close(fd)
-            temporary[target] = (tmp, fmt)
+            temporary[Path(out)] = (reserve(out, sources), fmt)
         command = [exe]
         for tmp, fmt in temporary.values():
             command += [f"-T{fmt}", f"-o{tmp}"]
@@ -127,10 +114,8 @@ def render_files(
             raise GraphvizFailed(messages or f"dot exited with status {run.returncode}")
         for target, (tmp, fmt) in temporary.items():
             _normalise(fmt, tmp)
-            os.chmod(tmp, _file_mode())  # a diagram is for sharing, not private
-            os.replace(tmp, target)
+            commit(tmp, target)
         return [line for line in messages.splitlines() if line.strip()]
     finally:
         for tmp, _ in temporary.values():
-            if os.path.exists(tmp):
-                os.unlink(tmp)
+            discard(tmp)
