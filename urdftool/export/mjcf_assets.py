@@ -15,27 +15,27 @@ and two copies of one mesh become one asset. A mesh used at two scales is two
 from __future__ import annotations
 
 import functools
-import hashlib
 import os
-import re
 import struct
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 
+from urdftool.export.assets import (
+    MeshUnavailable,
+    asset_name,
+    content_hash,
+    is_binary_stl,
+    safe_stem,
+)
 from urdftool.model import Mesh
 from urdftool.model.pose import Vec3
 
-ASSETS_DIR = "assets"
 #: Suffixes MuJoCo's compiler reads itself.
 NATIVE_SUFFIXES = (".stl", ".obj", ".msh")
 #: MuJoCo's STL decoder refuses files with more triangles.
 MAX_STL_TRIANGLES = 200000
-
-
-class MeshUnavailable(Exception):
-    """The mesh file is missing or neither MuJoCo nor trimesh can read it."""
 
 
 @dataclass(frozen=True)
@@ -45,23 +45,6 @@ class MeshAsset:
     name: str
     file: str
     scale: Vec3
-
-
-def _sha(data: bytes) -> str:
-    return hashlib.sha256(data).hexdigest()
-
-
-def _safe_stem(path: str) -> str:
-    stem = Path(path).name.split(".")[0] or "mesh"
-    return re.sub(r"[^A-Za-z0-9_-]", "_", stem)
-
-
-def is_binary_stl(data: bytes) -> bool:
-    """A binary STL has exactly 84 + 50 × (triangle count) bytes; ASCII STL does not."""
-    if len(data) < 84:
-        return False
-    count: int = struct.unpack_from("<I", data, 80)[0]
-    return len(data) == 84 + 50 * count
 
 
 def mujoco_reads(suffix: str, data: bytes) -> bool:
@@ -137,7 +120,7 @@ class AssetPlan:
         key = (content, (float(sx), float(sy), float(sz)))
         if key in self._by_content:
             return self._by_content[key]
-        base = f"{_safe_stem(mesh.resolved)}-{content[:8]}"
+        base = f"{safe_stem(mesh.resolved)}-{content[:8]}"
         taken = {m.name for m in self.meshes}
         name, n = base, 1
         while name in taken:
@@ -154,14 +137,14 @@ class AssetPlan:
             data = Path(path).read_bytes()
         except OSError as exc:
             raise MeshUnavailable(f"cannot read '{path}' ({exc.strerror or exc})") from exc
-        content = _sha(data)
+        content = content_hash(data)
         suffix = Path(path).suffix.lower()
         native = mujoco_reads(suffix, data)
         if native and not self.copy:
             reference = self._reference(path)
         else:
             payload, out_suffix = (data, suffix) if native else _convert_cached(content, path)
-            reference = f"{ASSETS_DIR}/{_safe_stem(path)}-{_sha(payload)[:12]}{out_suffix}"
+            reference = asset_name(path, payload, out_suffix)
             self.files[reference] = payload
         self._by_path[path] = (content, reference)
         return content, reference

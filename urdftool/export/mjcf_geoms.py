@@ -13,7 +13,8 @@ from collections.abc import Callable
 from lxml import etree
 
 from urdftool.diagnostics import Diagnostic, Severity
-from urdftool.export.mjcf_assets import AssetPlan, MeshUnavailable
+from urdftool.export.assets import MeshUnavailable
+from urdftool.export.mjcf_assets import AssetPlan
 from urdftool.export.mjcf_format import pose_attributes
 from urdftool.export.numbers import num, vec
 from urdftool.model import (

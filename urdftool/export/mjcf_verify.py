@@ -25,6 +25,7 @@ from urdftool.export import ExportOptions, VerifyResult
 from urdftool.export.mjcf_base import decide_base
 from urdftool.model import Collision, Joint, JointType, KinematicTree, Robot, Visual
 from urdftool.model.pose import Matrix, quaternion_to_matrix
+from urdftool.model.tree import mimic_value
 from urdftool.rules.conversion import EngineRejected
 
 CONFIGURATIONS = 20
@@ -103,7 +104,6 @@ def build_maps(
 def _sample(maps: list[JointMap], robot: Robot, rng: np.random.Generator) -> dict[int, Any]:
     """A random value per map entry (index -> float or array), mimic followers following."""
     values: dict[int, Any] = {}
-    by_name = {m.joint.name: i for i, m in enumerate(maps) if m.joint is not None}
     for i, m in enumerate(maps):
         if m.kind in ("free", "ball"):
             pos = rng.uniform(-UNLIMITED_TRANSLATION, UNLIMITED_TRANSLATION, 3)
@@ -113,23 +113,12 @@ def _sample(maps: list[JointMap], robot: Robot, rng: np.random.Generator) -> dic
         else:
             assert m.joint is not None
             values[i] = float(rng.uniform(*_bounds(m.joint)))
+    by_name = {m.joint.name: float(values[i]) for i, m in enumerate(maps)
+               if m.joint is not None and m.kind == "one"}
     for i, m in enumerate(maps):
         if m.joint is not None and m.joint.mimic is not None and m.kind == "one":
-            values[i] = _mimic_value(i, maps, values, by_name, set())
+            values[i] = mimic_value(m.joint, by_name, robot)
     return values
-
-
-def _mimic_value(i: int, maps: list[JointMap], values: dict[int, Any], by_name: dict[str, int],
-                 seen: set[int]) -> float:
-    joint = maps[i].joint
-    assert joint is not None and joint.mimic is not None
-    leader = by_name.get(joint.mimic.joint)
-    if leader is None or leader in seen or maps[leader].kind != "one":
-        return float(values[i])
-    lead = maps[leader].joint
-    value = (_mimic_value(leader, maps, values, by_name, seen | {i}) if lead and lead.mimic
-             else float(values[leader]))
-    return joint.mimic.offset + joint.mimic.multiplier * value
 
 
 def _configure(maps: list[JointMap], values: dict[int, Any], nq_mj: int, nq_pin: int, nv_mj: int,

@@ -28,7 +28,7 @@ from urdftool.export import ExportOptions, VerifyResult
 from urdftool.export.pybullet_inertia import plan_inertia
 from urdftool.model import Inertial, Joint, JointType, KinematicTree, Link, Robot
 from urdftool.model.pose import Matrix
-from urdftool.model.tree import _mimic_value as mimic_value
+from urdftool.model.tree import mimic_value
 from urdftool.physics.inertia import principal_moments
 from urdftool.rules.conversion import EngineRejected
 from urdftool.source import Span

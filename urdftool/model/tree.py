@@ -144,7 +144,7 @@ class KinematicTree:
         return poses
 
 
-def _mimic_value(joint: Joint, q: Mapping[str, float | Sequence[float]], robot: Robot) -> float:
+def mimic_value(joint: Joint, q: Mapping[str, float | Sequence[float]], robot: Robot) -> float:
     """Position of a mimic joint, following chains of mimics; a cycle falls back to q (or 0)."""
     assert joint.mimic is not None
     chain = [joint]
@@ -177,7 +177,7 @@ def joint_motion(joint: Joint, q: Mapping[str, float | Sequence[float]], robot: 
         return np.eye(4)
     value: float | Sequence[float]
     if joint.mimic is not None and joint.type.dof == 1:
-        value = _mimic_value(joint, q, robot)
+        value = mimic_value(joint, q, robot)
     else:
         value = q.get(joint.name, 0.0)
     axis = np.asarray(joint.axis, dtype=float)
