@@ -416,7 +416,9 @@ def xacro_in_urdf(root: Any) -> Diagnostic | None:
     from urdftool.rules.xacro import XacroInUrdf
 
     for element in root.iter():
-        if isinstance(element.tag, str) and "wiki/xacro" in (etree.QName(element).namespace or ""):
+        tag = element.tag
+        # Only namespaced tags ("{uri}name") can be xacro; test the string before building a QName.
+        if isinstance(tag, str) and tag.startswith("{") and "wiki/xacro" in tag:
             tag = etree.QName(element).localname
             return XacroInUrdf.diagnostic(
                 f"this .urdf file uses xacro (<xacro:{tag}>); it was expanded with xacro, but "
