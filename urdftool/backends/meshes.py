@@ -248,7 +248,12 @@ def lean_collada(path: str) -> Any:
         scene = collada.read(path)
     except (collada.Unsupported, OSError, RecursionError, MemoryError):
         return None
-    from trimesh.exchange.load import _load_kwargs
+    try:
+        # trimesh's own scene assembly is private API; a trimesh that moved it
+        # simply sends every COLLADA file down the regular (pycollada) path.
+        from trimesh.exchange.load import _load_kwargs
+    except ImportError:
+        return None
 
     geometry: dict[str, dict[str, Any]] = {}
     graph = []
