@@ -11,7 +11,7 @@ import pytest
 
 ROOT = Path(__file__).resolve().parent.parent
 FIXTURES = ROOT / "fixtures"
-SEEDS = ROOT.parent / "shared" / "corpus" / "seed-systems"
+SEEDS = FIXTURES / "seeds"
 
 
 def example_robot_data_dir() -> Path | None:
@@ -45,7 +45,7 @@ def relative(path: str, base: Path | None) -> str:
 
 @pytest.fixture
 def seeds() -> Path:
-    assert SEEDS.is_dir(), f"the seed corpus is expected beside the repository at {SEEDS}"
+    assert SEEDS.is_dir(), f"the vendored seed corpus is missing at {SEEDS}"
     return SEEDS
 
 

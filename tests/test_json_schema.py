@@ -16,7 +16,7 @@ from tests.conftest import ERD, FIXTURES, PBD, ROOT, SEEDS
 from urdftool.cli import main
 
 SCHEMA = json.loads((ROOT / "schemas" / "report.schema.json").read_text(encoding="utf-8"))
-CONTRACTS = ROOT.parent / "shared" / "CONTRACTS.md"
+CONTRACTS = ROOT / "fixtures" / "contracts" / "CONTRACTS.md"
 VALIDATOR = Draft202012Validator(SCHEMA)
 
 

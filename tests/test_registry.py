@@ -11,7 +11,7 @@ from urdftool.rules.docs import pages
 from urdftool.rules.registry import CODE_PATTERN, DOC_SECTIONS, NAME_PATTERN
 
 ROOT = Path(__file__).resolve().parent.parent
-CONTRACTS = ROOT.parent / "shared" / "CONTRACTS.md"
+CONTRACTS = ROOT / "fixtures" / "contracts" / "CONTRACTS.md"
 
 
 def test_codes_and_names_are_unique_and_well_formed() -> None:
