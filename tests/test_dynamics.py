@@ -13,11 +13,11 @@ from tests.conftest import ERD, FIXTURES, ROOT
 from urdftool.check import CheckOptions, check_file
 from urdftool.diagnostics import Diagnostic
 from urdftool.dynamics.analysis import analyse
-from urdftool.dynamics.com import center_of_mass
 from urdftool.dynamics.configurations import configurations, joint_range, zero_configuration
 from urdftool.dynamics.coverage import floating_base, not_covered
 from urdftool.model import JointType, KinematicTree
 from urdftool.parse import read
+from urdftool.physics.com import center_of_mass
 
 RULES = FIXTURES / "rules"
 

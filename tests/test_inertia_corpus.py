@@ -31,8 +31,8 @@ from urdftool.parse.packages import PackageResolver
 from urdftool.parse.xmlio import read_file
 from urdftool.physics.inertia import assess
 from urdftool.physics.linkmass import compare_with_geometry
+from urdftool.rules.context import CheckContext
 from urdftool.rules.inertia import InertiaGeometryMismatch
-from urdftool.rules.registry import CheckContext
 from urdftool.source import SRC_ATTRIBUTE
 
 

@@ -28,8 +28,7 @@ from urdftool.api import (
 from urdftool.diagnostics import Diagnostic, FileReport, Report, Severity
 from urdftool.model import Robot
 from urdftool.source import Span
-
-__version__ = "0.1.0"
+from urdftool.version import __version__
 
 __all__ = [
     "ConversionRefused",

@@ -7,13 +7,13 @@ from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
+from urdftool.catalogue.syntax import InternalError
 from urdftool.diagnostics import Diagnostic, FileReport, Report
 from urdftool.model import KinematicTree, Robot
 from urdftool.parse import Loaded, read
 from urdftool.parse.packages import PackageResolver
 from urdftool.rules import CheckContext, Selection
 from urdftool.rules.registry import model_rules
-from urdftool.rules.syntax import InternalError
 
 
 @dataclass(frozen=True)

@@ -11,7 +11,7 @@ from urdftool.model import KinematicTree, Robot
 def summarize(robot: Robot) -> dict[str, Any]:
     """Name, root, link and joint counts, DOF, total mass (kg), centre of mass (m, root frame
     at q = 0), loops, and the tree outline."""
-    from urdftool.dynamics.com import center_of_mass
+    from urdftool.physics.com import center_of_mass
 
     tree = KinematicTree.of(robot)
     types = Counter(j.type.value for j in robot.joints)

@@ -11,7 +11,7 @@ coordinates one to one:
   ``FreeFlyer`` (x, y, z, then quaternion x, y, z, w);
 * planar joints are ``Planar`` (x, y, cos θ, sin θ) in a frame whose z is the
   URDF axis and whose x, y are the in-plane directions e1, e2 of
-  :func:`urdftool.export.mjcf_bodies.planar_directions`;
+  :func:`urdftool.model.pose.planar_directions`;
 * fixed joints add no joint: the child link becomes a ``BODY`` frame on the
   parent's joint and its inertia is added to that joint's body;
 * mimic joints are kept as joints of their own (as MuJoCo carries them, tied by
@@ -35,7 +35,7 @@ else:
     from urdftool.lazy import numpy as np
 
 from urdftool.model import Inertial, Joint, JointType, KinematicTree, Robot
-from urdftool.model.pose import Matrix
+from urdftool.model.pose import Matrix, planar_directions
 
 #: Name of the free-flyer joint added with ``free_flyer=True``.
 FREE_FLYER = "root_joint"
@@ -110,7 +110,6 @@ def _unit(axis: tuple[float, float, float]) -> np.ndarray:
 
 
 def _planar_frame(axis: tuple[float, float, float]) -> Matrix:
-    from urdftool.export.mjcf_bodies import planar_directions
 
     unit = _unit(axis)
     e1, e2 = planar_directions((float(unit[0]), float(unit[1]), float(unit[2])))

@@ -11,7 +11,7 @@ import importlib
 
 import click
 
-from urdftool import __version__
+from urdftool.version import __version__
 
 #: command name -> "module:attribute" of its click command
 COMMANDS: dict[str, str] = {

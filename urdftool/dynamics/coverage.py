@@ -88,7 +88,7 @@ def floating_base(robot: Robot, tree: KinematicTree) -> tuple[bool, str]:
     A root named ``world`` or a robot without wheels or legs is fixed to the
     world; wheels, legs or a ``floating`` joint at the root make it mobile.
     """
-    from urdftool.export.mjcf_base import decide_base
+    from urdftool.physics.mobility import decide_base
 
     if tree.root == "world":
         children = tree.child_joints.get("world", [])

@@ -16,6 +16,7 @@ from typing import Any
 
 import numpy as np
 
+from urdftool.catalogue.conversion import EngineRejected
 from urdftool.diagnostics import Diagnostic, Severity
 from urdftool.dynamics.sim_record import EngineRun, Penetration, Recorder
 from urdftool.dynamics.sim_scene import (
@@ -26,7 +27,6 @@ from urdftool.dynamics.sim_scene import (
     SimOptions,
 )
 from urdftool.model import Joint
-from urdftool.rules.conversion import EngineRejected
 
 
 def run_mujoco(scene: Scene, options: SimOptions) -> EngineRun:

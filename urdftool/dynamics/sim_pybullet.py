@@ -110,7 +110,7 @@ def _export(scene: Scene, options: SimOptions, folder: Path, run: EngineRun) -> 
 
 
 def _rejected(scene: Scene, message: str) -> Any:
-    from urdftool.rules.conversion import EngineRejected
+    from urdftool.catalogue.conversion import EngineRejected
 
     return EngineRejected.diagnostic(f"PyBullet refused the exported model: {message}", scene.robot.span,
                                      data={"engine": "pybullet"})

@@ -5,7 +5,7 @@ written here); :func:`verify` compiles the written file with MuJoCo and compares
 it number by number with Pinocchio built from the source model. The decisions
 behind the mapping are in ``docs/mjcf.md``; each part lives in its own module:
 
-* ``mjcf_base``: free, fixed or world-rooted base (``--floating-base``);
+* :mod:`urdftool.physics.mobility`: free, fixed or world-rooted base (``--floating-base``);
 * ``mjcf_bodies``: one body per link, joints by type, inertials;
 * ``mjcf_inertia``: validation and ``--repair-inertia``;
 * ``mjcf_geoms`` and ``mjcf_assets``: geoms, mesh assets and conversion;
@@ -23,7 +23,6 @@ from lxml import etree
 from urdftool.diagnostics import Diagnostic
 from urdftool.export import ExportOptions, ExportResult, VerifyResult
 from urdftool.export.mjcf_assets import AssetPlan
-from urdftool.export.mjcf_base import BasePlan, decide_base
 from urdftool.export.mjcf_bodies import BodyWriter
 from urdftool.export.mjcf_dropped import dropped_extensions
 from urdftool.export.mjcf_extras import (
@@ -45,6 +44,7 @@ from urdftool.export.mjcf_inertia import InertiaPlan
 from urdftool.export.numbers import vec
 from urdftool.model import KinematicTree, Robot
 from urdftool.model.pose import Matrix
+from urdftool.physics.mobility import BasePlan, decide_base
 from urdftool.rules.syntax import EmptyRobot, MultipleRoots
 
 

@@ -24,13 +24,14 @@ from dataclasses import dataclass, field
 import numpy as np
 from lxml import etree
 
+from urdftool.catalogue.conversion import ConversionDropped
 from urdftool.diagnostics import Diagnostic, Severity
-from urdftool.export.mjcf_base import BasePlan
 from urdftool.export.mjcf_format import pose_attributes
 from urdftool.export.mjcf_geoms import GeomWriter
 from urdftool.export.numbers import num, vec
 from urdftool.model import Inertial, Joint, JointType, KinematicTree, Link, Robot
-from urdftool.rules.conversion import ConversionDropped
+from urdftool.model.pose import planar_directions
+from urdftool.physics.mobility import BasePlan
 
 #: The motion types of MJCF joints and the qpos each takes.
 QPOS_SIZE = {"free": 7, "ball": 4, "hinge": 1, "slide": 1}
@@ -62,15 +63,6 @@ def unit_axis(joint: Joint) -> tuple[float, float, float]:
     if norm == 0.0:
         return (1.0, 0.0, 0.0)
     return (float(axis[0] / norm), float(axis[1] / norm), float(axis[2] / norm))
-
-
-def planar_directions(axis: tuple[float, float, float]) -> tuple[np.ndarray, np.ndarray]:
-    """Two in-plane unit directions e1, e2 with e1 × e2 = axis (as in the tree view's FK)."""
-    unit = np.asarray(axis, dtype=float)
-    helper = np.array([1.0, 0.0, 0.0]) if abs(unit[0]) < 0.9 else np.array([0.0, 1.0, 0.0])
-    e1 = np.cross(unit, helper)
-    e1 /= np.linalg.norm(e1)
-    return e1, np.cross(unit, e1)
 
 
 def joint_range(joint: Joint) -> tuple[float, float] | None:

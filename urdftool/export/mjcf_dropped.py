@@ -13,10 +13,10 @@ from collections.abc import Iterable, Iterator
 
 from lxml import etree
 
+from urdftool.catalogue.conversion import ConversionDropped
 from urdftool.diagnostics import Diagnostic
 from urdftool.model import Extension, Robot
 from urdftool.parse.xmlio import span_of
-from urdftool.rules.conversion import ConversionDropped
 from urdftool.source import Span
 
 

@@ -16,13 +16,13 @@ from collections.abc import Mapping, Sequence
 import numpy as np
 from lxml import etree
 
+from urdftool.catalogue.conversion import ConversionDropped
 from urdftool.diagnostics import Diagnostic, Severity
 from urdftool.export.mjcf_bodies import MjJoint, clamp, unit_axis
 from urdftool.export.mjcf_format import pose_attributes
 from urdftool.export.numbers import num, vec
 from urdftool.model import Inertial, Joint, JointType, KinematicTree, LoopClosure, Robot
 from urdftool.model.pose import Matrix
-from urdftool.rules.conversion import ConversionDropped
 
 #: Position error (rad, m) at which a position actuator applies the full effort.
 SATURATION_ERROR = {"hinge": 0.1, "slide": 0.01}

@@ -12,6 +12,7 @@ from collections.abc import Callable
 
 from lxml import etree
 
+from urdftool.catalogue.conversion import ConversionDropped, MeshNotExportable
 from urdftool.diagnostics import Diagnostic, Severity
 from urdftool.export.assets import MeshUnavailable
 from urdftool.export.mjcf_assets import AssetPlan
@@ -31,7 +32,6 @@ from urdftool.model import (
     Sphere,
 )
 from urdftool.model.pose import Pose
-from urdftool.rules.conversion import ConversionDropped, MeshNotExportable
 from urdftool.source import Span
 
 VISUAL_CLASS = "visual"

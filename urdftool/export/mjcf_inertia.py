@@ -31,11 +31,11 @@ from collections.abc import Iterable, Mapping, Sequence
 
 import numpy as np
 
+from urdftool.catalogue.conversion import ConversionDropped, InertiaNotExportable, InertiaRepaired
 from urdftool.diagnostics import Diagnostic, Severity
 from urdftool.model import Inertial, Link, Robot
 from urdftool.model.pose import Matrix
 from urdftool.physics.inertia import assess, principal_moments, shift_to_point
-from urdftool.rules.conversion import ConversionDropped, InertiaNotExportable, InertiaRepaired
 
 #: MuJoCo's mjMINVAL: the least mass (kg) and principal moment (kg·m²) of a moving body.
 MJ_MINVAL = 1e-15

@@ -20,13 +20,13 @@ from typing import Any
 
 import numpy as np
 
+from urdftool.catalogue.conversion import EngineRejected
 from urdftool.diagnostics import Diagnostic
 from urdftool.export import ExportOptions, VerifyResult
-from urdftool.export.mjcf_base import decide_base
 from urdftool.model import Collision, Joint, JointType, KinematicTree, Robot, Visual
 from urdftool.model.pose import Matrix, quaternion_to_matrix
 from urdftool.model.tree import mimic_value
-from urdftool.rules.conversion import EngineRejected
+from urdftool.physics.mobility import decide_base
 
 CONFIGURATIONS = 20
 #: Pose tolerance (m and rad) and relative tolerance for mass and mass matrix.

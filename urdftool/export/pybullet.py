@@ -23,6 +23,7 @@ from pathlib import Path
 
 from lxml import etree
 
+from urdftool.catalogue.conversion import ConversionDropped
 from urdftool.diagnostics import Diagnostic, Severity
 from urdftool.export import ExportOptions, ExportResult, VerifyResult
 from urdftool.export.assets import relative_reference
@@ -30,7 +31,6 @@ from urdftool.export.pybullet_inertia import PyBulletInertia, plan_inertia
 from urdftool.export.pybullet_meshes import MeshPlan, mesh_key
 from urdftool.export.urdf import URDF_JOINT_TYPES, UrdfFlavor, refusals, robot_element, to_bytes
 from urdftool.model import Joint, JointType, KinematicTree, Mesh, Robot
-from urdftool.rules.conversion import ConversionDropped
 from urdftool.rules.syntax import EmptyRobot, MultipleRoots
 
 #: The flag every PyBullet URDF from urdftool is meant to be loaded with.

@@ -22,11 +22,11 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
+from urdftool.catalogue.conversion import InertiaNotExportable
 from urdftool.diagnostics import Diagnostic
 from urdftool.export.mjcf_inertia import InertiaPlan
 from urdftool.model import Inertial, KinematicTree, Robot
 from urdftool.physics.bodies import rigid_bodies
-from urdftool.rules.conversion import InertiaNotExportable
 
 #: What a massless link is written with: an explicit zero, so PyBullet does not invent 1 kg.
 MASSLESS = Inertial(mass=0.0, inertia=Inertial.tensor(0.0, 0.0, 0.0, 0.0, 0.0, 0.0))

@@ -21,10 +21,10 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import cast
 
+from urdftool.catalogue.conversion import MeshNotExportable
 from urdftool.diagnostics import Diagnostic
 from urdftool.export.assets import MeshFiles, MeshUnavailable, is_binary_stl
 from urdftool.model import Collision, Link, Material, Mesh, Robot, Visual
-from urdftool.rules.conversion import MeshNotExportable
 
 RGBA = tuple[float, float, float, float]
 

@@ -23,6 +23,7 @@ from pathlib import Path
 import numpy as np
 
 from urdftool.backends.pybullet import EngineJoint, EngineLink, PyBulletLoad
+from urdftool.catalogue.conversion import EngineRejected
 from urdftool.diagnostics import Diagnostic
 from urdftool.export import ExportOptions, VerifyResult
 from urdftool.export.pybullet_inertia import plan_inertia
@@ -30,7 +31,6 @@ from urdftool.model import Inertial, Joint, JointType, KinematicTree, Link, Robo
 from urdftool.model.pose import Matrix
 from urdftool.model.tree import mimic_value
 from urdftool.physics.inertia import principal_moments
-from urdftool.rules.conversion import EngineRejected
 from urdftool.source import Span
 
 #: PyBullet computes in floating point after its own diagonalisation: 1e-6 (relative for inertia).

@@ -20,6 +20,7 @@ from pathlib import Path
 
 from lxml import etree
 
+from urdftool.catalogue.conversion import ConversionDropped
 from urdftool.diagnostics import Diagnostic, Severity
 from urdftool.export import ExportOptions, ExportResult
 from urdftool.export.numbers import num, vec
@@ -44,7 +45,6 @@ from urdftool.model import (
     Sphere,
     Visual,
 )
-from urdftool.rules.conversion import ConversionDropped
 
 SDF_VERSION = "1.7"
 _SDF_TYPES = {

@@ -24,6 +24,7 @@ from pathlib import Path
 
 from lxml import etree
 
+from urdftool.catalogue.conversion import ConversionDropped
 from urdftool.diagnostics import Diagnostic, Severity
 from urdftool.export import ExportOptions, ExportResult
 from urdftool.export.numbers import num, vec
@@ -44,7 +45,6 @@ from urdftool.model import (
     Sphere,
     Visual,
 )
-from urdftool.rules.conversion import ConversionDropped
 from urdftool.source import SRC_ATTRIBUTE
 
 URDF_JOINT_TYPES: dict[JointType, str] = {

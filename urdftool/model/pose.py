@@ -162,3 +162,14 @@ class Pose:
 
 
 IDENTITY = Pose()
+
+
+def planar_directions(axis: tuple[float, float, float]) -> tuple[npt.NDArray[Any], npt.NDArray[Any]]:
+    """Two in-plane unit directions e1, e2 with e1 × e2 = axis (as in the tree view's FK)."""
+    import numpy as np
+
+    unit = np.asarray(axis, dtype=float)
+    helper = np.array([1.0, 0.0, 0.0]) if abs(unit[0]) < 0.9 else np.array([0.0, 1.0, 0.0])
+    e1 = np.cross(unit, helper)
+    e1 /= np.linalg.norm(e1)
+    return e1, np.cross(unit, e1)

@@ -14,6 +14,8 @@ import dataclasses
 
 from lxml import etree
 
+from urdftool.catalogue.sdf import SdfModelMissing, SdfVersion
+from urdftool.catalogue.syntax import NotARobot
 from urdftool.diagnostics import Diagnostic
 from urdftool.parse import Loaded
 from urdftool.parse.packages import PackageResolver
@@ -21,8 +23,6 @@ from urdftool.parse.sdf_include import read_include
 from urdftool.parse.sdf_model import SdfModelReader, parse_version
 from urdftool.parse.sdf_values import SdfValues
 from urdftool.parse.xmlio import read_file, span_of
-from urdftool.rules.sdf import SdfModelMissing, SdfVersion
-from urdftool.rules.syntax import NotARobot
 from urdftool.source import SourceIndex
 
 OLDEST = (1, 4)

@@ -14,6 +14,8 @@ from dataclasses import dataclass
 
 from lxml import etree
 
+from urdftool.catalogue.suggest import did_you_mean
+from urdftool.catalogue.syntax import MissingElement, UnknownElement, UnknownJointType
 from urdftool.model import (
     Box,
     Capsule,
@@ -34,8 +36,6 @@ from urdftool.model import (
 from urdftool.parse.packages import PackageResolver
 from urdftool.parse.sdf_values import SdfValues
 from urdftool.parse.xmlio import span_of
-from urdftool.rules.suggest import did_you_mean
-from urdftool.rules.syntax import MissingElement, UnknownElement, UnknownJointType
 
 #: SDF joint type -> model type (``ball`` is the model's SPHERICAL)
 JOINT_TYPES: dict[str, JointType] = {

@@ -15,11 +15,11 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from urdftool.catalogue.sdf import FrameCycle, UnknownFrameReference
+from urdftool.catalogue.suggest import did_you_mean
 from urdftool.diagnostics import Diagnostic
 from urdftool.model import Pose
 from urdftool.model.pose import Matrix
-from urdftool.rules.sdf import FrameCycle, UnknownFrameReference
-from urdftool.rules.suggest import did_you_mean
 from urdftool.source import Span
 
 MODEL_FRAME = "__model__"

@@ -17,10 +17,10 @@ from pathlib import Path
 
 from lxml import etree
 
+from urdftool.catalogue.sdf import ModelIncludeNotFound
 from urdftool.diagnostics import Diagnostic
 from urdftool.parse.packages import PackageResolver
 from urdftool.parse.xmlio import XmlDocument, read_file, span_of
-from urdftool.rules.sdf import ModelIncludeNotFound
 
 #: Gazebo's bundled models, recognised by name without their files
 STANDARD_MODELS = frozenset({"sun", "ground_plane"})

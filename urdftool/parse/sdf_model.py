@@ -26,6 +26,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from lxml import etree
 
+from urdftool.catalogue.syntax import JointMissingParentOrChild, MissingAttribute
 from urdftool.diagnostics import Diagnostic
 from urdftool.model import Collision, Extension, Joint, JointType, Link, LoopClosure, Pose, Robot, Visual
 from urdftool.model.pose import Matrix
@@ -36,7 +37,6 @@ from urdftool.parse.sdf_include import read_include
 from urdftool.parse.sdf_tree import spanning_tree
 from urdftool.parse.sdf_values import SdfValues
 from urdftool.parse.xmlio import span_of
-from urdftool.rules.syntax import JointMissingParentOrChild, MissingAttribute
 from urdftool.source import SRC_ATTRIBUTE, SourceIndex, Span
 
 #: model children the reader turns into the model; everything else is kept as an extension

@@ -12,11 +12,11 @@ import math
 
 from lxml import etree
 
+from urdftool.catalogue.syntax import InvalidNumber, UnexpandedSubstitution, WrongVectorLength
 from urdftool.model import Pose
 from urdftool.model.pose import Matrix, homogeneous, quaternion_to_matrix
 from urdftool.parse.values import ValueReader, parse_number
 from urdftool.parse.xmlio import span_of
-from urdftool.rules.syntax import InvalidNumber, UnexpandedSubstitution, WrongVectorLength
 
 _TRUE = {"1", "true", "True", "TRUE"}
 _FALSE = {"0", "false", "False", "FALSE"}

@@ -12,6 +12,18 @@ from dataclasses import dataclass, field
 
 from lxml import etree
 
+from urdftool.catalogue.suggest import did_you_mean
+from urdftool.catalogue.syntax import (
+    JointMissingParentOrChild,
+    MissingAttribute,
+    MissingElement,
+    NotARobot,
+    RepeatedElement,
+    RobotNameMissing,
+    UnknownAttribute,
+    UnknownElement,
+    UnknownJointType,
+)
 from urdftool.diagnostics import Diagnostic, Severity
 from urdftool.model import (
     IDENTITY,
@@ -40,18 +52,6 @@ from urdftool.model import (
 from urdftool.parse.packages import PackageResolver
 from urdftool.parse.values import ValueReader
 from urdftool.parse.xmlio import span_of
-from urdftool.rules.suggest import did_you_mean
-from urdftool.rules.syntax import (
-    JointMissingParentOrChild,
-    MissingAttribute,
-    MissingElement,
-    NotARobot,
-    RepeatedElement,
-    RobotNameMissing,
-    UnknownAttribute,
-    UnknownElement,
-    UnknownJointType,
-)
 from urdftool.source import SRC_ATTRIBUTE, SourceIndex
 
 #: Attributes each URDF element may carry.

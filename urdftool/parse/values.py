@@ -12,9 +12,14 @@ from dataclasses import dataclass, field
 
 from lxml import etree
 
+from urdftool.catalogue.syntax import (
+    InvalidNumber,
+    MissingAttribute,
+    UnexpandedSubstitution,
+    WrongVectorLength,
+)
 from urdftool.diagnostics import Diagnostic
 from urdftool.parse.xmlio import span_of
-from urdftool.rules.syntax import InvalidNumber, MissingAttribute, UnexpandedSubstitution, WrongVectorLength
 from urdftool.source import SourceIndex, Span
 
 _NUMBER = re.compile(r"^[+-]?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?$")

@@ -182,7 +182,7 @@ def _patched(session: _Session) -> Iterator[None]:
 def _report_moved(session: _Session, missing: str, found: str) -> None:
     import xacro
 
-    from urdftool.rules.xacro import IncludeNotAtPath
+    from urdftool.catalogue.xacro import IncludeNotAtPath
 
     # xacro has already pushed the missing file; the includer is below it.
     stack = [f for f in (xacro.filestack or []) if f]
@@ -273,7 +273,7 @@ def expand(
     """Expand the xacro file *path*; failures become diagnostics, never exceptions."""
     import xacro
 
-    from urdftool.rules.xacro import PackageMissing, XacroError, XacroWarning
+    from urdftool.catalogue.xacro import PackageMissing, XacroError, XacroWarning
 
     top = os.path.abspath(path)
     session = _Session(resolver, top)
@@ -339,7 +339,7 @@ def _is_macro_library(session: _Session, root: Any) -> bool:
 
 
 def _macros_only(session: _Session, document: XmlDocument) -> Diagnostic:
-    from urdftool.rules.xacro import MacrosOnly
+    from urdftool.catalogue.xacro import MacrosOnly
 
     names = sorted(set(session.macros))
     own = session.top_macros or names
@@ -413,7 +413,7 @@ def xacro_in_urdf(root: Any) -> Diagnostic | None:
     """A ``xacro-in-urdf`` finding when the URDF document *root* uses xacro elements."""
     from lxml import etree
 
-    from urdftool.rules.xacro import XacroInUrdf
+    from urdftool.catalogue.xacro import XacroInUrdf
 
     for element in root.iter():
         tag = element.tag

@@ -19,8 +19,8 @@ from dataclasses import dataclass
 
 from lxml import etree
 
+from urdftool.catalogue.syntax import XmlSyntax
 from urdftool.diagnostics import Diagnostic, Severity
-from urdftool.rules.syntax import XmlSyntax
 from urdftool.source import SRC_ATTRIBUTE, Span, element_starts
 
 #: Larger inputs are refused (the largest corpus URDF is about 1 MB).

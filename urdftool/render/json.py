@@ -6,13 +6,12 @@ import json
 from typing import Any
 
 from urdftool.diagnostics import Report
+from urdftool.version import __version__
 
 SCHEMA_VERSION = 1
 
 
 def report_document(report: Report) -> dict[str, Any]:
-    from urdftool import __version__
-
     return {
         "schema_version": SCHEMA_VERSION,
         "tool": {"name": "urdftool", "version": __version__},

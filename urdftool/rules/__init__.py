@@ -1,7 +1,13 @@
-"""The rule catalogue. Importing this package registers every rule family."""
+"""Model rules: pure checks of a loaded robot and the facts about it.
 
+Importing this package registers every family's model rules into the one
+catalogue (:mod:`urdftool.catalogue`), beside the reader and conversion rules
+defined there, so :func:`all_rules` and :func:`lookup` see the whole table.
+"""
+
+from urdftool.catalogue import conversion, sdf, xacro  # noqa: F401  (register the definitions)
+from urdftool.catalogue import syntax as _reader_syntax  # noqa: F401
 from urdftool.rules import (  # noqa: F401  (importing registers the rules)
-    conversion,
     dynamics,
     gazebo,
     inertia,
@@ -9,11 +15,10 @@ from urdftool.rules import (  # noqa: F401  (importing registers the rules)
     loops,
     meshes,
     runtime,
-    sdf,
     syntax,
-    xacro,
 )
-from urdftool.rules.registry import REGISTRY, CheckContext, Family, Rule, all_rules, lookup
+from urdftool.rules.context import CheckContext
+from urdftool.rules.registry import REGISTRY, Family, Rule, all_rules, lookup
 from urdftool.rules.selection import Selection, UnknownSelector
 
 __all__ = [

@@ -12,13 +12,14 @@ from __future__ import annotations
 from collections.abc import Iterable, Iterator
 from typing import Any
 
+from urdftool.catalogue.registry import Family, Rule, register
+from urdftool.catalogue.suggest import did_you_mean
 from urdftool.diagnostics import Diagnostic, Severity
 from urdftool.model import Extension, JointType, Link
 from urdftool.parse.xmlio import span_of
 from urdftool.rules import gazebo_drive as drive
 from urdftool.rules import gazebo_plugins as gz
-from urdftool.rules.registry import CheckContext, Family, Rule, register
-from urdftool.rules.suggest import did_you_mean
+from urdftool.rules.context import CheckContext
 
 #: Keys of ``<gazebo>`` blocks that sdformat's URDF converter reads (from text
 #: or from a ``value`` attribute); anything else is copied into the SDF as is.

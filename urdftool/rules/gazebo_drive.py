@@ -25,7 +25,7 @@ else:
 
 from urdftool.model import Capsule, Collision, Cylinder, Joint, Link, Mesh, Sphere, Visual
 from urdftool.model.pose import Matrix
-from urdftool.rules.registry import CheckContext
+from urdftool.rules.context import CheckContext
 
 #: Relative difference between declared and measured values that is reported.
 #: Wheel positions in real models agree with their plugins to a few millimetres;

@@ -20,6 +20,7 @@ else:
     # NumPy is imported on first use: a structural check must not pay for it.
     from urdftool.lazy import numpy as np
 
+from urdftool.catalogue.registry import Family, Rule, register
 from urdftool.diagnostics import Diagnostic, Severity
 from urdftool.model import Link
 from urdftool.physics.bodies import MIN_VALUE, MassRole, RigidBody, body_of, mass_role, rigid_bodies
@@ -41,7 +42,7 @@ from urdftool.physics.linkmass import (
     geometry_sources,
 )
 from urdftool.physics.massprops import SolidProperties
-from urdftool.rules.registry import CheckContext, Family, Rule, register
+from urdftool.rules.context import CheckContext
 
 #: inertia-geometry-mismatch fires when the declared inertia is this many times
 #: larger or smaller (trace ratio) than the geometry's. At √10 ≈ 3.16 or below,

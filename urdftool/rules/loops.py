@@ -4,9 +4,10 @@ from __future__ import annotations
 
 from collections.abc import Iterator
 
+from urdftool.catalogue.registry import Family, Rule, register
 from urdftool.diagnostics import Diagnostic, Severity
 from urdftool.model import KinematicTree, LoopClosure
-from urdftool.rules.registry import CheckContext, Family, Rule, register
+from urdftool.rules.context import CheckContext
 
 
 class _Loops(Rule):

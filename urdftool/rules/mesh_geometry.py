@@ -31,7 +31,7 @@ from urdftool.model import (
     Visual,
 )
 from urdftool.model.tree import KinematicTree
-from urdftool.rules.registry import CheckContext
+from urdftool.rules.context import CheckContext
 
 #: Triangles a collision mesh may have before ``collision-mesh-too-complex``.
 #: Hand-made collision meshes and convex decompositions stay in the hundreds to

@@ -17,7 +17,7 @@ from typing import TYPE_CHECKING
 
 from urdftool.model import Link, Mesh, Pose
 from urdftool.parse.packages import Lookup, PackageResolver
-from urdftool.rules.registry import CheckContext
+from urdftool.rules.context import CheckContext
 from urdftool.source import Span
 
 if TYPE_CHECKING:

@@ -19,8 +19,10 @@ else:
     # NumPy is imported on first use: a structural check must not pay for it.
     from urdftool.lazy import numpy as np
 
+from urdftool.catalogue.registry import Family, Rule, register
 from urdftool.diagnostics import Diagnostic, Severity
 from urdftool.rules import mesh_survey as survey
+from urdftool.rules.context import CheckContext
 from urdftool.rules.mesh_geometry import (
     FACE_BUDGET,
     UNITS_TOO_LARGE,
@@ -30,7 +32,6 @@ from urdftool.rules.mesh_geometry import (
     robot_size,
     suggested_factor,
 )
-from urdftool.rules.registry import CheckContext, Family, Rule, register
 
 if TYPE_CHECKING:
     from urdftool.backends.meshes import MeshFacts

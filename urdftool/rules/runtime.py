@@ -13,10 +13,11 @@ from __future__ import annotations
 from collections.abc import Iterator
 from typing import TYPE_CHECKING, Any
 
+from urdftool.catalogue.registry import Family, Rule, register
 from urdftool.diagnostics import Diagnostic, Severity
 from urdftool.model import Joint, JointType, Robot
 from urdftool.physics.describe import fmt
-from urdftool.rules.registry import CheckContext, Family, Rule, register
+from urdftool.rules.context import CheckContext
 from urdftool.source import Span
 
 if TYPE_CHECKING:

@@ -72,7 +72,7 @@ class Selection:
 
 @functools.lru_cache(maxsize=4096)
 def _enabled_code(selection: Selection, code: str) -> bool:
-    from urdftool.rules.registry import REGISTRY
+    from urdftool.catalogue.registry import REGISTRY
 
     rule = REGISTRY.get(code)
     return rule is not None and selection.enabled(rule)

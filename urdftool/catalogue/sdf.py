@@ -2,8 +2,8 @@
 
 from __future__ import annotations
 
+from urdftool.catalogue.registry import Family, Rule, register
 from urdftool.diagnostics import Severity
-from urdftool.rules.registry import Family, Rule, register
 
 
 class _Sdf(Rule):

@@ -4,8 +4,8 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING
 
+from urdftool.catalogue.registry import Family, Rule, register
 from urdftool.diagnostics import Severity
-from urdftool.rules.registry import Family, Rule, register
 
 if TYPE_CHECKING:
     from urdftool.model import Robot

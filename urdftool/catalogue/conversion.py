@@ -7,8 +7,8 @@ Each finding points at the element of the source that was dropped or changed.
 
 from __future__ import annotations
 
+from urdftool.catalogue.registry import Family, Rule, register
 from urdftool.diagnostics import Severity
-from urdftool.rules.registry import Family, Rule, register
 
 
 class _Conversion(Rule):
