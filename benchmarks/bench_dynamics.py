@@ -22,7 +22,7 @@ from pathlib import Path
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 
 from tests.conftest import ERD, erd_urdfs
-from urdftool.check import CheckOptions, check_file
+from urdftool.pipeline.check import CheckOptions, check_file
 
 REPEAT = 3
 GOAL = 1.20

@@ -21,7 +21,7 @@ from pathlib import Path
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 
 from tests.conftest import erd_urdfs
-from urdftool.check import CheckOptions, check_file
+from urdftool.pipeline.check import CheckOptions, check_file
 
 REPEAT = 3
 

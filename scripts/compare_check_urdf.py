@@ -17,8 +17,8 @@ ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
 from tests.conftest import ERD, PBD, erd_urdfs, pybullet_robots, relative  # noqa: E402
-from urdftool.check import CheckOptions, check_file  # noqa: E402
 from urdftool.diagnostics import Severity  # noqa: E402
+from urdftool.pipeline.check import CheckOptions, check_file  # noqa: E402
 
 
 def check_urdf_binary() -> tuple[str, dict[str, str]]:

@@ -72,8 +72,8 @@ def pybullet_robots() -> list[str]:
 
 def seed_standalone_xacros() -> list[str]:
     """The seed xacro files that no other seed xacro includes (checked on their own)."""
-    from urdftool.discover import expand_paths
     from urdftool.parse.packages import PackageResolver
+    from urdftool.pipeline.discover import expand_paths
 
     files = expand_paths([str(SEEDS)], PackageResolver.create())
     return sorted(f for f in files if f.endswith(".xacro"))

@@ -8,8 +8,8 @@ import os
 import pytest
 
 from tests.conftest import ERD, PBD, erd_urdfs, pybullet_robots, relative, seed_standalone_xacros
-from urdftool.check import CheckOptions, check_file
 from urdftool.diagnostics import Severity
+from urdftool.pipeline.check import CheckOptions, check_file
 
 #: file (relative to its corpus) -> {(rule name, line)} that must be among its errors
 EXPECTED_ERRORS: dict[str, set[tuple[str, int]]] = {

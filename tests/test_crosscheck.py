@@ -16,10 +16,10 @@ import numpy as np
 import pytest
 
 from tests.conftest import ERD, PBD, erd_urdfs, pybullet_robots, relative
-from urdftool.check import CheckOptions, check_file
 from urdftool.diagnostics import Severity
 from urdftool.model import JointType, KinematicTree, Robot
 from urdftool.parse import read
+from urdftool.pipeline.check import CheckOptions, check_file
 
 TOLERANCE = 1e-9
 CONFIGURATIONS = 5

@@ -10,14 +10,14 @@ from pathlib import Path
 import pytest
 
 from tests.conftest import ERD, FIXTURES, ROOT
-from urdftool.check import CheckOptions, check_file
 from urdftool.diagnostics import Diagnostic
-from urdftool.dynamics.analysis import analyse
-from urdftool.dynamics.configurations import configurations, joint_range, zero_configuration
-from urdftool.dynamics.coverage import floating_base, not_covered
+from urdftool.facts.dynamics.analysis import analyse
+from urdftool.facts.dynamics.configurations import configurations, joint_range, zero_configuration
+from urdftool.facts.dynamics.coverage import floating_base, not_covered
 from urdftool.model import JointType, KinematicTree
 from urdftool.parse import read
 from urdftool.physics.com import center_of_mass
+from urdftool.pipeline.check import CheckOptions, check_file
 
 RULES = FIXTURES / "rules"
 
@@ -204,7 +204,7 @@ def test_known_findings_on_example_robot_data(relative: str) -> None:
 def test_every_example_robot_data_model_gets_through_the_pass() -> None:
     """No rule crash on the whole corpus, and each model is either checked or says why not."""
     from tests.conftest import erd_urdfs
-    from urdftool.dynamics.run import Skipped, dynamics_of
+    from urdftool.facts.dynamics.run import Skipped, dynamics_of
     from urdftool.parse.packages import PackageResolver
 
     checked = skipped = 0

@@ -6,7 +6,7 @@ from pathlib import Path
 
 import pytest
 
-from urdftool.check import CheckOptions, check_file
+from urdftool.pipeline.check import CheckOptions, check_file
 
 INERTIAL = (
     '<inertial><mass value="1"/>'

@@ -18,11 +18,11 @@ import pytest
 
 from tests.conftest import ERD, PBD, SEEDS, erd_urdfs
 from tests.test_graph_readers import first_page_png, svg_nodes
-from urdftool.discover import expand_paths
 from urdftool.export.graph import dot_text, render_files
 from urdftool.model import Robot
 from urdftool.parse import read
 from urdftool.parse.packages import PackageResolver
+from urdftool.pipeline.discover import expand_paths
 
 BATCHES = 4
 #: pybullet_data's robots: URDFs outside random_urdfs/ with a moving joint or

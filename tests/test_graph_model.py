@@ -7,6 +7,7 @@ from pathlib import Path
 
 import pytest
 
+import urdftool
 from tests.test_graph_readers import svg_node_text
 from urdftool.diagnostics import Diagnostic, Severity
 from urdftool.export.graph import GraphOptions, GraphSettings, build_dot, dot_text, render_files
@@ -283,11 +284,16 @@ def test_real_rules_mark_a_real_file(tmp_path: Path) -> None:
         '<limit lower="0" upper="1" effort="1" velocity="1"/></joint></robot>'
     )
     from urdftool import load
+    from urdftool.pipeline.convert import graph_findings
+
+    def drawn(options: GraphOptions) -> str:
+        return dot_text(robot, options, graph_findings(robot, options))
 
     robot = load(source)
-    assert "S009" in dot_text(robot)  # <axis rpy=...> is an unknown attribute
-    only = dot_text(robot, GraphOptions(select=("S009",)))
+    assert "S009" in drawn(GraphOptions())  # <axis rpy=...> is an unknown attribute
+    only = drawn(GraphOptions(select=("S009",)))
     joint_line = next(line for line in only.splitlines() if line.startswith('  "joint:j" ['))
     assert 'color="#e08000"' in joint_line and "warning: S009" in joint_line
-    assert "S009" not in dot_text(robot, GraphOptions(diagnostics=False))
-    assert "S009" not in dot_text(robot, GraphOptions(ignore=("S009",)))
+    assert "S009" not in drawn(GraphOptions(diagnostics=False))
+    assert "S009" not in drawn(GraphOptions(ignore=("S009",)))
+    assert "S009" in urdftool.to_dot(robot)

@@ -15,7 +15,6 @@ import numpy as np
 import pytest
 
 from tests.conftest import SEEDS
-from urdftool.check import CheckOptions, check_file, run_rules
 from urdftool.model import (
     Box,
     Capsule,
@@ -33,8 +32,9 @@ from urdftool.model import (
 from urdftool.physics.bodies import mass_role, rigid_bodies
 from urdftool.physics.inertia import MIN_MOMENT, assess
 from urdftool.physics.massprops import combine, place, rotate_into, shape_properties
+from urdftool.pipeline.check import CheckOptions, check_file, run_rules
 from urdftool.rules import Selection
-from urdftool.rules.inertia import INERTIA_FACTOR
+from urdftool.rules.inertia_fit import INERTIA_FACTOR
 
 ROOT = Path(__file__).resolve().parent.parent
 

@@ -24,15 +24,15 @@ import pytest
 from lxml import etree
 
 from tests.conftest import ERD, PBD, erd_urdfs
-from urdftool.check import CheckOptions, check_file
+from urdftool.facts.context import CheckContext
 from urdftool.model import KinematicTree, Link, Robot
 from urdftool.parse import read
 from urdftool.parse.packages import PackageResolver
 from urdftool.parse.xmlio import read_file
 from urdftool.physics.inertia import assess
 from urdftool.physics.linkmass import compare_with_geometry
-from urdftool.rules.context import CheckContext
-from urdftool.rules.inertia import InertiaGeometryMismatch
+from urdftool.pipeline.check import CheckOptions, check_file
+from urdftool.rules.inertia_fit import InertiaGeometryMismatch
 from urdftool.source import SRC_ATTRIBUTE
 
 

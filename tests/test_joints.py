@@ -8,8 +8,8 @@ import math
 import pytest
 
 from tests.conftest import ERD
-from urdftool.check import CheckOptions, check_file, run_rules
 from urdftool.model import Inertial, Joint, JointType, Limit, Link, Mimic, Robot
+from urdftool.pipeline.check import CheckOptions, check_file, run_rules
 from urdftool.rules import Selection
 from urdftool.rules.joints import home_position
 

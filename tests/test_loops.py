@@ -9,10 +9,10 @@ import numpy as np
 import pytest
 
 from tests.conftest import ERD, FIXTURES
-from urdftool.check import CheckOptions, check_file
 from urdftool.model import Joint, JointType, KinematicTree, Limit
 from urdftool.parse import read
 from urdftool.parse.sdf_tree import spanning_tree
+from urdftool.pipeline.check import CheckOptions, check_file
 
 FOUR_BAR = FIXTURES / "robots" / "four_bar.sdf"
 CASSIE = sorted(glob.glob(str(ERD / "cassie_description" / "robots" / "*.sdf"))) if ERD else []

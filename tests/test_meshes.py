@@ -160,7 +160,7 @@ def test_huge_binary_stl_is_refused_by_mujoco_only(tmp_path: Path) -> None:
 def _imports_trimesh(path: Path, select: str, cache: Path) -> bool:
     code = (
         "import sys\n"
-        "from urdftool.check import CheckOptions, check_file\n"
+        "from urdftool.pipeline.check import CheckOptions, check_file\n"
         f"check_file({str(path)!r}, CheckOptions(select=({select!r},)))\n"
         "print('trimesh' in sys.modules)\n"
     )

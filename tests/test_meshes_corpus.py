@@ -15,9 +15,9 @@ import pytest
 from click.testing import CliRunner
 
 from tests.conftest import ERD, SEEDS, erd_urdfs, pybullet_robots
-from urdftool.check import CheckOptions, check_file, check_files
 from urdftool.cli import main
 from urdftool.diagnostics import Diagnostic
+from urdftool.pipeline.check import CheckOptions, check_file, check_files
 
 TURTLEBOT = SEEDS / "turtlebot3" / "turtlebot3_description"
 MY_ROBOT = SEEDS / "go_chase_it" / "my_robot" / "urdf" / "my_robot.xacro"

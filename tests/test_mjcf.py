@@ -19,7 +19,8 @@ import urdftool
 from tests.conftest import ERD, FIXTURES, SEEDS
 from urdftool.cli import main
 from urdftool.export import ExportOptions
-from urdftool.export.mjcf import export, verify
+from urdftool.export.mjcf import export
+from urdftool.export.mjcf_verify import verify
 from urdftool.parse import read
 from urdftool.parse.packages import PackageResolver
 

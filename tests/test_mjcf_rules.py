@@ -15,7 +15,8 @@ import pytest
 from tests.conftest import FIXTURES
 from tests.test_rule_fixtures import expected_marks
 from urdftool.export import ExportOptions
-from urdftool.export.mjcf import export, verify
+from urdftool.export.mjcf import export
+from urdftool.export.mjcf_verify import verify
 from urdftool.parse import read
 from urdftool.rules import lookup
 

@@ -24,12 +24,12 @@ from tests.conftest import (
     relative,
     seed_standalone_xacros,
 )
-from urdftool.check import run_rules
 from urdftool.diagnostics import Diagnostic, Severity
 from urdftool.export import ExportOptions, export_model, verify_model
 from urdftool.export.write import write_bytes_atomic
 from urdftool.model import Robot
 from urdftool.parse import read
+from urdftool.pipeline.check import run_rules
 from urdftool.rules import Selection
 
 

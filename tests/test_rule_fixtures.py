@@ -16,7 +16,7 @@ from pathlib import Path
 import pytest
 
 from tests.conftest import FIXTURES
-from urdftool.check import CheckOptions, check_file
+from urdftool.pipeline.check import CheckOptions, check_file
 from urdftool.rules import all_rules
 
 RULES_DIR = FIXTURES / "rules"

@@ -11,11 +11,11 @@ import pytest
 from click.testing import CliRunner
 
 from tests.conftest import ERD, FIXTURES, PBD, SEEDS
-from urdftool.check import CheckOptions, check_file
 from urdftool.cli import main
 from urdftool.model import JointType, KinematicTree
 from urdftool.parse import read
 from urdftool.parse.packages import PackageResolver
+from urdftool.pipeline.check import CheckOptions, check_file
 
 SDF_DIR = FIXTURES / "robots" / "sdf"
 CASSIE = sorted(glob.glob(str(ERD / "cassie_description" / "robots" / "*.sdf"))) if ERD else []

@@ -5,6 +5,7 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
+import numpy as np
 import pytest
 from click.testing import CliRunner
 
@@ -12,8 +13,10 @@ from tests.conftest import ERD, FIXTURES, SEEDS
 from urdftool import load, simulate
 from urdftool.cli import main
 from urdftool.diagnostics import Report
-from urdftool.dynamics.sim import simulate as run_engines
-from urdftool.dynamics.sim_scene import SimOptions, prepare, reroot_massless_base
+from urdftool.facts.simulation.scene import SimOptions, prepare
+from urdftool.model import KinematicTree
+from urdftool.physics.mobility import reroot_massless_base
+from urdftool.pipeline.simulate import simulator as run_engines
 
 RULES = FIXTURES / "rules"
 ARM = FIXTURES / "robots" / "two_link_arm.urdf"
@@ -103,7 +106,15 @@ def test_massless_footprint_is_rerooted_for_pybullet() -> None:
     assert scene.floating
     root = robot.link(scene.tree.root or "")
     if root is not None and (root.inertial is None or root.inertial.mass == 0):
-        assert len(rerooted.links) == len(robot.links) - 1
+        # The old root stays as a fixed child: same links, same total mass, a new root.
+        new_tree = KinematicTree.of(rerooted)
+        assert {link.name for link in rerooted.links} == {link.name for link in robot.links}
+        assert new_tree.root != scene.tree.root and rerooted.total_mass == robot.total_mass
+        old = new_tree.forward_kinematics()
+        before = scene.tree.forward_kinematics()
+        for name in before:  # every frame keeps its place relative to the others
+            relative_before = np.linalg.inv(before[new_tree.root]) @ before[name]
+            assert np.allclose(old[name], relative_before, atol=1e-12)
     else:
         assert rerooted is robot
 

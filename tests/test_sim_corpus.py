@@ -16,10 +16,10 @@ import pytest
 
 from tests.conftest import ERD, PBD, erd_urdfs, pybullet_robots, relative
 from urdftool.diagnostics import Severity
-from urdftool.dynamics.sim_report import simulate_robot
-from urdftool.dynamics.sim_scene import SimOptions
+from urdftool.facts.simulation.scene import SimOptions
 from urdftool.parse import read
 from urdftool.parse.packages import PackageResolver
+from urdftool.pipeline.simulate import simulate_robot
 
 SHORT = SimOptions(duration=0.5)
 

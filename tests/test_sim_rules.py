@@ -14,10 +14,10 @@ import pytest
 
 from tests.conftest import FIXTURES
 from tests.test_rule_fixtures import SIM_ONLY, expected_marks
-from urdftool.check import CheckOptions, check_file
 from urdftool.diagnostics import Diagnostic
-from urdftool.dynamics.sim import rule_options_for
-from urdftool.dynamics.sim_scene import SimOptions
+from urdftool.facts.simulation import rule_options_for
+from urdftool.facts.simulation.scene import SimOptions
+from urdftool.pipeline.check import CheckOptions, check_file
 
 RULES = FIXTURES / "rules"
 

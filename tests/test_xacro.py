@@ -13,11 +13,11 @@ from click.testing import CliRunner
 
 import urdftool
 from tests.conftest import SEEDS
-from urdftool.check import CheckOptions, check_file
 from urdftool.cli import main
 from urdftool.diagnostics import Diagnostic
-from urdftool.discover import expand_paths
 from urdftool.parse.packages import PackageResolver
+from urdftool.pipeline.check import CheckOptions, check_file
+from urdftool.pipeline.discover import expand_paths
 
 #: Each test names its package after its own tmp folder: the ancestor scan from one test's
 #: folder reaches its sibling tests' folders, and must not find their packages.

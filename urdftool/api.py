@@ -4,17 +4,19 @@ from __future__ import annotations
 
 import os
 from collections.abc import Iterable, Mapping
-from typing import TYPE_CHECKING
+from pathlib import Path
 
-from urdftool.check import CheckOptions, check_file, run_rules
 from urdftool.diagnostics import Diagnostic, FileReport, Report
+from urdftool.export import ExportOptions
+from urdftool.export.graph import GraphOptions, dot_text, write_diagram
+from urdftool.facts.simulation import engine_names
+from urdftool.facts.simulation.scene import SimOptions
 from urdftool.model import Robot
-from urdftool.parse import InputError, read
-from urdftool.parse.packages import PackageResolver
+from urdftool.parse import InputError
+from urdftool.pipeline.check import CheckOptions, check_file, run_rules
+from urdftool.pipeline.convert import Conversion, convert_robot, graph_findings, write_conversion
+from urdftool.pipeline.load import NoSuchModel, load_one
 from urdftool.rules import Selection
-
-if TYPE_CHECKING:
-    from urdftool.export import ExportOptions
 
 PathLike = str | os.PathLike[str]
 
@@ -27,8 +29,27 @@ class LoadError(Exception):
         self.diagnostics = tuple(diagnostics)
 
 
-def _resolver(packages: Mapping[str, PathLike] | None, package_paths: Iterable[PathLike]) -> PackageResolver:
-    return PackageResolver.create(packages, package_paths)
+def _options(
+    xacro_args: Mapping[str, str] | None,
+    packages: Mapping[str, PathLike] | None,
+    package_paths: Iterable[PathLike],
+    select: Iterable[str] | None = None,
+    ignore: Iterable[str] | None = None,
+) -> CheckOptions:
+    return CheckOptions(
+        select=tuple(select) if select is not None else None,
+        ignore=tuple(ignore or ()),
+        xacro_args=dict(xacro_args or {}),
+        packages={k: os.fspath(v) for k, v in (packages or {}).items()},
+        package_paths=tuple(os.fspath(p) for p in package_paths),
+    )
+
+
+def _input_error(path: PathLike, exc: InputError) -> Exception:
+    """The API's exception for an input that cannot be read at all."""
+    if not os.path.exists(path):
+        return FileNotFoundError(str(exc))
+    return ValueError(str(exc))
 
 
 def load(
@@ -50,15 +71,11 @@ def load(
     when the file is missing or of unknown format.
     """
     try:
-        models = read(path, xacro_args, _resolver(packages, package_paths))
+        first = load_one(os.fspath(path), _options(xacro_args, packages, package_paths), model)
     except InputError as exc:
-        if not os.path.exists(path):
-            raise FileNotFoundError(str(exc)) from exc
-        raise ValueError(str(exc)) from exc
-    chosen = [m for m in models if model is None or (m.robot and m.robot.name == model)]
-    if not chosen:
-        raise LoadError(f"{path}: no model named '{model}'")
-    first = chosen[0]
+        raise _input_error(path, exc) from exc
+    except NoSuchModel as exc:
+        raise LoadError(str(exc)) from exc
     if first.robot is None:
         summary = "; ".join(d.message for d in first.diagnostics[:3])
         raise LoadError(f"{path}: cannot build a robot: {summary}", first.diagnostics)
@@ -84,20 +101,12 @@ def check(
         robot = path_or_robot
         diags = run_rules(robot, selection)
         return Report((FileReport(robot.path, robot.format, robot.name, tuple(diags)),))
-    options = CheckOptions(
-        select=tuple(select) if select is not None else None,
-        ignore=tuple(ignore or ()),
-        xacro_args=dict(xacro_args or {}),
-        packages={k: os.fspath(v) for k, v in (packages or {}).items()},
-        package_paths=tuple(os.fspath(p) for p in package_paths),
-    )
+    options = _options(xacro_args, packages, package_paths, select, ignore)
     options.selection()  # raises UnknownSelector (a ValueError) early
     try:
         return Report(tuple(check_file(os.fspath(path_or_robot), options)))
     except InputError as exc:
-        if not os.path.exists(path_or_robot):
-            raise FileNotFoundError(str(exc)) from exc
-        raise ValueError(str(exc)) from exc
+        raise _input_error(path_or_robot, exc) from exc
 
 
 def to_dot(
@@ -128,12 +137,10 @@ def to_dot(
     ``urdftool.export.graph.GraphvizNotFound`` when ``dot`` is needed and
     missing, and ``GraphvizFailed`` when it fails.
     """
-    from urdftool.export.graph import GraphOptions, dot_text, write_diagram
-
     options = GraphOptions.of({"rankdir": rankdir, "collapse_fixed": collapse_fixed,
                                "diagnostics": diagnostics, "select": select, "ignore": ignore})
     robot, inputs = _robot_and_inputs(robot_or_path, xacro_args, packages, package_paths, model)
-    text = dot_text(robot, options)
+    text = dot_text(robot, options, graph_findings(robot, options))
     if out is not None:
         write_diagram(text, out, inputs, keep_dot)
     return text
@@ -161,15 +168,7 @@ def _robot_and_inputs(
     return robot, [os.fspath(robot_or_path)]
 
 
-def _refuse_on_errors(robot: Robot, what: str, diagnostics: Iterable[Diagnostic]) -> None:
-    diagnostics = tuple(diagnostics)
-    errors = [d for d in diagnostics if d.severity.value == "error"]
-    if errors:
-        reasons = "; ".join(d.message for d in errors[:5])
-        raise ConversionRefused(f"{robot.name}: not converted {what}: {reasons}", diagnostics)
-
-
-def _export(
+def _converted(
     target: str,
     suffix: str,
     robot: Robot,
@@ -177,20 +176,18 @@ def _export(
     out: PathLike | None,
     options: ExportOptions,
 ) -> str:
-    """Run the exporter for *target*; with *out*, write its files atomically beside it."""
-    from pathlib import Path
+    """Convert through the pipeline (as ``urdftool convert`` does); with *out*, write the files.
 
-    from urdftool.export import export_model
-    from urdftool.export.write import write_bytes_atomic
-
+    Raises :class:`ConversionRefused` with the same findings ``convert`` prints.
+    """
     where = Path(out) if out is not None else Path(f"{robot.name or 'robot'}{suffix}")
-    result = export_model(robot, target, where, options)
-    _refuse_on_errors(robot, f"to {target}", result.diagnostics)
+    conversion: Conversion = convert_robot(robot, target, where, options, inputs)
+    if conversion.refused:
+        reasons = "; ".join(d.message for d in conversion.errors[:5])
+        raise ConversionRefused(f"{robot.name}: not converted to {target}: {reasons}", conversion.diagnostics)
     if out is not None:
-        folder = where.resolve().parent
-        for rel, data in sorted(result.files.items()):
-            write_bytes_atomic(folder / rel, data, inputs)
-    return result.files[where.name].decode("utf-8")
+        write_conversion(conversion)
+    return conversion.text
 
 
 def to_urdf(
@@ -219,11 +216,9 @@ def to_urdf(
     """
     if flavor not in ("urdf", "pybullet"):
         raise ValueError(f"unknown URDF flavor '{flavor}' (choose urdf or pybullet)")
-    from urdftool.export import ExportOptions
-
     robot, inputs = _robot_and_inputs(robot_or_path, xacro_args, packages, package_paths, model)
     options = ExportOptions(repair_inertia=repair_inertia, copy_assets=copy_assets)
-    return _export(flavor, ".urdf", robot, inputs, out, options)
+    return _converted(flavor, ".urdf", robot, inputs, out, options)
 
 
 def to_sdf(
@@ -240,10 +235,8 @@ def to_sdf(
     Raises :class:`ConversionRefused` for what SDF cannot hold (planar joints).
     The other arguments are those of :func:`load`.
     """
-    from urdftool.export import ExportOptions
-
     robot, inputs = _robot_and_inputs(robot_or_path, xacro_args, packages, package_paths, model)
-    return _export("sdf", ".sdf", robot, inputs, out, ExportOptions())
+    return _converted("sdf", ".sdf", robot, inputs, out, ExportOptions())
 
 
 def to_mjcf(
@@ -271,25 +264,10 @@ def to_mjcf(
     docs/mjcf.md. Raises :class:`ConversionRefused` with located diagnostics
     (e.g. physically invalid inertia without *repair_inertia*).
     """
-    from pathlib import Path
-
-    from urdftool.export import ExportOptions
-    from urdftool.export.mjcf import build
-    from urdftool.export.write import write_bytes_atomic
-
     robot, inputs = _robot_and_inputs(robot_or_path, xacro_args, packages, package_paths, model)
     options = ExportOptions(floating_base=floating_base, actuators=actuators, repair_inertia=repair_inertia,
-                            copy_assets=copy_assets, scene=scene)
-    # Without OUT, meshes are referenced by absolute path (folder None), so this
-    # calls the builder rather than the file-producing export().
-    folder = Path(out).resolve().parent if out is not None else None
-    text, assets, diagnostics = build(robot, folder, options)
-    _refuse_on_errors(robot, "to MJCF", diagnostics)
-    if out is not None and folder is not None:
-        for rel, data in assets.items():
-            write_bytes_atomic(folder / rel, data, inputs)
-        write_bytes_atomic(out, text.encode("utf-8"), inputs)
-    return text
+                            copy_assets=copy_assets, scene=scene, absolute_mesh_paths=out is None)
+    return _converted("mjcf", ".xml", robot, inputs, out, options)
 
 
 def simulate(
@@ -315,23 +293,16 @@ def simulate(
     Raises :class:`ValueError` for an unknown engine or an unreadable file and
     :class:`FileNotFoundError` for a missing one.
     """
-    from urdftool.dynamics.sim import engine_names
-    from urdftool.dynamics.sim_report import simulate_file, simulate_robot
-    from urdftool.dynamics.sim_scene import SimOptions
+    # Function-level: the simulation brings NumPy and the engine adapters.
+    from urdftool.pipeline.simulate import simulate_file, simulate_robot
 
     if engine not in ("mujoco", "pybullet", "all"):
         raise ValueError(f"unknown engine '{engine}' (choose mujoco, pybullet or all)")
     options = SimOptions(engine_names(engine), duration, timestep, hold, repair_inertia)
     if isinstance(path_or_robot, Robot):
         return Report((simulate_robot(path_or_robot, options),))
-    check_options = CheckOptions(
-        xacro_args=dict(xacro_args or {}),
-        packages={k: os.fspath(v) for k, v in (packages or {}).items()},
-        package_paths=tuple(os.fspath(p) for p in package_paths),
-    )
     try:
-        return simulate_file(os.fspath(path_or_robot), options, check_options, model)
+        return simulate_file(os.fspath(path_or_robot), options, _options(xacro_args, packages, package_paths),
+                             model)
     except InputError as exc:
-        if not os.path.exists(path_or_robot):
-            raise FileNotFoundError(str(exc)) from exc
-        raise ValueError(str(exc)) from exc
+        raise _input_error(path_or_robot, exc) from exc

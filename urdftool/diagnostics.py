@@ -22,12 +22,59 @@ class Severity(str, enum.Enum):
         return {"error": 2, "warning": 1, "info": 0}[self.value]
 
 
+class Applicability(str, enum.Enum):
+    """How safe a fix is to apply without review (as in ruff and rustc)."""
+
+    #: cannot change what a consumer computes, or restores what the author evidently meant
+    SAFE = "safe"
+    #: changes physics or meaning: applied only with ``--unsafe-fixes``
+    UNSAFE = "unsafe"
+    #: shown, never applied (the value comes from an expression or is shared)
+    DISPLAY_ONLY = "display-only"
+
+
+@dataclass(frozen=True)
+class Edit:
+    """Replace the text of ``span`` (byte offsets required) with ``content``."""
+
+    span: Span
+    content: str
+
+    def to_json(self) -> dict[str, Any]:
+        return {"location": self.span.to_json(), "content": self.content}
+
+
+@dataclass(frozen=True)
+class Fix:
+    """A repair of a finding: edits to the file the user edits, with how safe they are."""
+
+    message: str
+    edits: tuple[Edit, ...]
+    applicability: Applicability = Applicability.SAFE
+
+    def to_json(self) -> dict[str, Any]:
+        return {"message": self.message, "applicability": self.applicability.value,
+                "edits": [e.to_json() for e in self.edits]}
+
+
+@dataclass(frozen=True)
+class Related:
+    """A secondary location of a finding: the other duplicate, the macro call, the property's line."""
+
+    span: Span
+    label: str
+
+    def to_json(self) -> dict[str, Any]:
+        return {"location": self.span.to_json(), "label": self.label}
+
+
 @dataclass(frozen=True)
 class Diagnostic:
     """One finding.
 
     ``element`` is a path in the robot's terms (``link[forearm]/inertial``);
-    ``data`` holds the numbers behind the message for tools to use.
+    ``data`` holds the numbers behind the message for tools to use;
+    ``related`` are secondary locations and ``fix`` an optional repair.
     """
 
     code: str
@@ -38,6 +85,8 @@ class Diagnostic:
     element: str | None = None
     help: str | None = None
     data: Mapping[str, Any] = field(default_factory=dict)
+    related: tuple[Related, ...] = ()
+    fix: Fix | None = None
 
     def sort_key(self) -> tuple[str, int, int, str, str]:
         loc = self.location
@@ -50,8 +99,9 @@ class Diagnostic:
         )
 
     def to_json(self) -> dict[str, Any]:
+        """The contract's diagnostic; ``related`` and ``fix`` appear only when present."""
         loc = self.location
-        return {
+        out: dict[str, Any] = {
             "code": self.code,
             "name": self.name,
             "severity": self.severity.value,
@@ -63,6 +113,11 @@ class Diagnostic:
             "help": self.help,
             "data": dict(self.data),
         }
+        if self.related:
+            out["related"] = [r.to_json() for r in self.related]
+        if self.fix is not None:
+            out["fix"] = self.fix.to_json()
+        return out
 
 
 @dataclass(frozen=True)

@@ -12,10 +12,12 @@ element starts are matched to lxml's elements in document order.
 
 from __future__ import annotations
 
+import dataclasses
 import os
 import re
 import xml.parsers.expat
 from dataclasses import dataclass, field
+from typing import Any
 
 #: Attribute that carries an element's origin through xacro expansion.
 #: Value: ``"<file index>:<line>:<column>"``; stripped before the model is built.
@@ -24,11 +26,21 @@ SRC_ATTRIBUTE = "urdftool-src"
 
 @dataclass(frozen=True, order=True)
 class Span:
-    """A position in a source file: 1-based line and column (``None`` where unknown)."""
+    """A range in a source file: 1-based start line and column (``None`` where unknown).
+
+    ``end_line``/``end_column`` close the range (exclusive column) and
+    ``offset``/``end_offset`` give it in bytes from the start of the file, where
+    known: what an edit (a :class:`~urdftool.diagnostics.Fix`) needs. Most
+    findings only know where an element starts.
+    """
 
     path: str
     line: int | None = None
     column: int | None = None
+    end_line: int | None = None
+    end_column: int | None = None
+    offset: int | None = None
+    end_offset: int | None = None
 
     def __str__(self) -> str:
         if self.line is None:
@@ -38,7 +50,16 @@ class Span:
         return f"{self.path}:{self.line}:{self.column}"
 
     def with_path(self, path: str) -> Span:
-        return Span(path, self.line, self.column)
+        return dataclasses.replace(self, path=path)
+
+    def to_json(self) -> dict[str, Any]:
+        """``path``, ``line``, ``column``, and the end and byte offsets where known."""
+        out: dict[str, Any] = {"path": self.path, "line": self.line, "column": self.column}
+        for key in ("end_line", "end_column", "offset", "end_offset"):
+            value = getattr(self, key)
+            if value is not None:
+                out[key] = value
+        return out
 
 
 def element_starts(data: bytes) -> list[tuple[int, int]]:

@@ -31,9 +31,12 @@ from __future__ import annotations
 import math
 import warnings
 from dataclasses import dataclass
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
-import numpy as np
+if TYPE_CHECKING:
+    import numpy as np
+else:  # NumPy loads on first use: importing the rules must not pay for it
+    from urdftool.lazy import numpy as np
 from lxml import etree
 
 COLLADA_NAMESPACES = (

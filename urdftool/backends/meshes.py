@@ -22,11 +22,14 @@ import re
 import threading
 from collections.abc import Iterable
 from dataclasses import dataclass
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
-import numpy as np
+if TYPE_CHECKING:
+    import numpy as np
+else:  # NumPy loads when a mesh is first read: a structural check never pays for it
+    from urdftool.lazy import numpy as np
 
-from urdftool.backends import mesh_cache
+from urdftool.backends import collada, mesh_cache
 from urdftool.model.pose import Matrix, Vec3
 
 
@@ -241,8 +244,6 @@ def lean_collada(path: str) -> Any:
     concatenated, as trimesh's scene ``to_mesh`` does.
     """
     import trimesh
-
-    from urdftool.backends import collada
 
     try:
         scene = collada.read(path)

@@ -8,7 +8,6 @@ from collections.abc import Sequence
 
 import click
 
-from urdftool.check import check_files, default_jobs
 from urdftool.cli.common import (
     EXIT_FINDINGS,
     EXIT_OK,
@@ -20,8 +19,12 @@ from urdftool.cli.common import (
     selection_options,
 )
 from urdftool.diagnostics import Report
-from urdftool.discover import expand_paths
+from urdftool.export.write import OutputError, write_text_atomic
+from urdftool.facts.simulation import engine_names, rule_options_for
+from urdftool.facts.simulation.scene import SimOptions
 from urdftool.parse import InputError, detect_format
+from urdftool.pipeline.check import check_files, default_jobs
+from urdftool.pipeline.discover import expand_paths
 from urdftool.render import render_json, render_text
 
 #: a progress bar is shown on a terminal from this many files on
@@ -67,8 +70,6 @@ def check_command(
     engine: str = "all",
 ) -> None:
     """Load each model (files, or directories searched recursively) and report diagnostics."""
-    from urdftool.dynamics.sim import engine_names, rule_options_for
-    from urdftool.dynamics.sim_scene import SimOptions
 
     simulation = rule_options_for(SimOptions(engine_names(engine))) if sim else {}
     options = build_options(xacro_args, packages, package_paths, select, ignore, dynamics=not no_dynamics,
@@ -106,8 +107,6 @@ def check_command(
         report, colour=output is None and sys.stdout.isatty(), quiet=quiet
     )
     if output:
-        from urdftool.export.write import OutputError, write_text_atomic
-
         try:
             write_text_atomic(output, text, inputs=files)
         except OutputError as exc:

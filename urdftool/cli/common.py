@@ -9,8 +9,8 @@ from typing import Any, TypeVar
 
 import click
 
-from urdftool.check import CheckOptions
 from urdftool.parse import InputError
+from urdftool.pipeline.check import CheckOptions
 from urdftool.rules import UnknownSelector
 
 F = TypeVar("F", bound=Callable[..., Any])

@@ -4,18 +4,17 @@ from __future__ import annotations
 
 import sys
 from collections.abc import Sequence
-from pathlib import Path
 
 import click
 
-from urdftool.check import run_rules
 from urdftool.cli.common import EXIT_FINDINGS, EXIT_OK, EXIT_USAGE, build_options, input_error, model_options
 from urdftool.diagnostics import Diagnostic, Severity
-from urdftool.export import ExportOptions, UnknownTarget, export_model, target_for, verify_model
-from urdftool.export.write import OutputError, guard_inputs, is_stale, write_bytes_atomic
-from urdftool.parse import InputError, read
+from urdftool.export import ExportOptions, UnknownTarget, target_for, verify_model
+from urdftool.export.write import OutputError, guard_inputs, is_stale
+from urdftool.parse import InputError
+from urdftool.pipeline.convert import convert_robot, output_paths, write_conversion
+from urdftool.pipeline.load import NoSuchModel, load_one
 from urdftool.render.text import render_diagnostic
-from urdftool.rules import Selection
 from urdftool.source import SourceIndex
 
 
@@ -75,23 +74,14 @@ def convert_command(
     except UnknownTarget as exc:
         raise click.BadParameter(str(exc), param_hint="--to/-o") from exc
     try:
-        models = read(source, options.xacro_args, options.resolver())
+        loaded = load_one(source, options, model_name)
     except InputError as exc:
         raise input_error(exc) from exc
-    chosen = [m for m in models if model_name is None or (m.robot and m.robot.name == model_name)]
-    if not chosen:
-        click.echo(f"urdftool: {source} has no model named '{model_name}'", err=True)
+    except NoSuchModel as exc:
+        click.echo(f"urdftool: {exc}", err=True)
         sys.exit(EXIT_USAGE)
-    loaded = chosen[0]
     if loaded.robot is None:
         _emit(loaded.diagnostics)
-        sys.exit(EXIT_FINDINGS)
-    robot = loaded.robot
-    # A model that was not read correctly cannot be exported faithfully.
-    structural = [d for d in run_rules(robot, Selection.of(["S", "X"])) if d.severity is Severity.ERROR]
-    if structural:
-        _emit(structural)
-        click.echo(f"urdftool: {source}: not converted: fix the errors above first", err=True)
         sys.exit(EXIT_FINDINGS)
     export_options = ExportOptions(
         floating_base=floating_base,
@@ -101,35 +91,36 @@ def convert_command(
         scene=scene,
     )
     try:
-        result = export_model(robot, target, out, export_options)
+        conversion = convert_robot(loaded.robot, target, out, export_options, loaded.files or [source])
     except UnknownTarget as exc:
         click.echo(f"urdftool: {exc}", err=True)
         sys.exit(EXIT_USAGE)
-    _emit([d for d in result.diagnostics if not quiet or d.severity is Severity.ERROR])
-    if result.failed:
-        click.echo(f"urdftool: {source}: not converted", err=True)
+    _emit([d for d in conversion.diagnostics if not quiet or d.severity is Severity.ERROR])
+    if conversion.refused:
+        structural = conversion.errors and all(d.code[0] in "SX" for d in conversion.errors)
+        hint = ": fix the errors above first" if structural else ""
+        click.echo(f"urdftool: {source}: not converted{hint}", err=True)
         sys.exit(EXIT_FINDINGS)
-    folder = Path(out).resolve().parent
     try:
-        for rel in result.files:
-            guard_inputs(folder / rel, loaded.files or [source])
+        for path in output_paths(conversion):
+            guard_inputs(path, conversion.inputs)
     except OutputError as exc:
         click.echo(f"urdftool: {exc}", err=True)
         sys.exit(EXIT_USAGE)
     if check_only:
-        stale = [rel for rel, data in result.files.items() if is_stale(folder / rel, data)]
+        folder = conversion.out.resolve().parent
+        stale = [rel for rel, data in conversion.files.items() if is_stale(folder / rel, data)]
         for rel in stale:
             click.echo(f"{folder / rel}: stale (differs from what would be written)", err=True)
         sys.exit(EXIT_FINDINGS if stale else EXIT_OK)
     try:
-        for rel, data in sorted(result.files.items()):
-            write_bytes_atomic(folder / rel, data, loaded.files or [source])
+        write_conversion(conversion)
     except OutputError as exc:
         click.echo(f"urdftool: {exc}", err=True)
         sys.exit(EXIT_USAGE)
     if verify:
         try:
-            outcome = verify_model(robot, target, out, export_options)
+            outcome = verify_model(loaded.robot, target, out, export_options)
         except UnknownTarget as exc:
             click.echo(f"urdftool: {exc}", err=True)
             sys.exit(EXIT_USAGE)

@@ -9,7 +9,6 @@ from typing import NoReturn
 
 import click
 
-from urdftool.check import CheckOptions
 from urdftool.cli.common import (
     EXIT_FINDINGS,
     EXIT_OK,
@@ -27,11 +26,13 @@ from urdftool.export.graph import (
     GraphvizNotFound,
     check_output_suffix,
     dot_text,
-    findings_for,
     write_diagram,
 )
 from urdftool.export.write import OutputError
-from urdftool.parse import InputError, Loaded, read
+from urdftool.parse import InputError, Loaded
+from urdftool.pipeline.check import CheckOptions
+from urdftool.pipeline.convert import graph_findings
+from urdftool.pipeline.load import NoSuchModel, load_one
 from urdftool.render.text import render_diagnostic
 from urdftool.source import SourceIndex
 
@@ -44,13 +45,11 @@ def _fail(message: str, code: int) -> NoReturn:
 def _load(source: str, model_name: str | None, options: CheckOptions) -> Loaded:
     """The model to draw: the first in SOURCE, or the one named *model_name*."""
     try:
-        models = read(source, options.xacro_args, options.resolver())
+        return load_one(source, options, model_name)
     except InputError as exc:
         raise input_error(exc) from exc
-    chosen = [m for m in models if model_name is None or (m.robot and m.robot.name == model_name)]
-    if not chosen:
-        _fail(f"{source} has no model named '{model_name}'", EXIT_USAGE)
-    return chosen[0]
+    except NoSuchModel as exc:
+        _fail(str(exc), EXIT_USAGE)
 
 
 def _summary(written: Sequence[Path], diagnostics: Sequence[Diagnostic]) -> str:
@@ -141,7 +140,7 @@ def graph_command(
         select=options.select,
         ignore=options.ignore,
     )
-    found = findings_for(loaded.robot, graph_options)
+    found = graph_findings(loaded.robot, graph_options)
     text = dot_text(loaded.robot, graph_options, found)
     written: list[Path] = []
     try:

@@ -16,8 +16,8 @@ from urdftool.cli.common import (
     input_error,
     model_options,
 )
-from urdftool.info import format_summary, summarize
 from urdftool.parse import InputError, read
+from urdftool.pipeline.info import format_summary, summarize
 from urdftool.render.text import render_diagnostic
 from urdftool.source import SourceIndex
 

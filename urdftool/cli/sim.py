@@ -17,8 +17,8 @@ from urdftool.cli.common import (
     input_error,
     model_options,
 )
-from urdftool.dynamics.sim import engine_names
-from urdftool.dynamics.sim_scene import DURATION, SimOptions
+from urdftool.facts.simulation import engine_names
+from urdftool.facts.simulation.scene import DURATION, SimOptions
 from urdftool.parse import InputError, detect_format
 from urdftool.render import render_json, render_text
 
@@ -66,7 +66,7 @@ def sim_command(
     sim-initial-penetration, sim-drift, sim-joint-limit-violation, and a
     summary per engine (JSON: data.summary).
     """
-    from urdftool.dynamics.sim_report import simulate_file
+    from urdftool.pipeline.simulate import simulate_file
 
     options = build_options(xacro_args, packages, package_paths)
     if not os.path.isfile(path):

@@ -1,9 +1,11 @@
 """Exporters: the model written for other tools (MJCF, URDF, PyBullet URDF, SDF, DOT).
 
 Each target is a module with ``export(robot, out, options) -> ExportResult``
-(pure: it returns bytes, it writes nothing) and optionally
-``verify(robot, out, options) -> VerifyResult`` (loads the written output in
-the real engine and compares numbers with the source). ``urdftool convert``
+(pure: it returns bytes, it writes nothing); a target that can be verified
+has a verifier module beside it (:data:`VERIFIERS`) with
+``verify(robot, out, options) -> VerifyResult``, which loads the written
+output in the real engine and compares numbers with the source. Verifiers
+import their exporter, never the other way round. ``urdftool convert``
 and the ``to_*`` functions of the Python API go through :func:`export_model`.
 """
 
@@ -26,6 +28,12 @@ TARGETS: dict[str, str] = {
     "pybullet": "urdftool.export.pybullet",
     "sdf": "urdftool.export.sdf",
     "dot": "urdftool.export.graph",
+}
+
+#: target -> module whose ``verify(robot, out, options)`` loads the output in its engine
+VERIFIERS: dict[str, str] = {
+    "mjcf": "urdftool.export.mjcf_verify",
+    "pybullet": "urdftool.export.pybullet_verify",
 }
 
 #: output suffix -> target
@@ -51,8 +59,12 @@ class ExportOptions:
     copy_assets: bool = False
     #: MJCF: add a ground plane and a light
     scene: bool = False
+    #: reference meshes by absolute path instead of relative to OUT (nothing is written beside OUT)
+    absolute_mesh_paths: bool = False
     #: anything target-specific (graph: rankdir, collapse_fixed, ...)
     extra: Mapping[str, Any] = field(default_factory=dict)
+    #: the model's findings, for targets that show them (the graph marks links and joints)
+    findings: tuple[Diagnostic, ...] = ()
 
 
 @dataclass
@@ -123,7 +135,7 @@ def export_model(
 def verify_model(
     robot: Robot, target: str, out: str | os.PathLike[str], options: ExportOptions
 ) -> VerifyResult:
-    module = _module(target)
-    if not hasattr(module, "verify"):
+    if target not in VERIFIERS:
         raise UnknownTarget(f"--verify is not available for {target}")
+    module = importlib.import_module(VERIFIERS[target])
     return module.verify(robot, Path(out), options)  # type: ignore[no-any-return]

@@ -21,7 +21,7 @@ from pathlib import Path
 from lxml import etree
 
 from urdftool.diagnostics import Diagnostic
-from urdftool.export import ExportOptions, ExportResult, VerifyResult
+from urdftool.export import ExportOptions, ExportResult
 from urdftool.export.mjcf_assets import AssetPlan
 from urdftool.export.mjcf_bodies import BodyWriter
 from urdftool.export.mjcf_dropped import dropped_extensions
@@ -50,16 +50,10 @@ from urdftool.rules.syntax import EmptyRobot, MultipleRoots
 
 def export(robot: Robot, out: Path, options: ExportOptions) -> ExportResult:
     """The MJCF file for *robot* (key ``out.name``) and its converted assets (``assets/...``)."""
-    text, assets, diagnostics = build(robot, Path(out).parent, options)
+    folder = None if options.absolute_mesh_paths else Path(out).parent
+    text, assets, diagnostics = build(robot, folder, options)
     files = {Path(out).name: text.encode("utf-8"), **assets}
     return ExportResult(files=files, diagnostics=diagnostics)
-
-
-def verify(robot: Robot, out: Path, options: ExportOptions) -> VerifyResult:
-    """Compile *out* with MuJoCo and compare it with Pinocchio built from *robot*."""
-    from urdftool.export.mjcf_verify import verify_mjcf
-
-    return verify_mjcf(robot, Path(out), options)
 
 
 def build(

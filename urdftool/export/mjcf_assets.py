@@ -22,6 +22,7 @@ from pathlib import Path
 
 import numpy as np
 
+from urdftool.backends.meshes import MeshError, load_trimesh
 from urdftool.export.assets import (
     MeshUnavailable,
     asset_name,
@@ -84,8 +85,6 @@ def _convert_cached(content: str, path: str) -> tuple[bytes, str]:
 def convert(path: str) -> tuple[bytes, str]:
     """Load *path* with trimesh (scenes flattened with their transforms); return the bytes and
     suffix of a file MuJoCo reads: binary STL, or OBJ above the STL triangle limit."""
-    from urdftool.backends.meshes import MeshError, load_trimesh
-
     try:
         mesh = load_trimesh(path)
     except MeshError as exc:

@@ -20,11 +20,20 @@ from typing import Any
 
 import numpy as np
 
+from urdftool.backends.mujoco import (
+    EngineError,
+    compile_model,
+    name_to_id,
+    positions_and_mass_matrix,
+    total_mass,
+)
+from urdftool.backends.pinocchio import FREE_FLYER, build_model
 from urdftool.catalogue.conversion import EngineRejected
 from urdftool.diagnostics import Diagnostic
 from urdftool.export import ExportOptions, VerifyResult
-from urdftool.model import Collision, Joint, JointType, KinematicTree, Robot, Visual
-from urdftool.model.pose import Matrix, quaternion_to_matrix
+from urdftool.export.mjcf import plan_inertia
+from urdftool.model import Collision, Joint, JointType, KinematicTree, Mesh, Robot, Visual
+from urdftool.model.pose import Matrix, matrix_to_quaternion, quaternion_to_matrix
 from urdftool.model.tree import mimic_value
 from urdftool.physics.mobility import decide_base
 
@@ -71,8 +80,6 @@ def build_maps(
     robot: Robot, tree: KinematicTree, mj: Any, pin: Any, free_joint: str | None
 ) -> list[JointMap]:
     """The joint map; raises ``KeyError`` naming a joint MuJoCo does not have."""
-    from urdftool.backends.mujoco import name_to_id
-    from urdftool.backends.pinocchio import FREE_FLYER
 
     def addresses(name: str) -> tuple[int, int]:
         jid = name_to_id(mj, "joint", name)
@@ -145,7 +152,6 @@ def _configure(maps: list[JointMap], values: dict[int, Any], nq_mj: int, nq_pin:
             motion[:3, :3] = quaternion_to_matrix((w, x, y, z))
             motion[:3, 3] = pos
             world = m.origin @ motion  # MuJoCo's free joint holds the body's world pose
-            from urdftool.model.pose import matrix_to_quaternion
 
             qmj[list(m.mj_qpos)] = (*world[:3, 3], *matrix_to_quaternion(world[:3, :3]))
             t[np.ix_(m.mj_dof[:3], range(m.pin_v, m.pin_v + 3))] = world[:3, :3]
@@ -180,8 +186,6 @@ def _compare(robot: Robot, mj: Any, pin: Any, maps: list[JointMap], configuratio
     """Per configuration: (worst link, position error, rotation error, mass-matrix error) streamed."""
     import pinocchio
 
-    from urdftool.backends.mujoco import name_to_id, positions_and_mass_matrix
-
     rng = np.random.default_rng(seed)
     pdata = pin.model.createData()
     bodies = {link.name: name_to_id(mj, "body", link.name) for link in robot.links}
@@ -211,9 +215,6 @@ def _compare(robot: Robot, mj: Any, pin: Any, maps: list[JointMap], configuratio
 def verify_mjcf(robot: Robot, out: Path, options: ExportOptions, configurations: int = CONFIGURATIONS,
                 seed: int = 0) -> VerifyResult:
     """Compile *out* and compare it with the source robot (see the module docstring)."""
-    from urdftool.backends.mujoco import EngineError, compile_model, total_mass
-    from urdftool.backends.pinocchio import build_model
-    from urdftool.export.mjcf import plan_inertia
 
     tree = KinematicTree.of(robot)
     base = decide_base(robot, tree, options.floating_base)
@@ -282,8 +283,6 @@ def _mesh_span(robot: Robot, mesh_name: str, out: Path):  # type: ignore[no-unty
     link whose body uses the asset, whose file has the asset's stem."""
     from lxml import etree
 
-    from urdftool.model import Mesh
-
     try:
         document = etree.parse(str(out))
     except (OSError, etree.XMLSyntaxError):
@@ -301,3 +300,8 @@ def _mesh_span(robot: Robot, mesh_name: str, out: Path):  # type: ignore[no-unty
             ):
                 return geometry.span or element.span
     return None
+
+
+def verify(robot: Robot, out: Path, options: ExportOptions) -> VerifyResult:
+    """Compile *out* with MuJoCo and compare it with Pinocchio built from *robot*."""
+    return verify_mjcf(robot, Path(out), options)

@@ -9,6 +9,11 @@ the model:
   or repaired on request (:mod:`urdftool.export.pybullet_inertia`);
 * joint axes written as unit vectors (PyBullet uses the vector as written, so
   a prismatic joint with axis ``0 0 2`` would move twice as far);
+* the base: a robot that moves about (wheels, legs; ``--floating-base``, see
+  :mod:`urdftool.physics.mobility`) whose root link is massless
+  (``base_footprint``) is rooted at its heaviest fixed child instead, the old
+  root kept as a massless fixed child, because PyBullet welds a base of mass 0
+  to the world (:func:`plan_base`; reported as ``conversion-dropped`` info);
 * floating joints refused (PyBullet silently makes them fixed);
 * mimic joints kept in the file but reported: PyBullet ignores ``<mimic>``;
   ``help`` gives the gear-constraint recipe.
@@ -25,12 +30,13 @@ from lxml import etree
 
 from urdftool.catalogue.conversion import ConversionDropped
 from urdftool.diagnostics import Diagnostic, Severity
-from urdftool.export import ExportOptions, ExportResult, VerifyResult
+from urdftool.export import ExportOptions, ExportResult
 from urdftool.export.assets import relative_reference
 from urdftool.export.pybullet_inertia import PyBulletInertia, plan_inertia
 from urdftool.export.pybullet_meshes import MeshPlan, mesh_key
 from urdftool.export.urdf import URDF_JOINT_TYPES, UrdfFlavor, refusals, robot_element, to_bytes
 from urdftool.model import Joint, JointType, KinematicTree, Mesh, Robot
+from urdftool.physics.mobility import decide_base, reroot_massless_base
 from urdftool.rules.syntax import EmptyRobot, MultipleRoots
 
 #: The flag every PyBullet URDF from urdftool is meant to be loaded with.
@@ -61,11 +67,50 @@ class PyBulletFlavor(UrdfFlavor):
         return self.filenames.get(mesh_key(mesh), mesh.filename)
 
 
+@dataclasses.dataclass(frozen=True)
+class BasePlan:
+    """The robot as the PyBullet URDF roots it, and the finding that says so when it was re-rooted."""
+
+    robot: Robot
+    diagnostics: tuple[Diagnostic, ...] = ()
+
+
+def plan_base(robot: Robot, options: ExportOptions) -> BasePlan:
+    """Re-root a free robot whose root link is massless (see the module docstring).
+
+    The exporter writes, and the verifier compares against, the robot planned here.
+    """
+    tree = KinematicTree.of(robot)
+    if not robot.links or len(tree.roots) != 1:
+        return BasePlan(robot)
+    if decide_base(robot, tree, options.floating_base).kind != "free":
+        return BasePlan(robot)
+    rooted = reroot_massless_base(robot, tree)
+    if rooted is robot:
+        return BasePlan(robot)
+    old, new = tree.root, rooted.links[0].name
+    link = robot.link(old or "")
+    note = ConversionDropped.diagnostic(
+        f"link '{old}' has no mass and is the root of a robot that moves about; PyBullet welds a "
+        f"massless base to the world, so the export roots the tree at '{new}' and keeps '{old}' as "
+        "its fixed child (every frame and the total mass unchanged)",
+        link.span if link else robot.span,
+        element=f"link[{old}]",
+        severity=Severity.INFO,
+        help="nothing to do; give the root link mass to keep it as PyBullet's base",
+        data={"reason": "re-rooted", "old_root": old, "new_root": new},
+    )
+    return BasePlan(rooted, (note,))
+
+
 def export(robot: Robot, out: Path, options: ExportOptions) -> ExportResult:
     """The PyBullet URDF (key ``out.name``) and its assets; nothing when refused."""
     out = Path(out)
+    base = plan_base(robot, options)
+    robot = base.robot
     tree = KinematicTree.of(robot)
     diagnostics = _structure(robot, tree) or _joint_refusals(robot)
+    diagnostics += list(base.diagnostics)
     inertia = plan_inertia(robot, tree, options.repair_inertia, options.floating_base)
     diagnostics += inertia.diagnostics + _mimic_reports(robot)
     if any(d.severity is Severity.ERROR for d in diagnostics):
@@ -80,13 +125,6 @@ def export(robot: Robot, out: Path, options: ExportOptions) -> ExportResult:
     return ExportResult(
         dict(sorted(files.items())), sorted(diagnostics + dropped, key=Diagnostic.sort_key)
     )
-
-
-def verify(robot: Robot, out: Path, options: ExportOptions) -> VerifyResult:
-    """Load OUT in PyBullet (DIRECT) and compare what it built with *robot*."""
-    from urdftool.export.pybullet_verify import verify_pybullet
-
-    return verify_pybullet(robot, Path(out), options)
 
 
 def _prepared(robot: Robot, inertia: PyBulletInertia) -> Robot:

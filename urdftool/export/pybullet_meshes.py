@@ -21,6 +21,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import cast
 
+from urdftool.backends.meshes import MeshError, load_trimesh
 from urdftool.catalogue.conversion import MeshNotExportable
 from urdftool.diagnostics import Diagnostic
 from urdftool.export.assets import MeshFiles, MeshUnavailable, is_binary_stl
@@ -38,8 +39,6 @@ def reads_natively(path: str, data: bytes) -> bool:
 def convert_to_obj(path: str) -> bytes:
     """The mesh at *path* (scenes flattened with their transforms) as deterministic OBJ text."""
     from trimesh.exchange.obj import export_obj
-
-    from urdftool.backends.meshes import MeshError, load_trimesh
 
     try:
         mesh = load_trimesh(path)

@@ -26,6 +26,7 @@ from urdftool.backends.pybullet import EngineJoint, EngineLink, PyBulletLoad
 from urdftool.catalogue.conversion import EngineRejected
 from urdftool.diagnostics import Diagnostic
 from urdftool.export import ExportOptions, VerifyResult
+from urdftool.export.pybullet import plan_base
 from urdftool.export.pybullet_inertia import plan_inertia
 from urdftool.model import Inertial, Joint, JointType, KinematicTree, Link, Robot
 from urdftool.model.pose import Matrix
@@ -297,3 +298,9 @@ def _with_mimics(tree: KinematicTree, q: Mapping[str, float]) -> dict[str, float
         if joint.mimic is not None and joint.dof == 1:
             values[joint.name] = mimic_value(joint, q, tree.robot)
     return values
+
+
+def verify(robot: Robot, out: Path, options: ExportOptions) -> VerifyResult:
+    """Load *out* in PyBullet (DIRECT) and compare it with the robot the export wrote
+    (*robot*, re-rooted as :func:`~urdftool.export.pybullet.plan_base` roots it)."""
+    return verify_pybullet(plan_base(robot, options).robot, Path(out), options)

@@ -45,6 +45,7 @@ from urdftool.model import (
     Sphere,
     Visual,
 )
+from urdftool.parse.xmlio import span_of
 
 SDF_VERSION = "1.7"
 _SDF_TYPES = {
@@ -329,8 +330,6 @@ class SdfWriter:
                        Severity.WARNING)
 
     def _drop_element(self, element: etree._Element, where: str) -> None:
-        from urdftool.parse.xmlio import span_of
-
         self._drop(f"{where}: no SDF equivalent that urdftool maps; left out", span_of(element), where,
                    "gazebo extension", Severity.WARNING)
 

@@ -77,6 +77,8 @@ def read(
         if fmt == "xacro":
             return [_read_xacro(path, xacro_args or {}, resolver)]
         if fmt == "sdf":
+            # Function-level, like the readers below: lxml and the xacro package load on
+            # the first read, not at ``import urdftool`` (a cold start of the CLI).
             from urdftool.parse.sdf import read_sdf
 
             return read_sdf(path, resolver)

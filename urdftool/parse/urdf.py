@@ -50,80 +50,19 @@ from urdftool.model import (
     Visual,
 )
 from urdftool.parse.packages import PackageResolver
+from urdftool.parse.urdf_schema import (
+    ATTRIBUTES,
+    CHILDREN,
+    KNOWN_EXTENSIONS,
+    LINK_EXTENSIONS,
+    SDF_ISMS,
+    SPHERICAL_NAMES,
+    URDF_TYPES,
+    is_extension_name,
+)
 from urdftool.parse.values import ValueReader
 from urdftool.parse.xmlio import span_of
 from urdftool.source import SRC_ATTRIBUTE, SourceIndex
-
-#: Attributes each URDF element may carry.
-ATTRIBUTES: dict[str, frozenset[str]] = {
-    "robot": frozenset({"name", "version"}),
-    "link": frozenset({"name"}),
-    "inertial": frozenset(),
-    "origin": frozenset({"xyz", "rpy"}),
-    "mass": frozenset({"value"}),
-    "inertia": frozenset({"ixx", "ixy", "ixz", "iyy", "iyz", "izz"}),
-    "visual": frozenset({"name"}),
-    "collision": frozenset({"name"}),
-    "geometry": frozenset(),
-    "box": frozenset({"size"}),
-    "cylinder": frozenset({"radius", "length"}),
-    "sphere": frozenset({"radius"}),
-    "capsule": frozenset({"radius", "length"}),
-    "mesh": frozenset({"filename", "scale"}),
-    "material": frozenset({"name"}),
-    "color": frozenset({"rgba"}),
-    "texture": frozenset({"filename"}),
-    "joint": frozenset({"name", "type"}),
-    "parent": frozenset({"link"}),
-    "child": frozenset({"link"}),
-    "axis": frozenset({"xyz"}),
-    "calibration": frozenset({"rising", "falling", "reference_position"}),
-    "dynamics": frozenset({"damping", "friction"}),
-    "limit": frozenset({"lower", "upper", "effort", "velocity"}),
-    "mimic": frozenset({"joint", "multiplier", "offset"}),
-    "safety_controller": frozenset({"soft_lower_limit", "soft_upper_limit", "k_position", "k_velocity"}),
-}
-
-#: Children each element may have; ``None`` marks a repeatable child.
-CHILDREN: dict[str, dict[str, bool]] = {
-    "link": {"inertial": False, "visual": True, "collision": True},
-    "inertial": {"origin": False, "mass": False, "inertia": False},
-    "visual": {"origin": False, "geometry": False, "material": False},
-    "collision": {"origin": False, "geometry": False},
-    "joint": {
-        "origin": False,
-        "parent": False,
-        "child": False,
-        "axis": False,
-        "calibration": False,
-        "dynamics": False,
-        "limit": False,
-        "mimic": False,
-        "safety_controller": False,
-    },
-    "material": {"color": False, "texture": False},
-}
-
-#: Top-level elements that are not URDF proper but are expected there.
-KNOWN_EXTENSIONS = frozenset({"gazebo", "transmission", "ros2_control", "sensor", "klampt", "plugin"})
-
-#: Elements that SDF or Gazebo define and that URDF loaders silently ignore.
-#: They are kept on the link or joint and judged by ``sdf-element-in-urdf``.
-SDF_ISMS = frozenset(
-    {"pose", "sensor", "self_collide", "gravity", "kinematic", "velocity_decay", "must_be_base_link"}
-)
-
-#: Simulator extensions inside a link or collision that loaders honour (PyBullet's contact block).
-LINK_EXTENSIONS = frozenset({"contact"})
-
-_URDF_TYPES = {t.value for t in (JointType.REVOLUTE, JointType.CONTINUOUS, JointType.PRISMATIC,
-                                 JointType.FIXED, JointType.FLOATING, JointType.PLANAR)}
-_SPHERICAL_NAMES = {"spherical", "ball"}
-
-
-def _is_extension_name(tag: str) -> bool:
-    """Namespaced elements (``drake:joint``, ``{ns}tag``) belong to their own tools."""
-    return tag.startswith("{") or ":" in tag
 
 
 @dataclass
@@ -201,7 +140,7 @@ class UrdfReader:
 
     @staticmethod
     def _tolerated(parent: str, tag: str) -> bool:
-        if _is_extension_name(tag):
+        if is_extension_name(tag):
             return True
         if parent in ("link", "joint") and tag in SDF_ISMS:
             return True
@@ -259,7 +198,7 @@ class UrdfReader:
             elif tag == "material":
                 materials.append(self._material(child, "robot/material"))
             else:
-                if tag not in KNOWN_EXTENSIONS and not _is_extension_name(tag):
+                if tag not in KNOWN_EXTENSIONS and not is_extension_name(tag):
                     self._report(
                         UnknownElement.diagnostic(
                             f"<robot> has no child <{tag}>"
@@ -518,9 +457,9 @@ class UrdfReader:
         raw = self.values.text(element, "type", where, required=True)
         if raw is None:
             return JointType.FIXED
-        if raw in _URDF_TYPES:
+        if raw in URDF_TYPES:
             return JointType(raw)
-        if raw in _SPHERICAL_NAMES:
+        if raw in SPHERICAL_NAMES:
             self._report(
                 UnknownJointType.diagnostic(
                     f"{where}: type \"{raw}\" is not a URDF joint type (a PyBullet extension, read "
@@ -536,7 +475,7 @@ class UrdfReader:
             return JointType.SPHERICAL
         self._report(
             UnknownJointType.diagnostic(
-                f"{where}: unknown joint type \"{raw}\"" + did_you_mean(raw, _URDF_TYPES)
+                f"{where}: unknown joint type \"{raw}\"" + did_you_mean(raw, URDF_TYPES)
                 + " (read as fixed)",
                 self.values.attr_span(element, "type"),
                 element=where,

@@ -31,6 +31,14 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+from urdftool.catalogue.xacro import (
+    IncludeNotAtPath,
+    MacrosOnly,
+    PackageMissing,
+    XacroError,
+    XacroInUrdf,
+    XacroWarning,
+)
 from urdftool.diagnostics import Diagnostic, Severity
 from urdftool.parse.packages import PackageResolver
 from urdftool.parse.xmlio import MAX_BYTES, XmlDocument, encode_src, parse_bytes, span_of
@@ -182,8 +190,6 @@ def _patched(session: _Session) -> Iterator[None]:
 def _report_moved(session: _Session, missing: str, found: str) -> None:
     import xacro
 
-    from urdftool.catalogue.xacro import IncludeNotAtPath
-
     # xacro has already pushed the missing file; the includer is below it.
     stack = [f for f in (xacro.filestack or []) if f]
     includer = stack[-2] if len(stack) >= 2 else session.top
@@ -273,8 +279,6 @@ def expand(
     """Expand the xacro file *path*; failures become diagnostics, never exceptions."""
     import xacro
 
-    from urdftool.catalogue.xacro import PackageMissing, XacroError, XacroWarning
-
     top = os.path.abspath(path)
     session = _Session(resolver, top)
     stderr = io.StringIO()
@@ -339,8 +343,6 @@ def _is_macro_library(session: _Session, root: Any) -> bool:
 
 
 def _macros_only(session: _Session, document: XmlDocument) -> Diagnostic:
-    from urdftool.catalogue.xacro import MacrosOnly
-
     names = sorted(set(session.macros))
     own = session.top_macros or names
     shown = ", ".join(own[:5]) + (", ..." if len(own) > 5 else "")
@@ -412,8 +414,6 @@ def _locate_pattern(path: str, pattern: re.Pattern[str]) -> Span | None:
 def xacro_in_urdf(root: Any) -> Diagnostic | None:
     """A ``xacro-in-urdf`` finding when the URDF document *root* uses xacro elements."""
     from lxml import etree
-
-    from urdftool.catalogue.xacro import XacroInUrdf
 
     for element in root.iter():
         tag = element.tag

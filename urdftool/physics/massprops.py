@@ -25,6 +25,7 @@ else:
     # NumPy is imported on first use: a structural check must not pay for it.
     from urdftool.lazy import numpy as np
 
+from urdftool.backends.meshes import MeshError, mesh_info
 from urdftool.model.geometry import Box, Capsule, Cylinder, Ellipsoid, Geometry, Mesh, Sphere
 from urdftool.model.pose import Matrix, Pose
 from urdftool.physics.inertia import (
@@ -122,7 +123,6 @@ def mesh_properties(mesh: Mesh) -> SolidProperties | None:
     """
     if mesh.resolved is None:
         return None
-    from urdftool.backends.meshes import MeshError, mesh_info
 
     try:
         info = mesh_info(mesh.resolved, mesh.scale)

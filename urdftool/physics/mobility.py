@@ -17,9 +17,14 @@
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
-import numpy as np
+if TYPE_CHECKING:
+    import numpy as np
+else:  # NumPy loads on first use: importing the rules must not pay for it
+    from urdftool.lazy import numpy as np
 
 from urdftool.model import Cylinder, JointType, KinematicTree, Robot, Sphere
 
@@ -97,3 +102,30 @@ def _legs(tree: KinematicTree) -> int:
         if len(moving) >= 2 and root[2] - poses[name][2, 3] > 0.25 * size:
             limbs.add(moving[-1].name)
     return len(limbs)
+
+
+def reroot_massless_base(robot: Robot, tree: KinematicTree) -> Robot:
+    """*robot* rooted at the heaviest fixed child of a massless root link (``base_footprint``).
+
+    For engines whose free bases need mass of their own: PyBullet welds a base
+    of mass 0 to the world. The fixed joint between the two is reversed (same
+    name, inverse origin), so the old root stays in the tree as a massless
+    fixed child and every link keeps its place and its frame; the total mass is
+    unchanged. Returns *robot* itself when the root has mass or no fixed child
+    with mass.
+    """
+    root = robot.link(tree.root or "")
+    if root is None or (root.inertial is not None and root.inertial.mass > 0):
+        return robot
+    fixed = [j for j in tree.child_joints.get(root.name, []) if j.type is JointType.FIXED]
+    masses = {link.name: (link.inertial.mass if link.inertial else 0.0) for link in robot.links}
+    if not fixed or max(masses.get(j.child, 0.0) for j in fixed) <= 0:
+        return robot
+    carrier = max(fixed, key=lambda j: masses.get(j.child, 0.0))
+    reversed_joint = dataclasses.replace(
+        carrier, parent=carrier.child, child=carrier.parent, origin=carrier.origin.inverse()
+    )
+    joints = tuple(reversed_joint if joint is carrier else joint for joint in robot.joints)
+    new_root = next(link for link in robot.links if link.name == carrier.child)
+    links = (new_root, *(link for link in robot.links if link is not new_root))
+    return dataclasses.replace(robot, links=links, joints=joints)

@@ -7,17 +7,19 @@ defined there, so :func:`all_rules` and :func:`lookup` see the whole table.
 
 from urdftool.catalogue import conversion, sdf, xacro  # noqa: F401  (register the definitions)
 from urdftool.catalogue import syntax as _reader_syntax  # noqa: F401
+from urdftool.facts.context import CheckContext
 from urdftool.rules import (  # noqa: F401  (importing registers the rules)
     dynamics,
     gazebo,
     inertia,
+    inertia_fit,
     joints,
     loops,
+    mesh_contents,
     meshes,
     runtime,
     syntax,
 )
-from urdftool.rules.context import CheckContext
 from urdftool.rules.registry import REGISTRY, Family, Rule, all_rules, lookup
 from urdftool.rules.selection import Selection, UnknownSelector
 

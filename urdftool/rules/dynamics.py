@@ -14,12 +14,12 @@ from typing import Any
 
 from urdftool.catalogue.registry import Family, Rule, register
 from urdftool.diagnostics import Diagnostic, Severity
-from urdftool.dynamics.analysis import GRAVITY, Conditioning, DynamicsAnalysis, GravityLoad
-from urdftool.dynamics.configurations import rounded
-from urdftool.dynamics.run import Skipped, dynamics_of
+from urdftool.facts.context import CheckContext
+from urdftool.facts.dynamics.analysis import GRAVITY, Conditioning, DynamicsAnalysis, GravityLoad
+from urdftool.facts.dynamics.configurations import rounded
+from urdftool.facts.dynamics.run import Skipped, dynamics_of
 from urdftool.model import JointType
 from urdftool.physics.describe import fmt
-from urdftool.rules.context import CheckContext
 from urdftool.source import Span
 
 #: A mass matrix whose smallest eigenvalue is at most this fraction of its largest

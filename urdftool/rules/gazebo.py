@@ -15,11 +15,11 @@ from typing import Any
 from urdftool.catalogue.registry import Family, Rule, register
 from urdftool.catalogue.suggest import did_you_mean
 from urdftool.diagnostics import Diagnostic, Severity
+from urdftool.facts.context import CheckContext
 from urdftool.model import Extension, JointType, Link
 from urdftool.parse.xmlio import span_of
 from urdftool.rules import gazebo_drive as drive
 from urdftool.rules import gazebo_plugins as gz
-from urdftool.rules.context import CheckContext
 
 #: Keys of ``<gazebo>`` blocks that sdformat's URDF converter reads (from text
 #: or from a ``value`` attribute); anything else is copied into the SDF as is.

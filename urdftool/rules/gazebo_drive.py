@@ -23,9 +23,10 @@ else:
     # NumPy is imported on first use: a structural check must not pay for it.
     from urdftool.lazy import numpy as np
 
+from urdftool.facts.context import CheckContext
+from urdftool.facts.meshes import mesh_extents
 from urdftool.model import Capsule, Collision, Cylinder, Joint, Link, Mesh, Sphere, Visual
 from urdftool.model.pose import Matrix
-from urdftool.rules.context import CheckContext
 
 #: Relative difference between declared and measured values that is reported.
 #: Wheel positions in real models agree with their plugins to a few millimetres;
@@ -77,13 +78,9 @@ def _diameter(shape: Collision | Visual, axle_in_shape: Matrix) -> float | None:
     if isinstance(geometry, (Cylinder, Sphere, Capsule)):
         return 2.0 * geometry.radius
     if isinstance(geometry, Mesh) and geometry.resolved:
-        from urdftool.backends.meshes import MeshError, mesh_info
-
-        try:
-            info = mesh_info(geometry.resolved, geometry.scale)
-        except MeshError:
+        extents = mesh_extents(geometry.resolved, geometry.scale)
+        if extents is None:
             return None
-        extents = np.asarray(info.extents)
         across = [i for i in range(3) if abs(axle_in_shape[i]) < 0.7]
         return float(max(extents[i] for i in across)) if across else None
     return None

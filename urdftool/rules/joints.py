@@ -11,10 +11,11 @@ import math
 from collections.abc import Iterator
 
 from urdftool.catalogue.registry import Family, Rule, register
+from urdftool.catalogue.suggest import did_you_mean
 from urdftool.diagnostics import Diagnostic, Severity
+from urdftool.facts.context import CheckContext
 from urdftool.model import Joint, JointType, Robot
 from urdftool.physics.describe import fmt
-from urdftool.rules.context import CheckContext
 
 #: Joint types whose position is bounded by ``lower``/``upper``.
 LIMITED = (JointType.REVOLUTE, JointType.PRISMATIC)
@@ -417,8 +418,6 @@ class MimicTargetMissing(_Joints):
     severity = Severity.ERROR
 
     def check(self, ctx: CheckContext) -> Iterator[Diagnostic]:
-        from urdftool.catalogue.suggest import did_you_mean
-
         names = {joint.name for joint in ctx.robot.joints}
         for joint in ctx.robot.joints:
             mimic = joint.mimic

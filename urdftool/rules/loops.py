@@ -6,8 +6,8 @@ from collections.abc import Iterator
 
 from urdftool.catalogue.registry import Family, Rule, register
 from urdftool.diagnostics import Diagnostic, Severity
+from urdftool.facts.context import CheckContext
 from urdftool.model import KinematicTree, LoopClosure
-from urdftool.rules.context import CheckContext
 
 
 class _Loops(Rule):

@@ -16,6 +16,7 @@ else:
     # NumPy is imported on first use: a structural check must not pay for it.
     from urdftool.lazy import numpy as np
 
+from urdftool.facts.context import CheckContext
 from urdftool.model import (
     Box,
     Capsule,
@@ -31,7 +32,6 @@ from urdftool.model import (
     Visual,
 )
 from urdftool.model.tree import KinematicTree
-from urdftool.rules.context import CheckContext
 
 #: Triangles a collision mesh may have before ``collision-mesh-too-complex``.
 #: Hand-made collision meshes and convex decompositions stay in the hundreds to

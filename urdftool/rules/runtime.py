@@ -1,7 +1,7 @@
 """Runtime (R): verdicts of the bundled smoke simulation.
 
-These rules read the numbers of :func:`urdftool.dynamics.sim.simulate`
-(computed once per robot and shared through the check cache). They run only
+These rules read the simulation fact (:func:`urdftool.facts.simulation.simulation`,
+computed once per robot by the simulator the pipeline installs). They run only
 when the simulation is asked for: ``urdftool sim``, ``check --sim``, or the
 ``simulate`` function of the Python API. Each finding names its engine; the
 engine's summary is in ``data["summary"]``. Thresholds and the reasons for them
@@ -15,21 +15,14 @@ from typing import TYPE_CHECKING, Any
 
 from urdftool.catalogue.registry import Family, Rule, register
 from urdftool.diagnostics import Diagnostic, Severity
+from urdftool.facts.context import CheckContext
+from urdftool.facts.simulation import display_name, simulation
 from urdftool.model import Joint, JointType, Robot
 from urdftool.physics.describe import fmt
-from urdftool.rules.context import CheckContext
 from urdftool.source import Span
 
 if TYPE_CHECKING:
-    from urdftool.dynamics.sim import SimResult
-    from urdftool.dynamics.sim_record import EngineRun, LimitViolation
-
-
-def display_name(engine: str) -> str:
-    """The engine's name as users know it (the simulation modules load only when a run is asked for)."""
-    from urdftool.dynamics.sim import display_name as name
-
-    return name(engine)
+    from urdftool.facts.simulation.record import EngineRun, LimitViolation
 
 #: A joint faster than this (rad/s, or m/s for prismatic joints) has blown up.
 JOINT_SPEED_LIMIT = 100.0
@@ -50,16 +43,6 @@ LIMIT_TOLERANCE = {JointType.REVOLUTE: 0.1, JointType.PRISMATIC: 0.01}
 
 class _Runtime(Rule):
     family = Family.RUNTIME
-
-
-def simulation(ctx: CheckContext) -> SimResult | None:
-    """The smoke simulation of this robot, run once per check (``None`` when not asked for)."""
-    if "sim" not in ctx.cache:
-        from urdftool.dynamics.sim import options_from, simulate
-
-        options = options_from(ctx.options)
-        ctx.cache["sim"] = simulate(ctx.robot, options) if options and ctx.robot.links else None
-    return ctx.cache["sim"]  # type: ignore[no-any-return]
 
 
 def _runs(ctx: CheckContext) -> Iterator[EngineRun]:

@@ -14,6 +14,7 @@ import re
 from collections.abc import Iterable
 from dataclasses import dataclass
 
+from urdftool.catalogue.registry import REGISTRY
 from urdftool.rules.registry import REDIRECTS, Rule, all_rules
 
 #: specificity of an exact code or a rule name
@@ -72,8 +73,6 @@ class Selection:
 
 @functools.lru_cache(maxsize=4096)
 def _enabled_code(selection: Selection, code: str) -> bool:
-    from urdftool.catalogue.registry import REGISTRY
-
     rule = REGISTRY.get(code)
     return rule is not None and selection.enabled(rule)
 

@@ -8,8 +8,8 @@ from urdftool.catalogue.registry import Family, Rule, register
 from urdftool.catalogue.suggest import did_you_mean
 from urdftool.catalogue.xacro import is_macro_library
 from urdftool.diagnostics import Diagnostic, Severity
+from urdftool.facts.context import CheckContext
 from urdftool.model import JointType
-from urdftool.rules.context import CheckContext
 
 
 class _Syntax(Rule):

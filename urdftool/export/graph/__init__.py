@@ -32,6 +32,7 @@ from urdftool.export.graph.render import (
     graphviz_format,
     render_files,
 )
+from urdftool.export.write import write_text_atomic
 from urdftool.model import Robot
 
 RANKDIRS = ("TB", "LR", "BT", "RL")
@@ -70,42 +71,25 @@ class GraphOptions:
         return cls(**values)
 
 
-def _default_ignore() -> tuple[str, ...]:
-    """A diagram runs no simulation: the runtime family (R) is off unless selected."""
-    from urdftool.rules.registry import all_rules
-
-    return ("R",) if any(rule.code.startswith("R") for rule in all_rules()) else ()
-
-
-def findings_for(robot: Robot, options: GraphOptions) -> list[Diagnostic]:
-    """The findings the diagram marks (none with ``diagnostics=False``).
-
-    Raises :class:`~urdftool.rules.UnknownSelector` (a ``ValueError``) for a bad selector.
-    """
-    if not options.diagnostics:
-        return []
-    from urdftool.check import run_rules
-    from urdftool.rules import Selection
-
-    ignore = options.ignore if options.select is not None else (*_default_ignore(), *options.ignore)
-    return run_rules(robot, Selection.of(options.select, ignore))
-
-
 def dot_text(
     robot: Robot,
     options: GraphOptions | None = None,
     diagnostics: Sequence[Diagnostic] | None = None,
 ) -> str:
-    """The DOT text of *robot*; the findings are computed unless *diagnostics* are given."""
+    """The DOT text of *robot*, marking the links and joints named by *diagnostics*.
+
+    The findings come from the pipeline (:func:`urdftool.pipeline.convert.graph_findings`);
+    an exporter runs no rules.
+    """
     options = options or GraphOptions()
-    found = findings_for(robot, options) if diagnostics is None else list(diagnostics)
+    found = list(diagnostics or ())
     settings = GraphSettings(rankdir=options.rankdir, collapse_fixed=options.collapse_fixed)
     return build_dot(robot, settings, found)
 
 
 def export(robot: Robot, out: Path, options: ExportOptions) -> ExportResult:
     """The ``dot`` exporter: ``{out.name: DOT text}``; graph options come in ``extra``."""
-    text = dot_text(robot, GraphOptions.of(options.extra))
+    text = dot_text(robot, GraphOptions.of(options.extra), options.findings)
     return ExportResult(files={out.name: text.encode("utf-8")})
 
 
@@ -140,8 +124,6 @@ def write_diagram(
     :class:`GraphvizNotFound`, :class:`GraphvizFailed` and
     :class:`~urdftool.export.write.OutputError` (an output is an input).
     """
-    from urdftool.export.write import write_text_atomic
-
     check_output_suffix(out)
     written = written if written is not None else []
     sources = list(inputs)
@@ -171,7 +153,6 @@ __all__ = [
     "dot_text",
     "export",
     "find_dot",
-    "findings_for",
     "graphviz_format",
     "render_files",
     "write_diagram",

@@ -11,7 +11,8 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Any
 
-from urdftool.dynamics.coverage import NotCovered, floating_base, not_covered
+from urdftool.facts.dynamics.analysis import SAMPLES, analyse
+from urdftool.facts.dynamics.coverage import NotCovered, floating_base, not_covered
 from urdftool.model import KinematicTree, Robot
 
 #: Rule option that turns the pass on or off (default on).
@@ -35,14 +36,13 @@ def enabled(options: Mapping[str, Any]) -> bool:
 
 
 def dynamics_of(robot: Robot, tree: KinematicTree, options: Mapping[str, Any]) -> Any:
-    """:class:`~urdftool.dynamics.analysis.DynamicsAnalysis`, :class:`Skipped`, or ``None``
+    """:class:`~urdftool.facts.dynamics.analysis.DynamicsAnalysis`, :class:`Skipped`, or ``None``
     when the pass is off or there is nothing to compute (no links)."""
     if not enabled(options) or not robot.links:
         return None
     reason = not_covered(robot, tree)
     if reason is not None:
         return Skipped(reason)
-    from urdftool.dynamics.analysis import SAMPLES, analyse
 
     floating, why = floating_base(robot, tree)
     return analyse(robot, tree, floating, why, int(options.get(SAMPLES_OPTION, SAMPLES)))

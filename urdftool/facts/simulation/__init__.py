@@ -1,22 +1,22 @@
-"""The bundled smoke simulation: one robot, a few seconds, MuJoCo and PyBullet, numbers out.
+"""The smoke simulation as a fact: its options, what each engine measured, and who runs it.
 
-:func:`simulate` prepares the scene once (:mod:`~urdftool.dynamics.sim_scene`),
-runs each requested engine on urdftool's own export of the robot, and returns
-what each measured (:class:`~urdftool.dynamics.sim_record.EngineRun`). The
-verdicts (``sim-unstable``, ``sim-drift``…) are the ``R`` rules' reading of
-these numbers (:mod:`urdftool.rules.runtime`). Deterministic: fixed timestep,
-no randomness, the same input gives the same numbers (except wall time).
+Running a simulation needs an export (MuJoCo and PyBullet load urdftool's own
+MJCF and URDF), and exporters sit above the rules. So this layer only names the
+fact: the data (:class:`SimResult`, :mod:`.record`, :mod:`.scene`) and a
+:data:`Simulator` slot on the check context. The pipeline fills the slot with
+:func:`urdftool.simulate.run.simulate` when a simulation is asked for; the
+runtime rules read :func:`simulation` and never run an engine themselves.
 """
 
 from __future__ import annotations
 
-import importlib.util
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from typing import Any
 
-from urdftool.dynamics.sim_record import EngineRun
-from urdftool.dynamics.sim_scene import ENGINES, Scene, SimOptions, prepare
+from urdftool.facts.context import CheckContext
+from urdftool.facts.simulation.record import EngineRun
+from urdftool.facts.simulation.scene import ENGINES, Scene, SimOptions
 from urdftool.model import Robot
 
 #: engine -> (module to import, display name)
@@ -34,35 +34,18 @@ class SimResult:
     runs: list[EngineRun]
 
 
+#: Runs the smoke simulation of a robot (installed on the context by the pipeline).
+Simulator = Callable[[Robot, SimOptions], SimResult]
+
+
 def engine_names(choice: str) -> tuple[str, ...]:
     """``mujoco``, ``pybullet`` or ``all`` as a tuple of engines."""
     return ENGINES if choice == "all" else (choice,)
 
 
 def display_name(engine: str) -> str:
+    """The engine's name as users know it."""
     return ENGINE_INFO[engine][1]
-
-
-def _runner(engine: str) -> Callable[[Scene, SimOptions], EngineRun]:
-    if engine == "mujoco":
-        from urdftool.dynamics.sim_mujoco import run_mujoco
-
-        return run_mujoco
-    from urdftool.dynamics.sim_pybullet import run_pybullet
-
-    return run_pybullet
-
-
-def simulate(robot: Robot, options: SimOptions) -> SimResult:
-    """Run the smoke simulation of *robot* in each engine of *options*."""
-    scene = prepare(robot)
-    runs = []
-    for engine in options.engines:
-        if importlib.util.find_spec(ENGINE_INFO[engine][0]) is None:
-            runs.append(EngineRun(engine, unavailable=f"{display_name(engine)} is not installed"))
-            continue
-        runs.append(_runner(engine)(scene, options))
-    return SimResult(scene, runs)
 
 
 def options_from(rule_options: Mapping[str, Any]) -> SimOptions | None:
@@ -83,3 +66,16 @@ def rule_options_for(options: SimOptions) -> dict[str, Any]:
     return {OPTION: True, "sim_engines": list(options.engines), "sim_duration": options.duration,
             "sim_timestep": options.timestep, "sim_hold": options.hold,
             "repair_inertia": options.repair_inertia}
+
+
+def simulation(ctx: CheckContext) -> SimResult | None:
+    """The smoke simulation of this robot, run once per check.
+
+    ``None`` when no simulation was asked for, the robot has no links, or no
+    simulator was installed on the context.
+    """
+    if "sim" not in ctx.cache:
+        options = options_from(ctx.options)
+        run = ctx.simulator
+        ctx.cache["sim"] = run(ctx.robot, options) if run and options and ctx.robot.links else None
+    return ctx.cache["sim"]  # type: ignore[no-any-return]

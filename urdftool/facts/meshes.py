@@ -1,11 +1,11 @@
 """Where a robot uses mesh files, where they resolved, and what they hold.
 
 The meshes-and-geometry rules (``rules/meshes.py``) share one survey per
-robot, kept in ``ctx.cache``: the mesh elements in link order, each URI
-resolved once, each file sniffed once, and each readable file loaded once
-(in parallel, through :func:`urdftool.backends.meshes.load_many`) only when
-a selected rule needs the contents. Nothing here imports trimesh; a robot
-without meshes never loads it.
+robot, kept in ``ctx.cache``, and read mesh contents only through this
+module: the mesh elements in link order, each URI resolved once, each file
+sniffed once, and each readable file loaded once (in parallel, through
+:func:`urdftool.backends.meshes.load_many`) only when a selected rule needs
+the contents. Nothing here imports trimesh; a robot without meshes never loads it.
 """
 
 from __future__ import annotations
@@ -13,16 +13,31 @@ from __future__ import annotations
 import os
 from collections.abc import Iterator
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
 
+from urdftool.backends.mesh_formats import ENGINE_NAMES, MeshFormat, engines_refusing, sniff
+from urdftool.backends.meshes import MeshError, MeshFacts, MeshInfo, load_many, mesh_info, scaled_info
+from urdftool.facts.context import CheckContext
 from urdftool.model import Link, Mesh, Pose
 from urdftool.parse.packages import Lookup, PackageResolver
-from urdftool.rules.context import CheckContext
 from urdftool.source import Span
 
-if TYPE_CHECKING:
-    from urdftool.backends.mesh_formats import MeshFormat
-    from urdftool.backends.meshes import MeshError, MeshFacts
+__all__ = [
+    "ENGINE_NAMES",
+    "MeshError",
+    "MeshFacts",
+    "MeshFormat",
+    "MeshInfo",
+    "MeshUse",
+    "by_file",
+    "contents",
+    "engines_refusing",
+    "existing_file",
+    "lookup",
+    "mesh_extents",
+    "mesh_format",
+    "mesh_uses",
+    "scaled_info",
+]
 
 
 @dataclass(frozen=True)
@@ -112,8 +127,6 @@ def by_file(ctx: CheckContext, role: str | None = None) -> dict[str, list[MeshUs
 
 def mesh_format(ctx: CheckContext, path: str) -> MeshFormat | None:
     """The sniffed format of an existing mesh file (``None`` when it cannot be read at all)."""
-    from urdftool.backends.mesh_formats import sniff
-
     key = ("mesh-format", path)
     if key not in ctx.cache:
         try:
@@ -133,8 +146,6 @@ def contents(ctx: CheckContext) -> dict[str, MeshFacts | MeshError]:
             if (fmt := mesh_format(ctx, p)) is not None and fmt.trimesh_reads
         ]
         if paths:
-            from urdftool.backends.meshes import load_many
-
             ctx.cache["mesh-contents"] = load_many(paths, ctx.options.get("jobs"))
         else:
             ctx.cache["mesh-contents"] = {}
@@ -150,3 +161,13 @@ def other_places(uses: list[MeshUse]) -> str:
     shown = ", ".join(dict.fromkeys(spots[:4]))
     more = f" and {len(spots) - 4} more" if len(spots) > 4 else ""
     return f"; also used at {shown}{more}"
+
+
+def mesh_extents(path: str, scale: tuple[float, float, float]) -> tuple[float, float, float] | None:
+    """The scaled bounding-box extents (m) of the mesh file at *path*, ``None`` when unreadable."""
+    try:
+        info = mesh_info(path, scale)
+    except MeshError:
+        return None
+    x, y, z = (float(v) for v in info.extents)
+    return (x, y, z)

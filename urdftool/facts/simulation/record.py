@@ -50,6 +50,8 @@ class EngineRun:
 
     engine: str
     refused: list[Diagnostic] = field(default_factory=list)
+    #: the command whose output the engine loaded (``urdftool convert IN -o robot.xml --scene``)
+    loaded: str | None = None
     #: why the engine could not be used at all (not installed)
     unavailable: str | None = None
     timestep: float = 0.0
@@ -93,9 +95,10 @@ class EngineRun:
         """The numbers for a report's ``data`` (JSON-ready; ``wall_time`` varies between runs)."""
         if not self.ran:
             return {"engine": self.engine, "ran": False, "unavailable": self.unavailable,
-                    "refused": [d.code for d in self.refused]}
+                    "refused": [d.code for d in self.refused], "loaded": self.loaded}
         return {
-            "engine": self.engine, "ran": True, "timestep": self.timestep, "steps": self.steps,
+            "engine": self.engine, "ran": True, "loaded": self.loaded, "timestep": self.timestep,
+            "steps": self.steps,
             "duration": round(self.steps * self.timestep, 9), "finite": self.diverged_at is None,
             "diverged_at": self.diverged_at,
             "max_joint_speed": self.max_joint_speed, "fastest_joint": self.fastest_joint,

@@ -20,63 +20,53 @@ the base and every link, at each link's centre of mass.
 
 from __future__ import annotations
 
-import tempfile
 import time
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
-from urdftool.diagnostics import Severity
-from urdftool.dynamics.sim_record import EngineRun, Penetration, Recorder
-from urdftool.dynamics.sim_scene import (
+from urdftool.backends.pybullet import captured_output, import_pybullet
+from urdftool.catalogue.conversion import EngineRejected
+from urdftool.facts.simulation.record import EngineRun, Penetration, Recorder
+from urdftool.facts.simulation.scene import (
     DROP_CLEARANCE,
     GRAVITY,
     PENETRATION_TOLERANCE,
     HoldController,
     Scene,
     SimOptions,
-    reroot_massless_base,
 )
 from urdftool.model import Joint
 from urdftool.model.pose import quaternion_to_matrix
 
-FILE_NAME = "robot.urdf"
 #: Joint speed clamp (rad/s or m/s), far above the instability bound (PyBullet's default is 100).
 MAX_JOINT_VELOCITY = 1e4
 
 
-def run_pybullet(scene: Scene, options: SimOptions) -> EngineRun:
-    """Simulate *scene* in PyBullet for ``options.duration`` seconds."""
-    from urdftool.backends.pybullet import captured_output, import_pybullet
-
+def run_pybullet(scene: Scene, path: Path, options: SimOptions) -> EngineRun:
+    """Simulate the PyBullet URDF *path* (urdftool's export of *scene*'s robot) for ``options.duration`` s."""
     run = EngineRun("pybullet")
     p = import_pybullet()
-    with tempfile.TemporaryDirectory(prefix="urdftool-sim-") as folder:
-        path = _export(scene, options, Path(folder), run)
-        if path is None:
-            return run
+    with captured_output():
+        client = p.connect(p.DIRECT)
+    try:
+        world = _World(p, client, scene)
         with captured_output():
-            client = p.connect(p.DIRECT)
-        try:
-            world = _World(p, client, scene)
-            with captured_output():
-                loaded = world.load(path, options)
-            if loaded is not None:
-                run.refused = [_rejected(scene, loaded)]
-                return run
-            run.penetrations = _penetrations(p, path, scene, options)
-            return world.simulate(options, run)
-        finally:
-            p.disconnect(physicsClientId=client)
+            loaded = world.load(path, options)
+        if loaded is not None:
+            run.refused = [_rejected(scene, loaded)]
+            return run
+        run.penetrations = _penetrations(p, path, scene, options)
+        return world.simulate(options, run)
+    finally:
+        p.disconnect(physicsClientId=client)
 
 
 def _penetrations(p: Any, path: Path, scene: Scene, options: SimOptions) -> list[Penetration]:
     """Overlapping links at the start pose, measured in a second client that loads the robot with
     self-collision on: PyBullet answers no query about two links of one body without it, and the
     simulation itself keeps PyBullet's default (self-collision off)."""
-    from urdftool.backends.pybullet import captured_output
-
     with captured_output():
         client = p.connect(p.DIRECT)
     try:
@@ -91,27 +81,7 @@ def _penetrations(p: Any, path: Path, scene: Scene, options: SimOptions) -> list
         p.disconnect(physicsClientId=client)
 
 
-def _export(scene: Scene, options: SimOptions, folder: Path, run: EngineRun) -> Path | None:
-    """Write the PyBullet URDF and its assets into *folder*; ``None`` when the export refuses."""
-    from urdftool.export import ExportOptions, export_model
-
-    robot = reroot_massless_base(scene.robot, scene.tree) if scene.floating else scene.robot
-    export = ExportOptions(floating_base="free" if scene.floating else "fixed",
-                           repair_inertia=options.repair_inertia)
-    result = export_model(robot, "pybullet", folder / FILE_NAME, export)
-    if result.failed:
-        run.refused = [d for d in result.diagnostics if d.severity is Severity.ERROR]
-        return None
-    for relative, data in result.files.items():
-        target = folder / relative
-        target.parent.mkdir(parents=True, exist_ok=True)
-        target.write_bytes(data)
-    return folder / FILE_NAME
-
-
 def _rejected(scene: Scene, message: str) -> Any:
-    from urdftool.catalogue.conversion import EngineRejected
-
     return EngineRejected.diagnostic(f"PyBullet refused the exported model: {message}", scene.robot.span,
                                      data={"engine": "pybullet"})
 

@@ -33,7 +33,7 @@ else:
     from urdftool.lazy import numpy as np
 
 from urdftool.backends.pinocchio import FREE_FLYER, PinocchioModel, build_model
-from urdftool.dynamics.configurations import Configuration, Samples, sample
+from urdftool.facts.dynamics.configurations import Configuration, Samples, sample
 from urdftool.model import Joint, JointType, KinematicTree, Robot
 from urdftool.model.pose import Matrix
 

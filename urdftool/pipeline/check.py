@@ -9,10 +9,13 @@ from typing import Any
 
 from urdftool.catalogue.syntax import InternalError
 from urdftool.diagnostics import Diagnostic, FileReport, Report
+from urdftool.facts.context import CheckContext
+from urdftool.facts.simulation import OPTION as SIM_OPTION
+from urdftool.facts.simulation import Simulator
 from urdftool.model import KinematicTree, Robot
 from urdftool.parse import Loaded, read
 from urdftool.parse.packages import PackageResolver
-from urdftool.rules import CheckContext, Selection
+from urdftool.rules import Selection
 from urdftool.rules.registry import model_rules
 
 
@@ -40,7 +43,8 @@ def run_rules(
 ) -> list[Diagnostic]:
     """The reader's findings plus every selected model rule's, sorted by location."""
     found = [d for d in robot.diagnostics if selection.enabled_code(d.code)]
-    ctx = CheckContext(robot, KinematicTree.of(robot), dict(options or {}))
+    options = dict(options or {})
+    ctx = CheckContext(robot, KinematicTree.of(robot), options, simulator=_simulator(options))
     for rule in model_rules():
         if not selection.enabled(rule):
             continue
@@ -55,6 +59,17 @@ def run_rules(
                 )
             )
     return sorted(_unique(found), key=Diagnostic.sort_key)
+
+
+def _simulator(options: Mapping[str, Any]) -> Simulator | None:
+    """The smoke simulation for the runtime rules, when the run asks for one."""
+    if not options.get(SIM_OPTION):
+        return None
+    # Function-level: the simulation brings NumPy, the exporters and the engine
+    # adapters, which a check without --sim never loads.
+    from urdftool.pipeline.simulate import simulator
+
+    return simulator
 
 
 def _unique(diagnostics: Iterable[Diagnostic]) -> list[Diagnostic]:

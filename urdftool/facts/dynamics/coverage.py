@@ -14,6 +14,7 @@ from dataclasses import dataclass
 
 from urdftool.model import Joint, JointType, KinematicTree, Link, Robot
 from urdftool.physics.inertia import MIN_MOMENT, assess
+from urdftool.physics.mobility import decide_base
 
 #: Joint types the Pinocchio backend builds (the others have no model there).
 PINOCCHIO_JOINT_TYPES = frozenset({
@@ -88,8 +89,6 @@ def floating_base(robot: Robot, tree: KinematicTree) -> tuple[bool, str]:
     A root named ``world`` or a robot without wheels or legs is fixed to the
     world; wheels, legs or a ``floating`` joint at the root make it mobile.
     """
-    from urdftool.physics.mobility import decide_base
-
     if tree.root == "world":
         children = tree.child_joints.get("world", [])
         if any(j.type is JointType.FLOATING for j in children):

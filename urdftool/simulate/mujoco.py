@@ -12,14 +12,16 @@ counts as diverging.
 from __future__ import annotations
 
 import time
+from pathlib import Path
 from typing import Any
 
 import numpy as np
 
+from urdftool.backends.mujoco import positions_and_mass_matrix
 from urdftool.catalogue.conversion import EngineRejected
-from urdftool.diagnostics import Diagnostic, Severity
-from urdftool.dynamics.sim_record import EngineRun, Penetration, Recorder
-from urdftool.dynamics.sim_scene import (
+from urdftool.diagnostics import Diagnostic
+from urdftool.facts.simulation.record import EngineRun, Penetration, Recorder
+from urdftool.facts.simulation.scene import (
     DROP_CLEARANCE,
     PENETRATION_TOLERANCE,
     HoldController,
@@ -29,12 +31,12 @@ from urdftool.dynamics.sim_scene import (
 from urdftool.model import Joint
 
 
-def run_mujoco(scene: Scene, options: SimOptions) -> EngineRun:
-    """Simulate *scene* in MuJoCo for ``options.duration`` seconds."""
+def run_mujoco(scene: Scene, path: Path, options: SimOptions) -> EngineRun:
+    """Simulate the MJCF file *path* (urdftool's export of *scene*'s robot) for ``options.duration`` s."""
     import mujoco
 
     run = EngineRun("mujoco")
-    compiled = _compile(scene, options, run)
+    compiled = _compile(scene, path, run)
     if compiled is None:
         return run
     model = compiled
@@ -70,22 +72,12 @@ def run_mujoco(scene: Scene, options: SimOptions) -> EngineRun:
     return recorder.finish(time.perf_counter() - started, scene.energy_scale)
 
 
-def _compile(scene: Scene, options: SimOptions, run: EngineRun) -> Any:
+def _compile(scene: Scene, path: Path, run: EngineRun) -> Any:
     """The compiled model, or ``None`` with ``run.refused`` saying why."""
     import mujoco
 
-    from urdftool.export import ExportOptions
-    from urdftool.export.mjcf import build
-
-    export = ExportOptions(floating_base="free" if scene.floating else "fixed", scene=scene.floating,
-                           repair_inertia=options.repair_inertia)
-    text, assets, diagnostics = build(scene.robot, None, export)
-    errors = [d for d in diagnostics if d.severity is Severity.ERROR]
-    if errors or not text:
-        run.refused = errors
-        return None
     try:
-        return mujoco.MjModel.from_xml_string(text, assets)
+        return mujoco.MjModel.from_xml_path(str(path))
     except ValueError as exc:
         run.refused = [_rejected(scene, "MuJoCo", str(exc))]
         return None
@@ -180,8 +172,6 @@ def _penetrations(model: Any, data: Any, scene: Scene) -> list[Penetration]:
 
 
 def _hold_gains(model: Any, data: Any, joints: list[Joint], dofs: list[int]) -> HoldController:
-    from urdftool.backends.mujoco import positions_and_mass_matrix
-
     _, mass = positions_and_mass_matrix(model, data.qpos.copy())
     return HoldController.at([data.qpos[model.jnt_qposadr[_jid(model, j)]] for j in joints],
                            np.diag(mass)[dofs], joints)

@@ -14,12 +14,11 @@
 
 from __future__ import annotations
 
-import dataclasses
 from dataclasses import dataclass, field
 from typing import Any
 
-from urdftool.dynamics.configurations import zero_configuration
-from urdftool.dynamics.coverage import floating_base
+from urdftool.facts.dynamics.configurations import zero_configuration
+from urdftool.facts.dynamics.coverage import floating_base
 from urdftool.model import Joint, JointType, KinematicTree, Robot
 from urdftool.physics.bodies import body_of, rigid_bodies
 
@@ -146,33 +145,6 @@ def neighbour_pairs(tree: KinematicTree) -> set[frozenset[str]]:
         parent = members[owner[joint.parent].head]
         pairs.update(frozenset((a, b)) for a in parent for b in members[body.head])
     return pairs
-
-
-def reroot_massless_base(robot: Robot, tree: KinematicTree) -> Robot:
-    """*robot* with a massless root link (``base_footprint``) replaced by its heaviest
-    fixed child, for engines whose free bases need mass of their own (PyBullet).
-
-    The other joints of the old root are re-expressed in the new root's frame,
-    so every link keeps its place. Unchanged when the root has mass or no fixed child.
-    """
-    root = robot.link(tree.root or "")
-    if root is None or (root.inertial is not None and root.inertial.mass > 0):
-        return robot
-    fixed = [j for j in tree.child_joints.get(root.name, []) if j.type is JointType.FIXED]
-    masses = {link.name: (link.inertial.mass if link.inertial else 0.0) for link in robot.links}
-    if not fixed or max(masses.get(j.child, 0.0) for j in fixed) <= 0:
-        return robot
-    carrier = max(fixed, key=lambda j: masses.get(j.child, 0.0))
-    to_new = carrier.origin.inverse()
-    joints = []
-    for joint in robot.joints:
-        if joint is carrier:
-            continue
-        if joint.parent == root.name:
-            joint = dataclasses.replace(joint, parent=carrier.child, origin=to_new.compose(joint.origin))
-        joints.append(joint)
-    links = tuple(link for link in robot.links if link.name != root.name)
-    return dataclasses.replace(robot, links=links, joints=tuple(joints))
 
 
 class HoldController:

@@ -6,13 +6,12 @@ from collections import Counter
 from typing import Any
 
 from urdftool.model import KinematicTree, Robot
+from urdftool.physics.com import center_of_mass
 
 
 def summarize(robot: Robot) -> dict[str, Any]:
     """Name, root, link and joint counts, DOF, total mass (kg), centre of mass (m, root frame
     at q = 0), loops, and the tree outline."""
-    from urdftool.physics.com import center_of_mass
-
     tree = KinematicTree.of(robot)
     types = Counter(j.type.value for j in robot.joints)
     outline = []

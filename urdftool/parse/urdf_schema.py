@@ -1,0 +1,80 @@
+"""What URDF allows where: attributes and children per element, and the extensions loaders expect.
+
+The tables the URDF reader (:mod:`urdftool.parse.urdf`) judges elements by,
+following urdfdom's reading of the format.
+"""
+
+from __future__ import annotations
+
+from urdftool.model import JointType
+
+#: Attributes each URDF element may carry.
+ATTRIBUTES: dict[str, frozenset[str]] = {
+    "robot": frozenset({"name", "version"}),
+    "link": frozenset({"name"}),
+    "inertial": frozenset(),
+    "origin": frozenset({"xyz", "rpy"}),
+    "mass": frozenset({"value"}),
+    "inertia": frozenset({"ixx", "ixy", "ixz", "iyy", "iyz", "izz"}),
+    "visual": frozenset({"name"}),
+    "collision": frozenset({"name"}),
+    "geometry": frozenset(),
+    "box": frozenset({"size"}),
+    "cylinder": frozenset({"radius", "length"}),
+    "sphere": frozenset({"radius"}),
+    "capsule": frozenset({"radius", "length"}),
+    "mesh": frozenset({"filename", "scale"}),
+    "material": frozenset({"name"}),
+    "color": frozenset({"rgba"}),
+    "texture": frozenset({"filename"}),
+    "joint": frozenset({"name", "type"}),
+    "parent": frozenset({"link"}),
+    "child": frozenset({"link"}),
+    "axis": frozenset({"xyz"}),
+    "calibration": frozenset({"rising", "falling", "reference_position"}),
+    "dynamics": frozenset({"damping", "friction"}),
+    "limit": frozenset({"lower", "upper", "effort", "velocity"}),
+    "mimic": frozenset({"joint", "multiplier", "offset"}),
+    "safety_controller": frozenset({"soft_lower_limit", "soft_upper_limit", "k_position", "k_velocity"}),
+}
+
+#: Children each element may have; ``None`` marks a repeatable child.
+CHILDREN: dict[str, dict[str, bool]] = {
+    "link": {"inertial": False, "visual": True, "collision": True},
+    "inertial": {"origin": False, "mass": False, "inertia": False},
+    "visual": {"origin": False, "geometry": False, "material": False},
+    "collision": {"origin": False, "geometry": False},
+    "joint": {
+        "origin": False,
+        "parent": False,
+        "child": False,
+        "axis": False,
+        "calibration": False,
+        "dynamics": False,
+        "limit": False,
+        "mimic": False,
+        "safety_controller": False,
+    },
+    "material": {"color": False, "texture": False},
+}
+
+#: Top-level elements that are not URDF proper but are expected there.
+KNOWN_EXTENSIONS = frozenset({"gazebo", "transmission", "ros2_control", "sensor", "klampt", "plugin"})
+
+#: Elements that SDF or Gazebo define and that URDF loaders silently ignore.
+#: They are kept on the link or joint and judged by ``sdf-element-in-urdf``.
+SDF_ISMS = frozenset(
+    {"pose", "sensor", "self_collide", "gravity", "kinematic", "velocity_decay", "must_be_base_link"}
+)
+
+#: Simulator extensions inside a link or collision that loaders honour (PyBullet's contact block).
+LINK_EXTENSIONS = frozenset({"contact"})
+
+URDF_TYPES = {t.value for t in (JointType.REVOLUTE, JointType.CONTINUOUS, JointType.PRISMATIC,
+                                 JointType.FIXED, JointType.FLOATING, JointType.PLANAR)}
+SPHERICAL_NAMES = {"spherical", "ball"}
+
+
+def is_extension_name(tag: str) -> bool:
+    """Namespaced elements (``drake:joint``, ``{ns}tag``) belong to their own tools."""
+    return tag.startswith("{") or ":" in tag

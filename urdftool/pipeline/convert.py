@@ -1,0 +1,118 @@
+"""From a model to exported files: one path for ``urdftool convert``, the ``to_*`` API and ``sim``.
+
+Every caller goes through :func:`convert_robot`, so they refuse the same
+models with the same findings: a model read with structural errors (``S``,
+``X``) is not exported, and an exporter's own errors (invalid inertia without
+repair, a joint the target cannot hold) refuse it too. :func:`write_conversion`
+writes the files atomically, never over an input.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import os
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from urdftool.diagnostics import Diagnostic, Severity
+from urdftool.export import ExportOptions, export_model
+from urdftool.export.graph import GraphOptions
+from urdftool.export.write import guard_inputs, write_bytes_atomic
+from urdftool.model import Robot
+from urdftool.pipeline.check import run_rules
+from urdftool.rules import Selection
+
+#: What must be clean before a model is exported: it was read and expanded correctly.
+STRUCTURAL = Selection.of(("S", "X"), ())
+
+
+@dataclass
+class Conversion:
+    """What converting one robot to one target gave.
+
+    ``files`` maps paths relative to the output's folder to their bytes (the
+    output itself under its own name); nothing is in it when ``refused``.
+    ``diagnostics`` are the findings that refused it, or the exporter's report
+    of what it dropped or changed.
+    """
+
+    robot: Robot
+    target: str
+    out: Path
+    files: dict[str, bytes] = field(default_factory=dict)
+    diagnostics: list[Diagnostic] = field(default_factory=list)
+    refused: bool = False
+    #: every file the model was read from (never to be written over)
+    inputs: list[str] = field(default_factory=list)
+
+    @property
+    def errors(self) -> list[Diagnostic]:
+        return [d for d in self.diagnostics if d.severity is Severity.ERROR]
+
+    @property
+    def text(self) -> str:
+        """The main output as text."""
+        return self.files[self.out.name].decode("utf-8")
+
+
+def structural_errors(robot: Robot) -> list[Diagnostic]:
+    """Errors that mean the model was not read faithfully, so no export can be faithful."""
+    return [d for d in run_rules(robot, STRUCTURAL) if d.severity is Severity.ERROR]
+
+
+def graph_findings(robot: Robot, options: GraphOptions) -> list[Diagnostic]:
+    """The findings a diagram marks (none with ``diagnostics=False``).
+
+    A diagram runs no simulation: the runtime family (``R``) is off unless
+    selected. Raises :class:`~urdftool.rules.UnknownSelector` for a bad selector.
+    """
+    if not options.diagnostics:
+        return []
+    ignore = options.ignore if options.select is not None else ("R", *options.ignore)
+    return run_rules(robot, Selection.of(options.select, ignore))
+
+
+def convert_robot(
+    robot: Robot,
+    target: str,
+    out: str | os.PathLike[str],
+    options: ExportOptions,
+    inputs: Sequence[str] = (),
+) -> Conversion:
+    """Export *robot* to *target* as if written to *out*; nothing is written here.
+
+    Raises :class:`~urdftool.export.UnknownTarget` for a target with no exporter.
+    """
+    where = Path(out)
+    sources = list(inputs) or ([robot.path] if robot.path else [])
+    structural = structural_errors(robot)
+    if structural:
+        return Conversion(robot, target, where, diagnostics=structural, refused=True, inputs=sources)
+    if target == "dot":
+        graph = GraphOptions.of(options.extra)
+        options = dataclasses.replace(options, findings=tuple(graph_findings(robot, graph)))
+    result = export_model(robot, target, where, options)
+    if result.failed:
+        return Conversion(robot, target, where, diagnostics=result.diagnostics, refused=True, inputs=sources)
+    return Conversion(robot, target, where, result.files, result.diagnostics, inputs=sources)
+
+
+def output_paths(conversion: Conversion) -> list[Path]:
+    """Where each file of *conversion* goes, the output itself included."""
+    folder = conversion.out.resolve().parent
+    return [folder / rel for rel in sorted(conversion.files)]
+
+
+def write_conversion(conversion: Conversion) -> list[Path]:
+    """Write every file of *conversion* atomically; refuse before writing anything over an input.
+
+    Raises :class:`~urdftool.export.write.OutputError`.
+    """
+    paths = output_paths(conversion)
+    for path in paths:
+        guard_inputs(path, conversion.inputs)
+    folder = conversion.out.resolve().parent
+    for rel, data in sorted(conversion.files.items()):
+        write_bytes_atomic(folder / rel, data, conversion.inputs)
+    return paths

@@ -1,0 +1,30 @@
+"""From a path to the models in it: the first stage of every command and of the API."""
+
+from __future__ import annotations
+
+from urdftool.parse import Loaded, read
+from urdftool.pipeline.check import CheckOptions
+
+
+class NoSuchModel(ValueError):
+    """The file holds no model of the name asked for (``--model``)."""
+
+
+def load_models(path: str, options: CheckOptions) -> list[Loaded]:
+    """Every model in *path*, read with the options' xacro arguments and packages.
+
+    Raises :class:`~urdftool.parse.InputError` when the file cannot be read at all.
+    """
+    return read(path, options.xacro_args, options.resolver())
+
+
+def load_one(path: str, options: CheckOptions, model: str | None = None) -> Loaded:
+    """The model named *model* in *path*, or its first model.
+
+    Raises :class:`~urdftool.parse.InputError` and :class:`NoSuchModel`.
+    """
+    models = load_models(path, options)
+    chosen = [m for m in models if model is None or (m.robot and m.robot.name == model)]
+    if not chosen:
+        raise NoSuchModel(f"{path} has no model named '{model}'")
+    return chosen[0]
