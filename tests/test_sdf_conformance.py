@@ -19,6 +19,10 @@ VALID = sorted((ROOT / "valid").glob("*.sdf"))
 INVALID = sorted((ROOT / "invalid").glob("*.sdf"))
 
 
+#: invalid cases whose error belongs to a rule of another family, by that rule's name
+OTHER_FAMILY = {"joint_axis_zero": "zero-axis"}
+
+
 def _findings(path: Path) -> list[Diagnostic]:
     return [d for report in check_file(str(path), CheckOptions()) for d in report.diagnostics]
 
@@ -45,6 +49,10 @@ def test_valid_case_has_no_structural_error(path: Path) -> None:
 
 @pytest.mark.parametrize("path", INVALID, ids=lambda p: p.stem)
 def test_invalid_case_has_a_structural_error(path: Path) -> None:
+    if path.stem in OTHER_FAMILY:
+        errors = [d.name for d in _findings(path) if d.severity.value == "error"]
+        assert OTHER_FAMILY[path.stem] in errors
+        return
     assert _structural_errors(path), "no S*/L* error reported"
 
 

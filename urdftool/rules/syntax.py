@@ -155,6 +155,8 @@ class EmptyRobot(_Syntax):
 
         if is_macro_library(ctx.robot):
             return  # reported once as macros-only
+        if ctx.robot.format == "sdf":
+            return  # the SDF reader reports non-static models without links, at any depth
         if not ctx.robot.links and ctx.robot.name is not None:
             yield self.diagnostic(
                 f"robot '{ctx.robot.name}' has no links", ctx.robot.span, element="robot"
@@ -593,7 +595,10 @@ class MultipleRoots(_Syntax):
 
     ## What it does
     Reports a robot whose links form several disconnected trees, listing each
-    root and the size of its tree.
+    root and the size of its tree. In an SDF model a link without a joint is a
+    free body, which the spec allows: there it is one `info` naming the free
+    bodies (a link that is the child of two joints is a closed chain, see
+    `closed-chain`).
 
     ## Why it matters
     A URDF robot is one tree: urdfdom refuses several roots ("Two root links
@@ -620,6 +625,19 @@ class MultipleRoots(_Syntax):
         sizes = {root: sum(1 for _ in ctx.tree.walk(root)) for root in roots}
         largest = max(roots, key=lambda r: sizes[r])
         listing = ", ".join(f"'{r}' ({sizes[r]} links)" for r in roots)
+        if ctx.robot.format == "sdf":
+            # SDF models are not trees: a link without a joint is a free body.
+            free = [r for r in roots if r != roots[0]]
+            yield self.diagnostic(
+                f"{len(free)} free bod{'y' if len(free) == 1 else 'ies'} beside the tree of '{roots[0]}': "
+                + ", ".join(f"'{r}'" for r in free),
+                ctx.robot.span,
+                element="model",
+                help="in SDF a link without a joint moves freely; join it with a joint if it should not",
+                data={"roots": roots, "sizes": sizes, "free": free},
+                severity=Severity.INFO,
+            )
+            return
         for root in roots:
             if root == largest:
                 continue
