@@ -197,7 +197,8 @@ def _tolerate_quirks(data: bytes, path: str) -> tuple[bytes, list[Diagnostic]]:
                 help='write <?xml version="1.0"?>',
             )
         )
-    data = _declare_prefixes(data, path, warnings)
+    if path.lower().endswith((".sdf", ".world")):
+        data = _declare_prefixes(data, path, warnings)
     stripped = data.rstrip(b"\0\r\n\t ")
     if b"\0" in data[len(stripped) :]:
         warnings.append(
