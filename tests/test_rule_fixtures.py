@@ -105,7 +105,7 @@ def test_no_fixture_folder_without_a_rule() -> None:
 
 
 def test_rule_crash_becomes_internal_error(monkeypatch) -> None:
-    from urdftool.rules.syntax import SelfLoopJoint
+    from urdftool.catalogue.syntax import SelfLoopJoint
 
     def explode(self, ctx):
         raise RuntimeError("boom")

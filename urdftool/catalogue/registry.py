@@ -21,9 +21,10 @@ from __future__ import annotations
 import enum
 import re
 from collections.abc import Iterable, Mapping
-from typing import Any, ClassVar
+from typing import Any, ClassVar, Protocol
 
 from urdftool.diagnostics import Diagnostic, Severity
+from urdftool.model import KinematicTree, Robot
 from urdftool.source import Span
 
 
@@ -53,6 +54,16 @@ class Family(enum.Enum):
 CODE_PATTERN = re.compile(r"^[A-Z]{1,2}[0-9]{3}$")
 NAME_PATTERN = re.compile(r"^[a-z][a-z0-9]*(-[a-z0-9]+)*$")
 DOC_SECTIONS = ("What it does", "Why it matters", "Example", "Fix")
+
+
+class ModelView(Protocol):
+    """What a model check defined in the catalogue may read: the robot and its kinematic tree."""
+
+    @property
+    def robot(self) -> Robot: ...
+
+    @property
+    def tree(self) -> KinematicTree: ...
 
 
 class Rule:

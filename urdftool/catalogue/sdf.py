@@ -153,3 +153,63 @@ class SdfModelMissing(_Sdf):
     code = "S105"
     name = "sdf-model-missing"
     severity = Severity.ERROR
+
+
+@register
+class SdfNameCollision(_Sdf):
+    """Two elements of one SDF scope share a name.
+
+    ## What it does
+    Checks the names of one scope: links, joints, `<frame>`s and nested
+    models of a model share one namespace from SDFormat 1.7 on (they are all
+    frames); models, frames and joints of a world likewise; visuals and
+    collisions are unique within their link; worlds within the file. Before
+    1.7 a link and a joint (or a world frame and a model) may share a name:
+    that is a warning, as libsdformat gives.
+
+    ## Why it matters
+    libsdformat refuses the file ("Non-unique names", "already exists"), so
+    Gazebo will not load it; a `relative_to` or `attached_to` naming the
+    shared name could mean either element.
+
+    ## Example
+    ```xml
+    <link name="tool"/>
+    <joint name="tool" type="fixed"> … </joint>
+    ```
+
+    ## Fix
+    Rename one of them, for example the joint to `tool_joint`.
+    """
+
+    code = "S106"
+    name = "sdf-name-collision"
+    severity = Severity.ERROR
+
+
+@register
+class SdfReservedName(_Sdf):
+    """An SDF element is named `world` or `__…__`, names the spec reserves.
+
+    ## What it does
+    Reports links, joints, frames, models, visuals and collisions (SDFormat
+    1.7 and later) named `world` or starting and ending with two
+    underscores (`__model__`, `__root__`, ...).
+
+    ## Why it matters
+    These names are the spec's own frames: `world` is the world frame and
+    `__model__` the model frame. libsdformat refuses the file ("is reserved").
+
+    ## Example
+    ```xml
+    <link name="world"/>
+    ```
+
+    ## Fix
+    Choose another name; to fix a link to the world, use a joint whose
+    `<parent>` is `world`.
+    """
+
+    code = "S107"
+    name = "sdf-reserved-name"
+    severity = Severity.ERROR

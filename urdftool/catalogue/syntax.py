@@ -1,14 +1,19 @@
 """Syntax and structure (S) reported while a file is read: XML, numbers, elements, attributes.
 
-Definitions only: the readers in :mod:`urdftool.parse` create these findings
-with :meth:`~urdftool.catalogue.registry.Rule.diagnostic`; the structural
-rules that run on a loaded robot are in :mod:`urdftool.rules.syntax`.
+The readers in :mod:`urdftool.parse` create these findings with
+:meth:`~urdftool.catalogue.registry.Rule.diagnostic`. Two structural rules
+that the SDF reader also reports (``empty-robot``, ``self-loop-joint``) keep
+their model check here, written against :class:`ModelView` (the robot and its
+tree, nothing else); the other structural rules are in :mod:`urdftool.rules.syntax`.
 """
 
 from __future__ import annotations
 
-from urdftool.catalogue.registry import Family, Rule, register
-from urdftool.diagnostics import Severity
+from collections.abc import Iterator
+
+from urdftool.catalogue.registry import Family, ModelView, Rule, register
+from urdftool.catalogue.xacro import is_macro_library
+from urdftool.diagnostics import Diagnostic, Severity
 
 
 class _Syntax(Rule):
@@ -412,3 +417,74 @@ class MissingElement(_Syntax):
     code = "S023"
     name = "missing-element"
     severity = Severity.ERROR
+
+
+@register
+class EmptyRobot(_Syntax):
+    """The robot has no links.
+
+    ## What it does
+    Reports a `<robot>` with no `<link>` element.
+
+    ## Why it matters
+    A robot needs at least one link to have a root; urdfdom refuses the file
+    ("No link elements found in urdf file").
+
+    ## Example
+    ```xml
+    <robot name="arm"/>
+    ```
+
+    ## Fix
+    Add the links, or check that xacro conditions and includes produced them.
+    """
+
+    code = "S004"
+    name = "empty-robot"
+    severity = Severity.ERROR
+
+    def check(self, ctx: ModelView) -> Iterator[Diagnostic]:
+        if is_macro_library(ctx.robot):
+            return  # reported once as macros-only
+        if ctx.robot.format == "sdf":
+            return  # the SDF reader reports non-static models without links, at any depth
+        if not ctx.robot.links and ctx.robot.name is not None:
+            yield self.diagnostic(
+                f"robot '{ctx.robot.name}' has no links", ctx.robot.span, element="robot"
+            )
+        elif not ctx.robot.links:
+            yield self.diagnostic("robot has no links", ctx.robot.span, element="robot")
+
+
+@register
+class SelfLoopJoint(_Syntax):
+    """A joint has the same link as parent and child.
+
+    ## What it does
+    Reports joints whose `<parent link>` equals their `<child link>`.
+
+    ## Why it matters
+    Such a joint means nothing physically, and some loaders hang on it
+    (urdfdom's tree builder loops forever).
+
+    ## Example
+    ```xml
+    <joint name="j" type="fixed"><parent link="base"/><child link="base"/></joint>
+    ```
+
+    ## Fix
+    Point the child at the link the joint is meant to move.
+    """
+
+    code = "S019"
+    name = "self-loop-joint"
+    severity = Severity.ERROR
+
+    def check(self, ctx: ModelView) -> Iterator[Diagnostic]:
+        for joint in ctx.robot.joints:
+            if joint.parent and joint.parent == joint.child:
+                yield self.diagnostic(
+                    f"joint '{joint.name}' has link '{joint.parent}' as both parent and child",
+                    joint.span,
+                    element=f"joint[{joint.name}]",
+                )

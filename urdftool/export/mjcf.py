@@ -20,6 +20,7 @@ from pathlib import Path
 
 from lxml import etree
 
+from urdftool.catalogue.syntax import EmptyRobot
 from urdftool.diagnostics import Diagnostic
 from urdftool.export import ExportOptions, ExportResult
 from urdftool.export.mjcf_assets import AssetPlan
@@ -45,7 +46,7 @@ from urdftool.export.numbers import vec
 from urdftool.model import KinematicTree, Robot
 from urdftool.model.pose import Matrix
 from urdftool.physics.mobility import BasePlan, decide_base
-from urdftool.rules.syntax import EmptyRobot, MultipleRoots
+from urdftool.rules.syntax import MultipleRoots
 
 
 def export(robot: Robot, out: Path, options: ExportOptions) -> ExportResult:

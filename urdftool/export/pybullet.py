@@ -29,6 +29,7 @@ from pathlib import Path
 from lxml import etree
 
 from urdftool.catalogue.conversion import ConversionDropped
+from urdftool.catalogue.syntax import EmptyRobot
 from urdftool.diagnostics import Diagnostic, Severity
 from urdftool.export import ExportOptions, ExportResult
 from urdftool.export.assets import relative_reference
@@ -37,7 +38,7 @@ from urdftool.export.pybullet_meshes import MeshPlan, mesh_key
 from urdftool.export.urdf import URDF_JOINT_TYPES, UrdfFlavor, refusals, robot_element, to_bytes
 from urdftool.model import Joint, JointType, KinematicTree, Mesh, Robot
 from urdftool.physics.mobility import decide_base, reroot_massless_base
-from urdftool.rules.syntax import EmptyRobot, MultipleRoots
+from urdftool.rules.syntax import MultipleRoots
 
 #: The flag every PyBullet URDF from urdftool is meant to be loaded with.
 LOAD_FLAGS = "p.URDF_USE_INERTIA_FROM_FILE"

@@ -21,6 +21,7 @@ from urdftool.parse import Loaded
 from urdftool.parse.packages import PackageResolver
 from urdftool.parse.sdf_include import read_include
 from urdftool.parse.sdf_model import SdfModelReader, parse_version
+from urdftool.parse.sdf_semantics import check_document
 from urdftool.parse.sdf_values import SdfValues
 from urdftool.parse.xmlio import read_file, span_of
 from urdftool.source import SourceIndex
@@ -49,6 +50,7 @@ def read_sdf(path: str, resolver: PackageResolver) -> list[Loaded]:
         )
         return [Loaded(path, "sdf", None, problems, [path])]
     version = _version(root, problems)
+    problems.extend(check_document(root, version))
     models = _read_models(root, version, path, resolver)
     if not models and not _has_world(root):
         problems.append(

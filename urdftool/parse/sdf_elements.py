@@ -16,6 +16,7 @@ from lxml import etree
 
 from urdftool.catalogue.suggest import did_you_mean
 from urdftool.catalogue.syntax import MissingElement, UnknownElement, UnknownJointType
+from urdftool.diagnostics import Severity
 from urdftool.model import (
     Box,
     Capsule,
@@ -127,7 +128,8 @@ class LinkBodyReader:
         if geometry is None:
             self.values.diagnostics.append(
                 MissingElement.diagnostic(
-                    f"{where}: <{parent.tag}> has no <geometry>", span_of(parent), element=where
+                    f"{where}: <{parent.tag}> has no <geometry>", span_of(parent), element=where,
+                    severity=Severity.WARNING,  # libsdformat adds an empty default geometry
                 )
             )
             return None
@@ -149,7 +151,8 @@ class LinkBodyReader:
             if not shapes:
                 self.values.diagnostics.append(
                     MissingElement.diagnostic(
-                        f"{where}: <geometry> has no shape", span_of(geometry), element=where
+                        f"{where}: <geometry> has no shape", span_of(geometry), element=where,
+                        severity=Severity.WARNING,  # libsdformat loads an empty geometry
                     )
                 )
             return None
@@ -285,15 +288,15 @@ def _limit(values: SdfValues, axis: etree._Element | None, where: str) -> Limit 
     if element is None:
         return None
     here = f"{where}/limit"
-    lower = values.text_number(element, "lower", here)
-    upper = values.text_number(element, "upper", here)
-    effort = values.text_number(element, "effort", here)
-    velocity = values.text_number(element, "velocity", here)
+    lower = values.text_number(element, "lower", here, infinite=True)
+    upper = values.text_number(element, "upper", here, infinite=True)
+    effort = values.text_number(element, "effort", here, infinite=True)
+    velocity = values.text_number(element, "velocity", here, infinite=True)
     return Limit(
         lower=lower if lower is not None and abs(lower) < NO_LIMIT else None,
         upper=upper if upper is not None and abs(upper) < NO_LIMIT else None,
-        effort=effort if effort is not None and effort >= 0 else None,
-        velocity=velocity if velocity is not None and velocity >= 0 else None,
+        effort=effort if effort is not None and 0 <= effort < NO_LIMIT else None,
+        velocity=velocity if velocity is not None and 0 <= velocity < NO_LIMIT else None,
         span=span_of(element),
     )
 

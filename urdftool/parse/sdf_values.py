@@ -19,6 +19,12 @@ from urdftool.parse.values import ValueReader, parse_number
 from urdftool.parse.xmlio import span_of
 
 _TRUE = {"1", "true", "True", "TRUE"}
+_INF = {"inf", "infinity"}
+
+
+def _infinity(text: str) -> float:
+    return -math.inf if text.startswith("-") else math.inf
+
 _FALSE = {"0", "false", "False", "FALSE"}
 
 
@@ -48,16 +54,20 @@ class SdfValues(ValueReader):
         return text
 
     def text_numbers(
-        self, element: etree._Element | None, where: str, lengths: tuple[int, ...]
+        self, element: etree._Element | None, where: str, lengths: tuple[int, ...], infinite: bool = False
     ) -> list[float] | None:
-        """The element's text as numbers, when their count is one of *lengths*; else ``None`` (reported)."""
+        """The element's text as numbers, when their count is one of *lengths*; else ``None`` (reported).
+
+        NaN is never a number; ``inf`` and ``-inf`` are only where *infinite* (joint limits).
+        """
         if element is None:
             return None
         raw = self.raw_text(element, where)
         if raw is None:
             return None
         parts = raw.split()
-        values = [parse_number(p) for p in parts]
+        values = [_infinity(p) if infinite and p.lower().lstrip("+-") in _INF else parse_number(p)
+                  for p in parts]
         bad = next((p for p, v in zip(parts, values, strict=True) if v is None), None)
         if bad is not None:
             self.diagnostics.append(
@@ -86,11 +96,12 @@ class SdfValues(ValueReader):
         return [v for v in values if v is not None]
 
     def text_number(
-        self, parent: etree._Element | None, tag: str, where: str, default: float | None = None
+        self, parent: etree._Element | None, tag: str, where: str, default: float | None = None,
+        infinite: bool = False,
     ) -> float | None:
         """The number in child ``<tag>`` of *parent*, or *default* when absent or malformed."""
         element = self.child(parent, tag)
-        values = self.text_numbers(element, f"{where}/{tag}", (1,))
+        values = self.text_numbers(element, f"{where}/{tag}", (1,), infinite)
         return values[0] if values else default
 
     def text_vector(
@@ -124,8 +135,8 @@ class SdfValues(ValueReader):
         Reads ``x y z roll pitch yaw`` (radians, or degrees with ``degrees="true"``)
         and, with ``rotation_format="quat_xyzw"`` (SDF 1.9+), ``x y z qx qy qz qw``.
         """
-        if element is None:
-            return Pose()
+        if element is None or not (element.text or "").strip():
+            return Pose()  # <pose/> and <pose relative_to="F"/> are the identity
         quaternion = element.get("rotation_format", "euler_rpy") == "quat_xyzw"
         values = self.text_numbers(element, where, (7,) if quaternion else (6,))
         if values is None:

@@ -129,6 +129,40 @@ def parse_bytes(
 _DECLARED_VERSION = re.compile(rb"^(\s*<\?xml[^>]*?version\s*=\s*[\"'])([^\"']*)([\"'])")
 
 
+_PREFIXED_TAG = re.compile(rb"</?([A-Za-z_][\w.-]*):[A-Za-z_]")
+_DECLARED_PREFIX = re.compile(rb"xmlns:([A-Za-z_][\w.-]*)\s*=")
+
+
+def _declare_prefixes(data: bytes, path: str, warnings: list[Diagnostic]) -> bytes:
+    """Declare namespace prefixes that elements use without a declaration (TinyXML ignores namespaces).
+
+    SDF files carry custom elements such as ``<my_ns:sensor>`` without
+    ``xmlns:my_ns``; libsdformat reads them. The missing declarations are
+    added on the root element, on its own line, so positions do not move.
+    """
+    if b":" not in data:
+        return data
+    used = set(_PREFIXED_TAG.findall(data)) - set(_DECLARED_PREFIX.findall(data)) - {b"xml", b"xmlns"}
+    if not used:
+        return data
+    root = re.search(rb"<[A-Za-z_][\w.:-]*", data[_first_element(data):])
+    if root is None:
+        return data
+    at = _first_element(data) + root.end()
+    declarations = b"".join(b" xmlns:" + p + b'="urn:undeclared:' + p + b'"' for p in sorted(used))
+    names = ", ".join(p.decode("ascii", "replace") for p in sorted(used))
+    warnings.append(
+        XmlSyntax.diagnostic(
+            f"namespace prefix{'es' if len(used) > 1 else ''} {names} used without an xmlns declaration; "
+            "read as custom elements",
+            Span(path, line_of(data, at), 1),
+            severity=Severity.INFO,
+            help="declare the prefix on the root element: xmlns:PREFIX=\"http://example.org/PREFIX\"",
+        )
+    )
+    return data[:at] + declarations + data[at:]
+
+
 def _tolerate_quirks(data: bytes, path: str) -> tuple[bytes, list[Diagnostic]]:
     """Accept, with a warning, harmless defects that TinyXML-based loaders accept.
 
@@ -163,6 +197,8 @@ def _tolerate_quirks(data: bytes, path: str) -> tuple[bytes, list[Diagnostic]]:
                 help='write <?xml version="1.0"?>',
             )
         )
+    if path.lower().endswith((".sdf", ".world")):
+        data = _declare_prefixes(data, path, warnings)
     stripped = data.rstrip(b"\0\r\n\t ")
     if b"\0" in data[len(stripped) :]:
         warnings.append(

@@ -6,7 +6,6 @@ from collections.abc import Iterator
 
 from urdftool.catalogue.registry import Family, Rule, register
 from urdftool.catalogue.suggest import did_you_mean
-from urdftool.catalogue.xacro import is_macro_library
 from urdftool.diagnostics import Diagnostic, Severity
 from urdftool.facts.context import CheckContext
 from urdftool.model import JointType
@@ -16,39 +15,6 @@ class _Syntax(Rule):
     family = Family.SYNTAX
 
 
-@register
-class EmptyRobot(_Syntax):
-    """The robot has no links.
-
-    ## What it does
-    Reports a `<robot>` with no `<link>` element.
-
-    ## Why it matters
-    A robot needs at least one link to have a root; urdfdom refuses the file
-    ("No link elements found in urdf file").
-
-    ## Example
-    ```xml
-    <robot name="arm"/>
-    ```
-
-    ## Fix
-    Add the links, or check that xacro conditions and includes produced them.
-    """
-
-    code = "S004"
-    name = "empty-robot"
-    severity = Severity.ERROR
-
-    def check(self, ctx: CheckContext) -> Iterator[Diagnostic]:
-        if is_macro_library(ctx.robot):
-            return  # reported once as macros-only
-        if not ctx.robot.links and ctx.robot.name is not None:
-            yield self.diagnostic(
-                f"robot '{ctx.robot.name}' has no links", ctx.robot.span, element="robot"
-            )
-        elif not ctx.robot.links:
-            yield self.diagnostic("robot has no links", ctx.robot.span, element="robot")
 
 
 @register
@@ -273,7 +239,10 @@ class MultipleRoots(_Syntax):
 
     ## What it does
     Reports a robot whose links form several disconnected trees, listing each
-    root and the size of its tree.
+    root and the size of its tree. In an SDF model a link without a joint is a
+    free body, which the spec allows: there it is one `info` naming the free
+    bodies (a link that is the child of two joints is a closed chain, see
+    `closed-chain`).
 
     ## Why it matters
     A URDF robot is one tree: urdfdom refuses several roots ("Two root links
@@ -300,6 +269,19 @@ class MultipleRoots(_Syntax):
         sizes = {root: sum(1 for _ in ctx.tree.walk(root)) for root in roots}
         largest = max(roots, key=lambda r: sizes[r])
         listing = ", ".join(f"'{r}' ({sizes[r]} links)" for r in roots)
+        if ctx.robot.format == "sdf":
+            # SDF models are not trees: a link without a joint is a free body.
+            free = [r for r in roots if r != roots[0]]
+            yield self.diagnostic(
+                f"{len(free)} free bod{'y' if len(free) == 1 else 'ies'} beside the tree of '{roots[0]}': "
+                + ", ".join(f"'{r}'" for r in free),
+                ctx.robot.span,
+                element="model",
+                help="in SDF a link without a joint moves freely; join it with a joint if it should not",
+                data={"roots": roots, "sizes": sizes, "free": free},
+                severity=Severity.INFO,
+            )
+            return
         for root in roots:
             if root == largest:
                 continue
@@ -371,38 +353,6 @@ class KinematicLoop(_Syntax):
             )
 
 
-@register
-class SelfLoopJoint(_Syntax):
-    """A joint has the same link as parent and child.
-
-    ## What it does
-    Reports joints whose `<parent link>` equals their `<child link>`.
-
-    ## Why it matters
-    Such a joint means nothing physically, and some loaders hang on it
-    (urdfdom's tree builder loops forever).
-
-    ## Example
-    ```xml
-    <joint name="j" type="fixed"><parent link="base"/><child link="base"/></joint>
-    ```
-
-    ## Fix
-    Point the child at the link the joint is meant to move.
-    """
-
-    code = "S019"
-    name = "self-loop-joint"
-    severity = Severity.ERROR
-
-    def check(self, ctx: CheckContext) -> Iterator[Diagnostic]:
-        for joint in ctx.robot.joints:
-            if joint.parent and joint.parent == joint.child:
-                yield self.diagnostic(
-                    f"joint '{joint.name}' has link '{joint.parent}' as both parent and child",
-                    joint.span,
-                    element=f"joint[{joint.name}]",
-                )
 
 
 @register

@@ -128,7 +128,7 @@ def analyse(robot: Robot, tree: KinematicTree, floating: bool, base_reason: str,
             torques[row] = g_map.T @ pin.computeGeneralizedGravity(pm.model, data, q)
     # One batched call: per-matrix LAPACK calls cost more than the algebra on small robots.
     eigenvalues = np.linalg.eigvalsh(masses)
-    with np.errstate(divide="ignore"):
+    with np.errstate(divide="ignore", invalid="ignore"):
         conditions = np.where(eigenvalues[:, 0] > 0, eigenvalues[:, -1] / eigenvalues[:, 0], np.inf)
     worst = int(np.argmax(conditions))
     out.conditioning = _conditioning(masses[worst], eigenvalues[worst], column_names,
