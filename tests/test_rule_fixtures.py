@@ -35,7 +35,7 @@ SIM_ONLY = {"R001", "R002", "R003", "R004", "R005"}
 def fixture_files(kind: str) -> list[Path]:
     return sorted(
         p
-        for p in RULES_DIR.glob(f"*/{kind}.*")
+        for p in RULES_DIR.glob(f"*/{kind}*.*")
         if not p.name.endswith((".stl", ".obj", ".dae")) and p.parent.name not in EXPORT_ONLY | SIM_ONLY
     )
 

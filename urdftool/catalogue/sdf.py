@@ -78,6 +78,8 @@ class ModelIncludeNotFound(_Sdf):
     `IGN_GAZEBO_RESOURCE_PATH`, `GAZEBO_MODEL_PATH` and the folders around
     the file, and reports an include that leads to no model. `model://sun`
     and `model://ground_plane` are Gazebo's standard models and need no files.
+    An `http(s)://` URI (a Gazebo Fuel model) is downloaded by Gazebo on first
+    load: it gets an info saying the model is not checked, not an error.
 
     ## Why it matters
     Gazebo prints a warning and leaves the model out of the world, so a

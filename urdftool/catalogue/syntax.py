@@ -197,7 +197,9 @@ class RepeatedElement(_Syntax):
 
     ## What it does
     Reports a second `<origin>`, `<axis>`, `<limit>`, `<inertial>`, `<mass>`,
-    `<geometry>` and the like inside the same parent.
+    `<geometry>` and the like inside the same parent. A repeated `<material>`
+    in a `<visual>` (CAD exporters write one per colour) is a warning: every
+    loader shows the first, and only the robot's look depends on it.
 
     ## Why it matters
     Loaders keep either the first or the last copy, and they do not agree:

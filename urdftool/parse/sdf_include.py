@@ -18,7 +18,7 @@ from pathlib import Path
 from lxml import etree
 
 from urdftool.catalogue.sdf import ModelIncludeNotFound
-from urdftool.diagnostics import Diagnostic
+from urdftool.diagnostics import Diagnostic, Severity
 from urdftool.parse.packages import PackageResolver
 from urdftool.parse.xmlio import XmlDocument, read_file, span_of
 
@@ -64,6 +64,21 @@ def read_include(include: etree._Element, resolver: PackageResolver, base: str) 
     if sdf_path is None:
         if standard_model(uri):
             return IncludedFile(uri, None, None, standard=True)
+        if uri.startswith(("http://", "https://")):
+            # A Gazebo Fuel URL: gz-sim downloads it on first load, so it is not missing;
+            # urdftool reads no network, so the model goes unchecked, which is worth saying.
+            return IncludedFile(uri, None, None, [
+                ModelIncludeNotFound.diagnostic(
+                    f"included model '{uri}' is fetched from the web by Gazebo; urdftool does not "
+                    "download it, so it is not checked",
+                    span_of(include.find("uri")) or where,
+                    element="include",
+                    severity=Severity.INFO,
+                    help="to check it too, download the model and include it by model:// with "
+                    "--package-path or GZ_SIM_RESOURCE_PATH",
+                    data={"uri": uri, "remote": True},
+                )
+            ])
         lookup = resolver.resolve_uri(uri, base)
         tried = "; ".join(lookup.tried[:6]) or "nowhere"
         return IncludedFile(uri, None, None, [

@@ -53,6 +53,7 @@ from urdftool.parse.packages import PackageResolver
 from urdftool.parse.urdf_schema import (
     ATTRIBUTES,
     CHILDREN,
+    COSMETIC_REPEATS,
     KNOWN_EXTENSIONS,
     LINK_EXTENSIONS,
     SDF_ISMS,
@@ -124,6 +125,9 @@ class UrdfReader:
                                 f"{_line(items[0])}) is used and this one ignored",
                                 span_of(extra),
                                 element=f"{where}/{tag}",
+                                # CAD exporters write several colours per visual; every loader
+                                # shows the first, and nothing but the look depends on it.
+                                severity=Severity.WARNING if tag in COSMETIC_REPEATS else None,
                             )
                         )
             elif not self._tolerated(element.tag, tag):

@@ -58,6 +58,10 @@ CHILDREN: dict[str, dict[str, bool]] = {
     "material": {"color": False, "texture": False},
 }
 
+#: Children whose repetition changes only how the robot looks (urdfdom, yourdfpy, Pinocchio and
+#: Gazebo use the first): a warning, not an error that blocks every export.
+COSMETIC_REPEATS = frozenset({"material"})
+
 #: Top-level elements that are not URDF proper but are expected there.
 KNOWN_EXTENSIONS = frozenset({"gazebo", "transmission", "ros2_control", "sensor", "klampt", "plugin"})
 

@@ -19,7 +19,7 @@ else:
     # NumPy is imported on first use: a structural check must not pay for it.
     from urdftool.lazy import numpy as np
 
-from urdftool.model import KinematicTree, Link
+from urdftool.model import KinematicTree, Link, Robot
 from urdftool.model.pose import Matrix, Pose
 from urdftool.physics.inertia import shift_to_point
 
@@ -153,3 +153,15 @@ def heaviest(body: RigidBody) -> str:
     return max(body.links, key=lambda item: item[0].inertial.mass if item[0].inertial else 0.0)[
         0
     ].name
+
+
+def kinematics_only(robot: Robot) -> bool:
+    """True for a kinematic model: it has a moving joint and no link carries an ``<inertial>``.
+
+    MoveIt, RViz and IK packages (ROS-Industrial support packages, many
+    ``*_description`` packages) ship such models on purpose; urdfdom, yourdfpy
+    and Pinocchio accept them. They cannot be simulated as they are.
+    """
+    return any(joint.type.is_moving for joint in robot.joints) and all(
+        link.inertial is None for link in robot.links
+    )

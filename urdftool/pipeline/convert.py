@@ -2,8 +2,10 @@
 
 Every caller goes through :func:`convert_robot`, so they refuse the same
 models with the same findings: a model read with structural errors (``S``,
-``X``) is not exported, and an exporter's own errors (invalid inertia without
-repair, a joint the target cannot hold) refuse it too. :func:`write_conversion`
+``X``) is not exported; a kinematic model (no ``<inertial>`` anywhere) is not
+exported to a simulator without ``--repair-inertia``, with one finding; and
+an exporter's own errors (invalid inertia without repair, a joint the target
+cannot hold) refuse it too. :func:`write_conversion`
 writes the files atomically, never over an input.
 """
 
@@ -15,13 +17,18 @@ from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from urdftool.catalogue.conversion import InertiaNotExportable
 from urdftool.diagnostics import Diagnostic, Severity
 from urdftool.export import ExportOptions, export_model
 from urdftool.export.graph import GraphOptions
 from urdftool.export.write import guard_inputs, write_bytes_atomic
 from urdftool.model import Robot
+from urdftool.physics.bodies import kinematics_only
 from urdftool.pipeline.check import run_rules
 from urdftool.rules import Selection
+
+#: Targets that simulate the model, which a kinematic model (no inertia at all) cannot be.
+SIMULATED = {"mjcf": "MuJoCo", "pybullet": "PyBullet"}
 
 #: What must be clean before a model is exported: it was read and expanded correctly.
 STRUCTURAL = Selection.of(("S", "X"), ())
@@ -89,6 +96,17 @@ def convert_robot(
     structural = structural_errors(robot)
     if structural:
         return Conversion(robot, target, where, diagnostics=structural, refused=True, inputs=sources)
+    if target in SIMULATED and not options.repair_inertia and kinematics_only(robot):
+        refusal = InertiaNotExportable.diagnostic(
+            f"robot '{robot.name}' has no <inertial> in any link (a kinematic model); "
+            f"{SIMULATED[target]} needs the mass and inertia of every moving link",
+            robot.span,
+            element="robot",
+            help="add <inertial> to the links, or export with --repair-inertia for a minimal stand-in "
+            "(each change is reported)",
+            data={"reason": "kinematics-only"},
+        )
+        return Conversion(robot, target, where, diagnostics=[refusal], refused=True, inputs=sources)
     if target == "dot":
         graph = GraphOptions.of(options.extra)
         options = dataclasses.replace(options, findings=tuple(graph_findings(robot, graph)))

@@ -83,7 +83,9 @@ class GazeboReferenceMissing(_Gazebo):
 
     ## What it does
     Checks the `reference` of every top-level `<gazebo>` block against the
-    robot's link and joint names, and suggests the closest name.
+    robot's link and joint names, and suggests the closest name. Links and
+    joints that a reference-less `<gazebo>` block declares in raw SDF (Gazebo
+    merges them into the model) count as names too.
 
     ## Why it matters
     Gazebo silently ignores a block whose reference matches nothing: the
@@ -106,7 +108,17 @@ class GazeboReferenceMissing(_Gazebo):
 
     def check(self, ctx: CheckContext) -> Iterator[Diagnostic]:
         names = {link.name for link in ctx.robot.links} | {joint.name for joint in ctx.robot.joints}
-        for block in gz.gazebo_blocks(ctx.robot):
+        blocks = list(gz.gazebo_blocks(ctx.robot))
+        # A reference-less block may hold raw SDF <link>/<joint> elements that Gazebo merges into
+        # the model (PR2's gripper parallel links); they are as real as the URDF's own.
+        names |= {
+            name
+            for block in blocks
+            if block.get("reference") is None
+            for child in block
+            if isinstance(child.tag, str) and child.tag in ("link", "joint") and (name := child.get("name"))
+        }
+        for block in blocks:
             reference = block.get("reference")
             if reference is None or reference in names or "$" in reference:
                 continue

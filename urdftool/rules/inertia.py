@@ -24,7 +24,15 @@ from urdftool.catalogue.registry import Family, Rule, register
 from urdftool.diagnostics import Diagnostic, Severity
 from urdftool.facts.context import CheckContext
 from urdftool.model import Link
-from urdftool.physics.bodies import MIN_VALUE, MassRole, RigidBody, body_of, mass_role, rigid_bodies
+from urdftool.physics.bodies import (
+    MIN_VALUE,
+    MassRole,
+    RigidBody,
+    body_of,
+    kinematics_only,
+    mass_role,
+    rigid_bodies,
+)
 from urdftool.physics.describe import (
     fmt,
     is_zero_tensor,
@@ -106,6 +114,8 @@ class MissingInertial(_Inertia):
     severity = Severity.ERROR
 
     def check(self, ctx: CheckContext) -> Iterator[Diagnostic]:
+        if kinematics_only(ctx.robot):
+            return  # one kinematics-only finding says it for the whole robot
         for link in ctx.robot.links:
             if link.inertial is not None:
                 continue
@@ -392,3 +402,55 @@ class InertiaTriangleInequality(_Inertia):
                 f"({fmt(a * scale)}, {fmt(b * scale)}) would make A + B = C",
                 data={"moments": [a, b, c], **tensor_data(inertial.inertia_matrix)},
             )
+
+
+@register
+class KinematicsOnly(_Inertia):
+    """No link has an `<inertial>`: a kinematic model, which cannot be simulated as it is.
+
+    ## What it does
+    Recognises a robot with moving joints and no `<inertial>` anywhere, and
+    reports it once, at the robot, instead of a `missing-inertial` error per
+    link. The dynamics pass is skipped for it (there is nothing to compute),
+    and `convert` to MJCF or PyBullet and `sim` refuse it with this one reason
+    unless `--repair-inertia` gives every moving link a minimal mass.
+
+    ## Why it matters
+    MoveIt, RViz and IK solvers need only the kinematics, and many
+    description packages (ROS-Industrial support packages, MoveIt test
+    robots) are written that way on purpose; urdfdom, yourdfpy and Pinocchio
+    accept them. A simulator cannot: Gazebo drops massless links, PyBullet
+    gives each 1 kg, MuJoCo refuses them.
+
+    ## Example
+    ```xml
+    <link name="link_1"><visual>…</visual><collision>…</collision></link>
+    <joint name="joint_1" type="revolute">…</joint>   <!-- and no <inertial> in any link -->
+    ```
+
+    ## Fix
+    Nothing, for a kinematic model. To simulate it, add each link's mass and
+    inertia (from CAD, or the formulas of its collision shapes), or convert
+    with `--repair-inertia` for a rough stand-in. Silence it with
+    `--ignore kinematics-only`.
+    """
+
+    code = "I011"
+    name = "kinematics-only"
+    severity = Severity.INFO
+
+    def check(self, ctx: CheckContext) -> Iterator[Diagnostic]:
+        if not kinematics_only(ctx.robot):
+            return
+        moving = sum(1 for joint in ctx.robot.joints if joint.type.is_moving)
+        yield self.diagnostic(
+            f"robot '{ctx.robot.name}' has no <inertial> in any of its {len(ctx.robot.links)} links: a "
+            f"kinematic model ({moving} moving joints); MoveIt, RViz and IK solvers use it as it is, "
+            "while simulation (convert to MJCF or PyBullet, sim, Gazebo) and the dynamics pass need "
+            "mass and inertia",
+            ctx.robot.span,
+            element="robot",
+            help="add <inertial> to every link to simulate it, or convert with --repair-inertia for a "
+            "minimal stand-in",
+            data={"links": len(ctx.robot.links), "moving_joints": moving},
+        )

@@ -14,6 +14,7 @@ from typing import Any
 from urdftool.facts.dynamics.analysis import SAMPLES, analyse
 from urdftool.facts.dynamics.coverage import NotCovered, floating_base, not_covered
 from urdftool.model import KinematicTree, Robot
+from urdftool.physics.bodies import kinematics_only
 
 #: Rule option that turns the pass on or off (default on).
 OPTION = "dynamics"
@@ -37,12 +38,12 @@ def enabled(options: Mapping[str, Any]) -> bool:
 
 def dynamics_of(robot: Robot, tree: KinematicTree, options: Mapping[str, Any]) -> Any:
     """:class:`~urdftool.facts.dynamics.analysis.DynamicsAnalysis`, :class:`Skipped`, or ``None``
-    when the pass is off or there is nothing to compute (no links)."""
-    if not enabled(options) or not robot.links:
+    when the pass is off or there is nothing to compute (no links, or a kinematic model with no
+    ``<inertial>`` at all, which ``kinematics-only`` reports once)."""
+    if not enabled(options) or not robot.links or kinematics_only(robot):
         return None
     reason = not_covered(robot, tree)
     if reason is not None:
         return Skipped(reason)
-
     floating, why = floating_base(robot, tree)
     return analyse(robot, tree, floating, why, int(options.get(SAMPLES_OPTION, SAMPLES)))
