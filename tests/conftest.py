@@ -77,3 +77,27 @@ def seed_standalone_xacros() -> list[str]:
 
     files = expand_paths([str(SEEDS)], PackageResolver.create())
     return sorted(f for f in files if f.endswith(".xacro"))
+
+
+#: Test modules that walk the installed corpora or run the engines over many robots: the
+#: whole suite runs them; `python3 scripts/test --fast` (the inner loop) leaves them out.
+SLOW_MODULES = frozenset({
+    "test_collada",
+    "test_corpus_structure",
+    "test_crosscheck",
+    "test_graph_corpus",
+    "test_inertia_corpus",
+    "test_json_schema",
+    "test_meshes_corpus",
+    "test_meshes_engines",
+    "test_mjcf_corpus",
+    "test_pybullet_corpus",
+    "test_sim_corpus",
+    "test_static_checks",
+})
+
+
+def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item]) -> None:
+    for item in items:
+        if item.module is not None and item.module.__name__.rsplit(".", 1)[-1] in SLOW_MODULES:
+            item.add_marker(pytest.mark.slow)
