@@ -490,3 +490,35 @@ class SelfLoopJoint(_Syntax):
                     joint.span,
                     element=f"joint[{joint.name}]",
                 )
+
+
+@register
+class UnusedSuppression(_Syntax):
+    """An `urdftool: ignore[…]` comment silences nothing.
+
+    ## What it does
+    Reports each code or name in an `<!-- urdftool: ignore[…] -->` (or
+    `ignore-file[…]`) comment that silenced no finding in this run, and each
+    one that is not a rule at all. A suppression of a rule that is switched off
+    (`--ignore`, `--select`) is not reported: it may be needed in other runs.
+
+    ## Why it matters
+    Suppressions outlive the findings they were written for: after the file is
+    fixed, a stale comment would silently hide the next, real finding on that
+    line. Reporting them keeps every suppression deliberate, as ruff does for
+    an unused `# noqa`.
+
+    ## Example
+    ```xml
+    <!-- urdftool: ignore[zero-mass] -->
+    <link name="sensor"><inertial><mass value="0.1"/>…</inertial></link>
+    ```
+
+    ## Fix
+    Remove the code from the comment, or the comment when nothing is left.
+    `--no-suppressions` shows every finding with all comments ignored.
+    """
+
+    code = "S024"
+    name = "unused-suppression"
+    severity = Severity.WARNING
