@@ -36,6 +36,8 @@ from typing import Any
 import numpy as np
 from lxml import etree
 
+from urdftool.safe_files import read_regular
+
 COLLADA_NAMESPACES = (
     "http://www.collada.org/2005/11/COLLADASchema",
     "http://www.collada.org/2008/03/COLLADASchema",
@@ -86,9 +88,7 @@ def _parser() -> etree.XMLParser:
 
 def read(path: str) -> ColladaScene:
     """The triangles of the COLLADA file at *path*. Raises :class:`Unsupported` or ``OSError``."""
-    with open(path, "rb") as handle:
-        data = handle.read()
-    return read_bytes(data)
+    return read_bytes(read_regular(path, "mesh"))
 
 
 def read_bytes(data: bytes) -> ColladaScene:

@@ -31,6 +31,7 @@ from urdftool.rules.mesh_geometry import (
     suggested_factor,
 )
 from urdftool.rules.registry import CheckContext, Family, Rule, register
+from urdftool.safe_files import describe_path, read_head
 
 if TYPE_CHECKING:
     from urdftool.backends.meshes import MeshFacts
@@ -174,10 +175,12 @@ class MeshNotFound(_Meshes):
                 if found.package_dir
                 else ""
             )
-            nearby = near_misses(path)
+            what = describe_path(path)
+            nearby = near_misses(path) if what is None else []
             hint = f"; a similar file exists: {', '.join(nearby)}" if nearby else ""
             yield self.diagnostic(
-                f"{first.describe} not found",
+                f"{first.describe} not found" if what is None
+                else f"{first.describe} is {what}, not a regular file; it is not read",
                 first.location,
                 element=first.element,
                 help=f"looked for {path}{where}{hint}{survey.other_places(uses)}",
@@ -276,8 +279,7 @@ class MeshUnreadable(_Meshes):
 
 def _lfs_hint(path: str) -> str:
     try:
-        with open(path, "rb") as handle:
-            head = handle.read(64)
+        head = read_head(path, 64)
     except OSError:
         return ""
     if head.startswith(b"version https://git-lfs"):
