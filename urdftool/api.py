@@ -49,6 +49,17 @@ def load(
     a robot, or xacro fails) and :class:`FileNotFoundError`/:class:`ValueError`
     when the file is missing or of unknown format.
     """
+    return _load(path, xacro_args, packages, package_paths, model)[0]
+
+
+def _load(
+    path: PathLike,
+    xacro_args: Mapping[str, str] | None,
+    packages: Mapping[str, PathLike] | None,
+    package_paths: Iterable[PathLike],
+    model: str | None,
+) -> tuple[Robot, list[str]]:
+    """:func:`load`, and the files read to build the robot (the input and its includes)."""
     try:
         models = read(path, xacro_args, _resolver(packages, package_paths))
     except InputError as exc:
@@ -62,7 +73,7 @@ def load(
     if first.robot is None:
         summary = "; ".join(d.message for d in first.diagnostics[:3])
         raise LoadError(f"{path}: cannot build a robot: {summary}", first.diagnostics)
-    return first.robot
+    return first.robot, [os.fspath(path), *first.files]
 
 
 def check(
@@ -133,6 +144,7 @@ def to_dot(
     options = GraphOptions.of({"rankdir": rankdir, "collapse_fixed": collapse_fixed,
                                "diagnostics": diagnostics, "select": select, "ignore": ignore})
     robot, inputs = _robot_and_inputs(robot_or_path, xacro_args, packages, package_paths, model)
+    _guard_output(out, inputs)
     text = dot_text(robot, options)
     if out is not None:
         write_diagram(text, out, inputs, keep_dot)
@@ -154,11 +166,21 @@ def _robot_and_inputs(
     package_paths: Iterable[PathLike],
     model: str | None,
 ) -> tuple[Robot, list[str]]:
-    """The robot to export and the files it came from (never to be written over)."""
+    """The robot to export and the files it came from, meshes included (never to be written over)."""
+    from urdftool.export.write import model_inputs
+
     if isinstance(robot_or_path, Robot):
-        return robot_or_path, [robot_or_path.path] if robot_or_path.path else []
-    robot = load(robot_or_path, xacro_args, packages, package_paths, model)
-    return robot, [os.fspath(robot_or_path)]
+        return robot_or_path, model_inputs(robot_or_path)
+    robot, files = _load(robot_or_path, xacro_args, packages, package_paths, model)
+    return robot, model_inputs(robot, files)
+
+
+def _guard_output(out: PathLike | None, inputs: list[str]) -> None:
+    """Refuse, before any work, an output that is an input or not a regular file."""
+    if out is not None:
+        from urdftool.export.write import guard_inputs
+
+        guard_inputs(out, inputs)
 
 
 def _refuse_on_errors(robot: Robot, what: str, diagnostics: Iterable[Diagnostic]) -> None:
@@ -183,6 +205,7 @@ def _export(
     from urdftool.export import export_model
     from urdftool.export.write import write_bytes_atomic
 
+    _guard_output(out, inputs)
     where = Path(out) if out is not None else Path(f"{robot.name or 'robot'}{suffix}")
     result = export_model(robot, target, where, options)
     _refuse_on_errors(robot, f"to {target}", result.diagnostics)
@@ -282,6 +305,7 @@ def to_mjcf(
                             copy_assets=copy_assets, scene=scene)
     # Without OUT, meshes are referenced by absolute path (folder None), so this
     # calls the builder rather than the file-producing export().
+    _guard_output(out, inputs)
     folder = Path(out).resolve().parent if out is not None else None
     text, assets, diagnostics = build(robot, folder, options)
     _refuse_on_errors(robot, "to MJCF", diagnostics)

@@ -14,6 +14,7 @@ from urdftool.parse.packages import PackageResolver
 from urdftool.rules import CheckContext, Selection
 from urdftool.rules.registry import model_rules
 from urdftool.rules.syntax import InternalError
+from urdftool.safe_files import file_limits
 
 
 @dataclass(frozen=True)
@@ -27,6 +28,8 @@ class CheckOptions:
     package_paths: tuple[str, ...] = ()
     #: extra switches for rules (e.g. ``{"dynamics": False}``)
     rule_options: Mapping[str, Any] = field(default_factory=dict)
+    #: size caps by file kind (``model``, ``include``, ``mesh``) over the defaults; see safe_files
+    file_limits: Mapping[str, int] = field(default_factory=dict)
 
     def selection(self) -> Selection:
         return Selection.of(self.select, self.ignore)
@@ -81,10 +84,11 @@ def check_file(path: str, options: CheckOptions) -> list[FileReport]:
     """Check every model in one file. Raises :class:`~urdftool.parse.InputError`."""
     selection = options.selection()
     resolver = options.resolver()
-    models = read(path, options.xacro_args, resolver)
-    # Rules that re-resolve URIs (to say where a mesh was looked for) use the same resolver.
-    rule_options = {**options.rule_options, "resolver": resolver}
-    return [report_for(m, selection, rule_options) for m in models]
+    with file_limits(options.file_limits):
+        models = read(path, options.xacro_args, resolver)
+        # Rules that re-resolve URIs (to say where a mesh was looked for) use the same resolver.
+        rule_options = {**options.rule_options, "resolver": resolver}
+        return [report_for(m, selection, rule_options) for m in models]
 
 
 def check_files(

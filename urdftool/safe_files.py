@@ -45,6 +45,11 @@ def limit(kind: str) -> int:
     return _limits[kind]
 
 
+def set_limits(caps: Mapping[str, int]) -> None:
+    """Set the caps for the rest of the process (what ``--max-file-size`` does)."""
+    _limits.update(caps)
+
+
 @contextlib.contextmanager
 def file_limits(overrides: Mapping[str, int] | None) -> Iterator[None]:
     """Raise (or lower) the caps for the duration of the block (process-wide)."""

@@ -12,7 +12,7 @@ from urdftool.check import run_rules
 from urdftool.cli.common import EXIT_FINDINGS, EXIT_OK, EXIT_USAGE, build_options, input_error, model_options
 from urdftool.diagnostics import Diagnostic, Severity
 from urdftool.export import ExportOptions, UnknownTarget, export_model, target_for, verify_model
-from urdftool.export.write import OutputError, guard_inputs, is_stale, write_bytes_atomic
+from urdftool.export.write import OutputError, guard_inputs, is_stale, model_inputs, write_bytes_atomic
 from urdftool.parse import InputError, read
 from urdftool.render.text import render_diagnostic
 from urdftool.rules import Selection
@@ -23,6 +23,14 @@ def _emit(diagnostics: Sequence[Diagnostic]) -> None:
     sources = SourceIndex()
     for d in diagnostics:
         click.echo(render_diagnostic(d, sources, colour=sys.stderr.isatty()), err=True)
+
+
+def _refuse_output(out: str, inputs: Sequence[str]) -> None:
+    try:
+        guard_inputs(out, inputs)
+    except OutputError as exc:
+        click.echo(f"urdftool: {exc}", err=True)
+        sys.exit(EXIT_USAGE)
 
 
 @click.command("convert")
@@ -74,6 +82,7 @@ def convert_command(
         target = target_for(out, to)
     except UnknownTarget as exc:
         raise click.BadParameter(str(exc), param_hint="--to/-o") from exc
+    _refuse_output(out, [source])  # before any work: -o is the input, a device, a FIFO...
     try:
         models = read(source, options.xacro_args, options.resolver())
     except InputError as exc:
@@ -87,6 +96,8 @@ def convert_command(
         _emit(loaded.diagnostics)
         sys.exit(EXIT_FINDINGS)
     robot = loaded.robot
+    inputs = model_inputs(robot, loaded.files or [source])
+    _refuse_output(out, inputs)  # an included xacro file or a mesh
     # A model that was not read correctly cannot be exported faithfully.
     structural = [d for d in run_rules(robot, Selection.of(["S", "X"])) if d.severity is Severity.ERROR]
     if structural:
@@ -112,7 +123,7 @@ def convert_command(
     folder = Path(out).resolve().parent
     try:
         for rel in result.files:
-            guard_inputs(folder / rel, loaded.files or [source])
+            guard_inputs(folder / rel, inputs)
     except OutputError as exc:
         click.echo(f"urdftool: {exc}", err=True)
         sys.exit(EXIT_USAGE)
@@ -123,7 +134,7 @@ def convert_command(
         sys.exit(EXIT_FINDINGS if stale else EXIT_OK)
     try:
         for rel, data in sorted(result.files.items()):
-            write_bytes_atomic(folder / rel, data, loaded.files or [source])
+            write_bytes_atomic(folder / rel, data, inputs)
     except OutputError as exc:
         click.echo(f"urdftool: {exc}", err=True)
         sys.exit(EXIT_USAGE)
