@@ -16,6 +16,9 @@ from urdftool.model import KinematicTree, Robot
 
 #: Rule option that turns the pass on or off (default on).
 OPTION = "dynamics"
+#: Larger models are not analysed (reported by dynamics-not-checked): the pass's memory grows
+#: about cubically with the chain length (0.6 GB at 200 links, 4 GB at 400, killed at 1,000).
+MAX_LINKS = 250
 #: Rule option: random configurations sampled besides the zero configuration.
 SAMPLES_OPTION = "dynamics_samples"
 
@@ -39,6 +42,12 @@ def dynamics_of(robot: Robot, tree: KinematicTree, options: Mapping[str, Any]) -
     when the pass is off or there is nothing to compute (no links)."""
     if not enabled(options) or not robot.links:
         return None
+    if len(robot.links) > MAX_LINKS:
+        # The pass factorises dense n×n mass matrices at several configurations:
+        # cubic time and quadratic memory, hours and gigabytes for thousands of links.
+        return Skipped(NotCovered(
+            f"{len(robot.links)} links, over the {MAX_LINKS} the dynamics pass handles"
+        ))
     reason = not_covered(robot, tree)
     if reason is not None:
         return Skipped(reason)

@@ -7,7 +7,6 @@ rest of the file is still read and checked.
 
 from __future__ import annotations
 
-import math
 import re
 from dataclasses import dataclass, field
 
@@ -25,6 +24,11 @@ _SUBSTITUTION = re.compile(r"\$[({]")
 #: Longest number text read (a double needs at most 17 significant digits; padding beyond is hostile).
 MAX_NUMBER_CHARS = 400
 
+#: Largest magnitude read. Nothing in a robot description comes near it, and it keeps
+#: every product the rules form (inertia × length², volumes, eigenvalues) finite:
+#: ``1e308`` is a finite double, but its square is not.
+MAX_MAGNITUDE = 1e50
+
 _INFINITY = {"inf", "+inf", "infinity", "+infinity", "-inf", "-infinity"}
 
 
@@ -32,7 +36,8 @@ def parse_number(text: str) -> float | None:
     """A finite decimal number, or ``None``.
 
     The one gate every numeric field of every format goes through: no NaN, no
-    infinity, no value that overflows to infinity (``1e309``), no underscores,
+    infinity, no value that overflows to infinity (``1e309``) or lies beyond
+    :data:`MAX_MAGNITUDE` (``1e308``, whose square overflows), no underscores,
     commas or hex. What it refuses is reported as ``invalid-number`` by the
     readers and treated as unwritten, so no model object holds a non-finite value.
     """
@@ -40,18 +45,18 @@ def parse_number(text: str) -> float | None:
     if len(text) > MAX_NUMBER_CHARS or not _NUMBER.match(text):
         return None
     value = float(text)
-    return value if math.isfinite(value) else None
+    return value if abs(value) <= MAX_MAGNITUDE else None
 
 
 def parse_limit(text: str) -> float | Unbounded | None:
     """A finite number, :data:`UNBOUNDED` for an infinity the format allows as "no limit"
-    (``inf``, ``-inf``, or a value that overflows), or ``None`` when it is not a number."""
+    (``inf``, ``-inf``, or a value beyond :data:`MAX_MAGNITUDE`), or ``None`` when it is not a number."""
     stripped = text.strip()
     if stripped.lower() in _INFINITY:
         return UNBOUNDED
     value = parse_number(stripped)
     if value is None and len(stripped) <= MAX_NUMBER_CHARS and _NUMBER.match(stripped):
-        return UNBOUNDED  # overflow: 1e400
+        return UNBOUNDED  # out of range: 1e400, 1e300
     return value
 
 
@@ -173,10 +178,13 @@ class ValueReader:
 
 
 def number_word(token: str) -> str:
-    """``a finite number`` for NaN, infinity and overflow, else ``a number`` (for messages)."""
+    """What *token* failed to be, for messages: a finite number (NaN, infinity), one in range
+    (``1e309``, ``1e300``), or a number at all."""
     stripped = token.strip()
-    if stripped.lower() in {"nan", "+nan", "-nan", *_INFINITY} or _NUMBER.match(stripped):
+    if stripped.lower() in {"nan", "+nan", "-nan", *_INFINITY}:
         return "a finite number"
+    if _NUMBER.match(stripped):
+        return "a finite number in range"
     return "a number"
 
 
@@ -194,5 +202,5 @@ def hint_for(token: str) -> str | None:
     if token.strip().lower() in {"nan", "+nan", "-nan", *_INFINITY}:
         return "use a finite value"
     if _NUMBER.match(token.strip()):
-        return "the value is too large for a double (it overflows to infinity); use a finite value"
+        return f"the value is out of range (beyond ±{MAX_MAGNITUDE:g}); use a finite value"
     return None
