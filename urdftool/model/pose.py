@@ -182,7 +182,10 @@ class Pose:
 
     def compose(self, other: Pose) -> Pose:
         """``self ∘ other``: *other* expressed in this pose's parent frame."""
-        return Pose.from_matrix(self.matrix @ other.matrix)
+        import numpy as np
+
+        with np.errstate(all="ignore"):  # an overflow is clamped by from_matrix, not warned about
+            return Pose.from_matrix(self.matrix @ other.matrix)
 
     def inverse(self) -> Pose:
         """The inverse transform (rotation transposed; no general matrix inversion to fail)."""
@@ -191,7 +194,8 @@ class Pose:
         out = np.eye(4)
         rotation = self.rotation.T
         out[:3, :3] = rotation
-        out[:3, 3] = -rotation @ np.asarray(finite3(self.xyz), dtype=float)
+        with np.errstate(all="ignore"):
+            out[:3, 3] = -rotation @ np.asarray(finite3(self.xyz), dtype=float)
         return Pose.from_matrix(out)
 
 
