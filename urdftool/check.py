@@ -2,8 +2,10 @@
 
 from __future__ import annotations
 
+import contextlib
+import gc
 import os
-from collections.abc import Callable, Iterable, Mapping, Sequence
+from collections.abc import Callable, Iterable, Iterator, Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -80,11 +82,27 @@ def report_for(loaded: Loaded, selection: Selection, options: Mapping[str, Any] 
     )
 
 
+@contextlib.contextmanager
+def _collector_paused() -> Iterator[None]:
+    """Pause Python's cyclic garbage collector while one file is read and checked.
+
+    Reading builds many long-lived objects and few cycles; the collector's full
+    passes over them made a 100k-link model take 14× as long as a 10k one.
+    """
+    was_enabled = gc.isenabled()
+    gc.disable()
+    try:
+        yield
+    finally:
+        if was_enabled:
+            gc.enable()
+
+
 def check_file(path: str, options: CheckOptions) -> list[FileReport]:
     """Check every model in one file. Raises :class:`~urdftool.parse.InputError`."""
     selection = options.selection()
     resolver = options.resolver()
-    with file_limits(options.file_limits):
+    with file_limits(options.file_limits), _collector_paused():
         models = read(path, options.xacro_args, resolver)
         # Rules that re-resolve URIs (to say where a mesh was looked for) use the same resolver.
         rule_options = {**options.rule_options, "resolver": resolver}
