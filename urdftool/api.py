@@ -9,6 +9,7 @@ from pathlib import Path
 from urdftool.diagnostics import Diagnostic, FileReport, Report
 from urdftool.export import ExportOptions
 from urdftool.export.graph import GraphOptions, dot_text, write_diagram
+from urdftool.export.write import guard_inputs, model_inputs
 from urdftool.facts.simulation import engine_names
 from urdftool.facts.simulation.scene import SimOptions
 from urdftool.model import Robot
@@ -70,6 +71,17 @@ def load(
     a robot, or xacro fails) and :class:`FileNotFoundError`/:class:`ValueError`
     when the file is missing or of unknown format.
     """
+    return _load(path, xacro_args, packages, package_paths, model)[0]
+
+
+def _load(
+    path: PathLike,
+    xacro_args: Mapping[str, str] | None,
+    packages: Mapping[str, PathLike] | None,
+    package_paths: Iterable[PathLike],
+    model: str | None,
+) -> tuple[Robot, list[str]]:
+    """:func:`load`, and the files read to build the robot (the input and its includes)."""
     try:
         first = load_one(os.fspath(path), _options(xacro_args, packages, package_paths), model)
     except InputError as exc:
@@ -79,7 +91,7 @@ def load(
     if first.robot is None:
         summary = "; ".join(d.message for d in first.diagnostics[:3])
         raise LoadError(f"{path}: cannot build a robot: {summary}", first.diagnostics)
-    return first.robot
+    return first.robot, [os.fspath(path), *first.files]
 
 
 def check(
@@ -140,6 +152,7 @@ def to_dot(
     options = GraphOptions.of({"rankdir": rankdir, "collapse_fixed": collapse_fixed,
                                "diagnostics": diagnostics, "select": select, "ignore": ignore})
     robot, inputs = _robot_and_inputs(robot_or_path, xacro_args, packages, package_paths, model)
+    _guard_output(out, inputs)
     text = dot_text(robot, options, graph_findings(robot, options))
     if out is not None:
         write_diagram(text, out, inputs, keep_dot)
@@ -161,11 +174,17 @@ def _robot_and_inputs(
     package_paths: Iterable[PathLike],
     model: str | None,
 ) -> tuple[Robot, list[str]]:
-    """The robot to export and the files it came from (never to be written over)."""
+    """The robot to export and the files it came from, meshes included (never to be written over)."""
     if isinstance(robot_or_path, Robot):
-        return robot_or_path, [robot_or_path.path] if robot_or_path.path else []
-    robot = load(robot_or_path, xacro_args, packages, package_paths, model)
-    return robot, [os.fspath(robot_or_path)]
+        return robot_or_path, model_inputs(robot_or_path)
+    robot, files = _load(robot_or_path, xacro_args, packages, package_paths, model)
+    return robot, model_inputs(robot, files)
+
+
+def _guard_output(out: PathLike | None, inputs: list[str]) -> None:
+    """Refuse, before any work, an output that is an input or not a regular file."""
+    if out is not None:
+        guard_inputs(out, inputs)
 
 
 def _converted(
@@ -180,6 +199,8 @@ def _converted(
 
     Raises :class:`ConversionRefused` with the same findings ``convert`` prints.
     """
+    if out is not None:
+        _guard_output(out, inputs)
     where = Path(out) if out is not None else Path(f"{robot.name or 'robot'}{suffix}")
     conversion: Conversion = convert_robot(robot, target, where, options, inputs)
     if conversion.refused:

@@ -39,6 +39,8 @@ else:  # NumPy loads on first use: importing the rules must not pay for it
     from urdftool.lazy import numpy as np
 from lxml import etree
 
+from urdftool.safe_files import read_regular
+
 COLLADA_NAMESPACES = (
     "http://www.collada.org/2005/11/COLLADASchema",
     "http://www.collada.org/2008/03/COLLADASchema",
@@ -89,9 +91,7 @@ def _parser() -> etree.XMLParser:
 
 def read(path: str) -> ColladaScene:
     """The triangles of the COLLADA file at *path*. Raises :class:`Unsupported` or ``OSError``."""
-    with open(path, "rb") as handle:
-        data = handle.read()
-    return read_bytes(data)
+    return read_bytes(read_regular(path, "mesh"))
 
 
 def read_bytes(data: bytes) -> ColladaScene:

@@ -25,6 +25,8 @@ import os
 import struct
 from dataclasses import dataclass
 
+from urdftool.safe_files import read_head
+
 #: MuJoCo's STL decoder refuses files with more triangles than this.
 MUJOCO_MAX_STL_FACES = 200_000
 
@@ -70,8 +72,7 @@ def sniff(path: str) -> MeshFormat:
         kind = {".obj": "obj", ".dae": "dae"}.get(extension, extension.lstrip(".") or "none")
         return MeshFormat(kind, extension)
     size = os.path.getsize(path)
-    with open(path, "rb") as handle:
-        head = handle.read(84)
+    head = read_head(path, 84)
     if len(head) == 84:
         (count,) = struct.unpack("<I", head[80:84])
         # Binary STL: an 80-byte header, a count, then 50 bytes per triangle. Many

@@ -31,6 +31,7 @@ else:  # NumPy loads when a mesh is first read: a structural check never pays fo
 
 from urdftool.backends import collada, mesh_cache
 from urdftool.model.pose import Matrix, Vec3
+from urdftool.safe_files import check_regular, open_regular, read_head
 
 
 class MeshError(Exception):
@@ -136,7 +137,7 @@ def content_key(path: str) -> str:
         if memo in _KEYS:
             return _KEYS[memo]
     digest = hashlib.sha256()
-    with open(path, "rb") as handle:
+    with open_regular(path, "mesh") as handle:
         for block in iter(lambda: handle.read(1 << 20), b""):
             digest.update(block)
     key = digest.hexdigest()
@@ -180,8 +181,7 @@ def collada_unit(path: str) -> float:
     if not path.lower().endswith(".dae"):
         return 1.0
     try:
-        with open(path, "rb") as handle:
-            head = handle.read(1 << 16)  # <asset> comes first in a COLLADA document
+        head = read_head(path, 1 << 16)  # <asset> comes first in a COLLADA document
     except OSError:
         return 1.0
     match = _DAE_UNIT.search(head)
@@ -198,8 +198,7 @@ def collada_declares_entities(path: str) -> bool:
     if not path.lower().endswith(".dae"):
         return False
     try:
-        with open(path, "rb") as handle:
-            head = handle.read(1 << 16)
+        head = read_head(path, 1 << 16)
     except OSError:
         return False
     return b"<!ENTITY" in head.upper()
@@ -214,6 +213,10 @@ def load_trimesh(path: str, lean: bool = True):  # type: ignore[no-untyped-def]
     """
     import trimesh
 
+    try:
+        check_regular(path, "mesh")  # trimesh opens the file itself: no devices, no FIFOs
+    except OSError as exc:
+        raise MeshError(exc.strerror or str(exc)) from exc
     if collada_declares_entities(path):
         raise MeshError("the COLLADA file declares XML entities, which urdftool refuses to expand")
     loaded = lean_collada(path) if lean and path.lower().endswith(".dae") else None

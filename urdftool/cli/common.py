@@ -12,6 +12,7 @@ import click
 from urdftool.parse import InputError
 from urdftool.pipeline.check import CheckOptions
 from urdftool.rules import UnknownSelector
+from urdftool.safe_files import DEFAULT_LIMITS, limits, parse_limits, set_limits
 
 F = TypeVar("F", bound=Callable[..., Any])
 
@@ -39,8 +40,24 @@ def _pairs(values: Sequence[str], sep: str, what: str) -> dict[str, str]:
     return out
 
 
+def _set_file_limits(ctx: click.Context, param: click.Parameter, values: Sequence[str]) -> None:
+    try:
+        set_limits({**DEFAULT_LIMITS, **parse_limits(list(values))})
+    except ValueError as exc:
+        raise click.BadParameter(str(exc), ctx=ctx, param=param) from exc
+
+
 def model_options(func: F) -> F:
-    """``-a/--xacro-arg``, ``--package``, ``--package-path``."""
+    """``-a/--xacro-arg``, ``--package``, ``--package-path``, ``--max-file-size``."""
+    func = click.option(
+        "--max-file-size",
+        multiple=True,
+        metavar="[KIND=]SIZE",
+        expose_value=False,
+        callback=_set_file_limits,
+        help="Raise (or lower) the size cap on files read: SIZE for all kinds, or model=, include=, "
+        "mesh= (defaults 64M, 16M, 256M); e.g. --max-file-size mesh=1G; repeatable.",
+    )(func)
     func = click.option(
         "--package-path",
         "package_paths",
@@ -91,6 +108,7 @@ def build_options(
         packages={k: os.path.abspath(v) for k, v in _pairs(packages, "=", "NAME=DIR").items()},
         package_paths=tuple(os.path.abspath(p) for p in package_paths),
         rule_options=rule_options,
+        file_limits=limits(),
     )
     try:
         options.selection()

@@ -10,7 +10,7 @@ import click
 from urdftool.cli.common import EXIT_FINDINGS, EXIT_OK, EXIT_USAGE, build_options, input_error, model_options
 from urdftool.diagnostics import Diagnostic, Severity
 from urdftool.export import ExportOptions, UnknownTarget, target_for, verify_model
-from urdftool.export.write import OutputError, guard_inputs, is_stale
+from urdftool.export.write import OutputError, guard_inputs, is_stale, model_inputs
 from urdftool.parse import InputError
 from urdftool.pipeline.convert import convert_robot, output_paths, write_conversion
 from urdftool.pipeline.load import NoSuchModel, load_one
@@ -22,6 +22,14 @@ def _emit(diagnostics: Sequence[Diagnostic]) -> None:
     sources = SourceIndex()
     for d in diagnostics:
         click.echo(render_diagnostic(d, sources, colour=sys.stderr.isatty()), err=True)
+
+
+def _refuse_output(out: str, inputs: Sequence[str]) -> None:
+    try:
+        guard_inputs(out, inputs)
+    except OutputError as exc:
+        click.echo(f"urdftool: {exc}", err=True)
+        sys.exit(EXIT_USAGE)
 
 
 @click.command("convert")
@@ -73,6 +81,7 @@ def convert_command(
         target = target_for(out, to)
     except UnknownTarget as exc:
         raise click.BadParameter(str(exc), param_hint="--to/-o") from exc
+    _refuse_output(out, [source])  # before any work: -o is the input, a device, a FIFO...
     try:
         loaded = load_one(source, options, model_name)
     except InputError as exc:
@@ -83,6 +92,8 @@ def convert_command(
     if loaded.robot is None:
         _emit(loaded.diagnostics)
         sys.exit(EXIT_FINDINGS)
+    inputs = model_inputs(loaded.robot, loaded.files or [source])
+    _refuse_output(out, inputs)  # an included xacro file or a mesh
     export_options = ExportOptions(
         floating_base=floating_base,
         actuators=actuators,
@@ -91,7 +102,7 @@ def convert_command(
         scene=scene,
     )
     try:
-        conversion = convert_robot(loaded.robot, target, out, export_options, loaded.files or [source])
+        conversion = convert_robot(loaded.robot, target, out, export_options, inputs)
     except UnknownTarget as exc:
         click.echo(f"urdftool: {exc}", err=True)
         sys.exit(EXIT_USAGE)

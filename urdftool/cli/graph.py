@@ -28,7 +28,7 @@ from urdftool.export.graph import (
     dot_text,
     write_diagram,
 )
-from urdftool.export.write import OutputError
+from urdftool.export.write import OutputError, guard_inputs, model_inputs
 from urdftool.parse import InputError, Loaded
 from urdftool.pipeline.check import CheckOptions
 from urdftool.pipeline.convert import graph_findings
@@ -40,6 +40,13 @@ from urdftool.source import SourceIndex
 def _fail(message: str, code: int) -> NoReturn:
     click.echo(f"urdftool: {message}", err=True)
     sys.exit(code)
+
+
+def _guard(out: str, inputs: Sequence[str]) -> None:
+    try:
+        guard_inputs(out, inputs)
+    except OutputError as exc:
+        _fail(str(exc), EXIT_USAGE)
 
 
 def _load(source: str, model_name: str | None, options: CheckOptions) -> Loaded:
@@ -127,7 +134,10 @@ def graph_command(
     except ValueError as exc:
         raise click.BadParameter(str(exc), param_hint="-o/--output") from exc
     options = build_options(xacro_args, packages, package_paths, select, ignore)
+    _guard(out, [source])  # before any work
     loaded = _load(source, model_name, options)
+    inputs = model_inputs(loaded.robot, loaded.files or [source])
+    _guard(out, inputs)
     if loaded.robot is None:
         sources = SourceIndex()
         for d in loaded.diagnostics:
@@ -144,7 +154,7 @@ def graph_command(
     text = dot_text(loaded.robot, graph_options, found)
     written: list[Path] = []
     try:
-        warnings = write_diagram(text, out, loaded.files or [source], keep_dot, written)
+        warnings = write_diagram(text, out, inputs, keep_dot, written)
     except OutputError as exc:
         _fail(str(exc), EXIT_USAGE)
     except (GraphvizNotFound, GraphvizFailed) as exc:

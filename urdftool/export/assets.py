@@ -21,6 +21,8 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from urdftool.safe_files import read_regular
+
 ASSETS_DIR = "assets"
 
 
@@ -95,7 +97,7 @@ class MeshFiles:
         if path in self._seen:
             return self._seen[path]
         try:
-            data = Path(path).read_bytes()
+            data = read_regular(path, "mesh")
         except OSError as exc:
             raise MeshUnavailable(f"cannot read '{path}' ({exc.strerror or exc})") from exc
         native = self.native(path, data)

@@ -32,6 +32,7 @@ from urdftool.export.assets import (
 )
 from urdftool.model import Mesh
 from urdftool.model.pose import Vec3
+from urdftool.safe_files import read_regular
 
 #: Suffixes MuJoCo's compiler reads itself.
 NATIVE_SUFFIXES = (".stl", ".obj", ".msh")
@@ -133,7 +134,7 @@ class AssetPlan:
         if path in self._by_path:
             return self._by_path[path]
         try:
-            data = Path(path).read_bytes()
+            data = read_regular(path, "mesh")
         except OSError as exc:
             raise MeshUnavailable(f"cannot read '{path}' ({exc.strerror or exc})") from exc
         content = content_hash(data)

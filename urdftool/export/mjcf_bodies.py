@@ -117,8 +117,7 @@ class BodyWriter:
         links = {link.name: link for link in self.robot.links}
         if self.base.kind == "world":
             self._fill(worldbody, links[root], moving=False)
-            for joint in self.tree.child_joints.get(root, []):
-                self._body(worldbody, links, joint, top_level=True)
+            self._bodies(worldbody, links, root, top_level=True)
             return self.result
         body = etree.SubElement(worldbody, "body", {"name": root})
         if self.base.kind == "free":
@@ -126,17 +125,20 @@ class BodyWriter:
             etree.SubElement(body, "freejoint", {"name": self.base.free_joint})
             self.result.joints.append(MjJoint(self.base.free_joint, "free", "", (0, 0, 0, 1, 0, 0, 0)))
         self._fill(body, links[root], moving=self.base.kind == "free")
-        for joint in self.tree.child_joints.get(root, []):
-            self._body(body, links, joint, top_level=False)
+        self._bodies(body, links, root, top_level=False)
         return self.result
 
-    def _body(self, parent: etree._Element, links: Mapping[str, Link], joint: Joint, top_level: bool) -> None:
-        link = links[joint.child]
-        body = etree.SubElement(parent, "body", {"name": link.name, **pose_attributes(joint.origin)})
-        self._joint(body, joint, top_level)
-        self._fill(body, link, moving=joint.type.is_moving)
-        for child in self.tree.child_joints.get(link.name, []):
-            self._body(body, links, child, top_level=False)
+    def _bodies(self, parent: etree._Element, links: Mapping[str, Link], root: str, top_level: bool) -> None:
+        """The bodies below *root*, depth first in file order, without recursion (chains can be deep)."""
+        stack = [(parent, joint, top_level) for joint in reversed(self.tree.child_joints.get(root, []))]
+        while stack:
+            into, joint, top = stack.pop()
+            link = links[joint.child]
+            body = etree.SubElement(into, "body", {"name": link.name, **pose_attributes(joint.origin)})
+            self._joint(body, joint, top)
+            self._fill(body, link, moving=joint.type.is_moving)
+            below = self.tree.child_joints.get(link.name, [])
+            stack.extend((body, child, False) for child in reversed(below))
 
     def _fill(self, body: etree._Element, link: Link, moving: bool) -> None:
         inertial = self.inertials.get(link.name)

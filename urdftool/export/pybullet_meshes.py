@@ -26,6 +26,7 @@ from urdftool.catalogue.conversion import MeshNotExportable
 from urdftool.diagnostics import Diagnostic
 from urdftool.export.assets import MeshFiles, MeshUnavailable, is_binary_stl
 from urdftool.model import Collision, Link, Material, Mesh, Robot, Visual
+from urdftool.safe_files import check_regular
 
 RGBA = tuple[float, float, float, float]
 
@@ -56,6 +57,7 @@ def dominant_colour(path: str) -> RGBA | None:
     import trimesh
 
     try:
+        check_regular(path, "mesh")
         scene = cast(trimesh.Scene, trimesh.load(path, force="scene"))
     except Exception:  # trimesh raises many kinds; a colour is optional
         return None

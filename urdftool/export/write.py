@@ -7,6 +7,12 @@ import os
 import tempfile
 from collections.abc import Iterable
 from pathlib import Path
+from typing import TYPE_CHECKING
+
+from urdftool.safe_files import describe_path
+
+if TYPE_CHECKING:
+    from urdftool.model import Robot
 
 
 class OutputError(Exception):
@@ -22,12 +28,33 @@ def _same_file(a: str | os.PathLike[str], b: str | os.PathLike[str]) -> bool:
 
 
 def guard_inputs(output: str | os.PathLike[str], inputs: Iterable[str | os.PathLike[str]]) -> None:
-    """Raise :class:`OutputError` when *output* is one of *inputs*."""
-    if not os.path.exists(output):
+    """Raise :class:`OutputError` when *output* is one of *inputs* (the model, an included
+    xacro file, a mesh; through any symlink or hard link) or an existing file that is not
+    a regular file (a device such as ``/dev/full``, a FIFO, a socket, a directory), which
+    an atomic rename would replace."""
+    if not os.path.lexists(output):
         return
+
+    what = describe_path(output)
+    if what is not None:
+        raise OutputError(f"{output}: refusing to write: it is {what}, not a regular file")
     for source in inputs:
         if _same_file(output, source):
-            raise OutputError(f"{output}: refusing to write over the input file")
+            raise OutputError(f"{output}: refusing to write over the input file {source}")
+
+
+def model_inputs(robot: Robot | None, files: Iterable[str | os.PathLike[str]] = ()) -> list[str]:
+    """Every file a model was read from: *files* (the input and its includes) and its meshes."""
+    out = [os.fspath(f) for f in files]
+    if robot is not None:
+        if robot.path:
+            out.append(robot.path)
+        for link in robot.links:
+            for geometry in [v.geometry for v in link.visuals] + [c.geometry for c in link.collisions]:
+                resolved = getattr(geometry, "resolved", None)
+                if isinstance(resolved, str):
+                    out.append(resolved)
+    return list(dict.fromkeys(out))
 
 
 def file_mode() -> int:

@@ -19,6 +19,7 @@ from urdftool.backends.meshes import MeshError, MeshFacts, MeshInfo, load_many, 
 from urdftool.facts.context import CheckContext
 from urdftool.model import Link, Mesh, Pose
 from urdftool.parse.packages import Lookup, PackageResolver
+from urdftool.safe_files import describe_path, read_head
 from urdftool.source import Span
 
 __all__ = [
@@ -30,12 +31,14 @@ __all__ = [
     "MeshUse",
     "by_file",
     "contents",
+    "describe_path",
     "engines_refusing",
     "existing_file",
     "lookup",
     "mesh_extents",
     "mesh_format",
     "mesh_uses",
+    "read_head",
     "scaled_info",
 ]
 

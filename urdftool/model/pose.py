@@ -25,11 +25,25 @@ Vec3 = tuple[float, float, float]
 ZERO3: Vec3 = (0.0, 0.0, 0.0)
 
 
+def finite(value: float) -> float:
+    """*value* when finite, else 0.0.
+
+    The readers never put NaN or infinity into a model (they report the value as
+    ``invalid-number`` and treat it as unwritten); this keeps pose math total for
+    models built in code and for arithmetic that overflows.
+    """
+    return value if math.isfinite(value) else 0.0
+
+
+def finite3(values: Vec3) -> Vec3:
+    return (finite(values[0]), finite(values[1]), finite(values[2]))
+
+
 def rpy_to_matrix(rpy: Vec3) -> Matrix:
-    """3×3 rotation matrix for fixed-axis roll, pitch, yaw (radians)."""
+    """3×3 rotation matrix for fixed-axis roll, pitch, yaw (radians); non-finite angles count as 0."""
     import numpy as np
 
-    r, p, y = rpy
+    r, p, y = finite3(rpy)
     cr, sr = math.cos(r), math.sin(r)
     cp, sp = math.cos(p), math.sin(p)
     cy, sy = math.cos(y), math.sin(y)
@@ -44,7 +58,11 @@ def rpy_to_matrix(rpy: Vec3) -> Matrix:
 
 def matrix_to_rpy(rotation: Matrix) -> Vec3:
     """Fixed-axis roll, pitch, yaw (radians) of a 3×3 rotation matrix."""
-    r = rotation
+    import numpy as np
+
+    r = np.asarray(rotation, dtype=float)
+    if not np.all(np.isfinite(r)):
+        return ZERO3
     pitch = math.atan2(-r[2, 0], math.hypot(r[0, 0], r[1, 0]))
     if abs(abs(pitch) - math.pi / 2) < 1e-9:
         # Gimbal lock: only roll - yaw (or roll + yaw) is defined; put it all in yaw.
@@ -57,7 +75,11 @@ def matrix_to_rpy(rotation: Matrix) -> Vec3:
 
 def matrix_to_quaternion(rotation: Matrix) -> tuple[float, float, float, float]:
     """Unit quaternion ``(w, x, y, z)`` with ``w >= 0`` for a rotation matrix."""
-    m = rotation
+    import numpy as np
+
+    m = np.asarray(rotation, dtype=float)
+    if not np.all(np.isfinite(m)):
+        return (1.0, 0.0, 0.0, 0.0)
     trace = m[0, 0] + m[1, 1] + m[2, 2]
     if trace > 0:
         s = 2.0 * math.sqrt(trace + 1.0)
@@ -72,6 +94,8 @@ def matrix_to_quaternion(rotation: Matrix) -> tuple[float, float, float, float]:
         s = 2.0 * math.sqrt(1.0 + m[2, 2] - m[0, 0] - m[1, 1])
         w, x, y, z = (m[1, 0] - m[0, 1]) / s, (m[0, 2] + m[2, 0]) / s, (m[1, 2] + m[2, 1]) / s, 0.25 * s
     norm = math.sqrt(w * w + x * x + y * y + z * z)
+    if not norm > 0.0:
+        return (1.0, 0.0, 0.0, 0.0)
     sign = 1.0 if w >= 0 else -1.0
     return (sign * w / norm, sign * x / norm, sign * y / norm, sign * z / norm)
 
@@ -80,8 +104,10 @@ def quaternion_to_matrix(q: tuple[float, float, float, float]) -> Matrix:
     """Rotation matrix of a quaternion ``(w, x, y, z)`` (normalised first)."""
     import numpy as np
 
-    w, x, y, z = q
-    n = math.sqrt(w * w + x * x + y * y + z * z) or 1.0
+    w, x, y, z = (finite(v) for v in q)
+    n = math.sqrt(w * w + x * x + y * y + z * z)
+    if not (n > 0.0 and math.isfinite(n)):
+        return np.eye(3)
     w, x, y, z = w / n, x / n, y / n, z / n
     return np.array(
         [
@@ -96,11 +122,12 @@ def axis_angle_matrix(axis: Vec3, angle: float) -> Matrix:
     """Rotation by *angle* (radians) about the unit *axis* (Rodrigues)."""
     import numpy as np
 
-    a = np.asarray(axis, dtype=float)
+    a = np.asarray(finite3(axis), dtype=float)
     n = float(np.linalg.norm(a))
-    if n == 0.0:
+    if not (n > 0.0 and math.isfinite(n)):
         return np.eye(3)
     x, y, z = a / n
+    angle = finite(angle)
     c, s = math.cos(angle), math.sin(angle)
     t = 1.0 - c
     return np.array(
@@ -148,17 +175,28 @@ class Pose:
 
     @classmethod
     def from_matrix(cls, transform: Matrix) -> Pose:
+        """The pose of a 4×4 transform; non-finite entries (overflow) count as 0."""
         t = transform[:3, 3]
-        return cls((float(t[0]), float(t[1]), float(t[2])), matrix_to_rpy(transform[:3, :3]))
+        xyz = finite3((float(t[0]), float(t[1]), float(t[2])))
+        return cls(xyz, matrix_to_rpy(transform[:3, :3]))
 
     def compose(self, other: Pose) -> Pose:
         """``self ∘ other``: *other* expressed in this pose's parent frame."""
-        return Pose.from_matrix(self.matrix @ other.matrix)
-
-    def inverse(self) -> Pose:
         import numpy as np
 
-        return Pose.from_matrix(np.linalg.inv(self.matrix))
+        with np.errstate(all="ignore"):  # an overflow is clamped by from_matrix, not warned about
+            return Pose.from_matrix(self.matrix @ other.matrix)
+
+    def inverse(self) -> Pose:
+        """The inverse transform (rotation transposed; no general matrix inversion to fail)."""
+        import numpy as np
+
+        out = np.eye(4)
+        rotation = self.rotation.T
+        out[:3, :3] = rotation
+        with np.errstate(all="ignore"):
+            out[:3, 3] = -rotation @ np.asarray(finite3(self.xyz), dtype=float)
+        return Pose.from_matrix(out)
 
 
 IDENTITY = Pose()

@@ -16,6 +16,47 @@ from urdftool.model.pose import Matrix, axis_angle_matrix, homogeneous, quaterni
 from urdftool.model.robot import Joint, JointType, Link, Robot
 
 
+class _Forest:
+    """Disjoint sets of links, each set one tree, remembering the tree's top link.
+
+    Union by size with path halving: building a tree of n joints takes near-linear
+    time, where walking to the root for every joint took quadratic time on chains.
+    """
+
+    def __init__(self) -> None:
+        self._up: dict[str, str] = {}
+        self._size: dict[str, int] = {}
+        self._top: dict[str, str] = {}
+
+    def _find(self, link: str) -> str:
+        up = self._up
+        if link not in up:
+            up[link] = link
+            self._size[link] = 1
+            self._top[link] = link
+            return link
+        while up[link] != link:
+            up[link] = up[up[link]]
+            link = up[link]
+        return link
+
+    def top(self, link: str) -> str:
+        """The top (root) link of the tree *link* is in."""
+        return self._top[self._find(link)]
+
+    def attach(self, child: str, parent: str) -> None:
+        """Hang the tree whose top is *child* below *parent*."""
+        a, b = self._find(parent), self._find(child)
+        if a == b:
+            return
+        top = self._top[a]
+        if self._size[a] < self._size[b]:
+            a, b = b, a
+        self._up[b] = a
+        self._size[a] += self._size[b]
+        self._top[a] = top
+
+
 @dataclass
 class KinematicTree:
     """Parent/child maps over link and joint names."""
@@ -32,30 +73,49 @@ class KinematicTree:
     def of(cls, robot: Robot) -> KinematicTree:
         tree = cls(robot)
         link_names = {link.name for link in robot.links}
+        forest = _Forest()
         for joint in robot.joints:
             if joint.parent not in link_names or joint.child not in link_names:
                 continue
             if joint.parent == joint.child or joint.child in tree.parent_joint:
                 tree.cycle_joints.append(joint)
                 continue
-            if tree._is_ancestor(joint.child, joint.parent):
+            # The child has no parent yet, so it is the top of its own tree: the joint
+            # closes a cycle exactly when the parent hangs somewhere below the child.
+            if forest.top(joint.parent) == joint.child:
                 tree.cycle_joints.append(joint)
                 continue
+            forest.attach(joint.child, joint.parent)
             tree.parent_joint[joint.child] = joint
             tree.child_joints.setdefault(joint.parent, []).append(joint)
         return tree
 
     def _is_ancestor(self, candidate: str, link: str) -> bool:
-        """True when *candidate* is *link* or lies on its path to a root."""
-        seen: set[str] = set()
-        current: str | None = link
-        while current is not None and current not in seen:
-            if current == candidate:
-                return True
-            seen.add(current)
-            joint = self.parent_joint.get(current)
-            current = joint.parent if joint else None
-        return False
+        """True when *candidate* is *link* or lies on its path to a root (constant time)."""
+        if candidate == link:
+            return True
+        spans = self._subtree_spans
+        inside, outer = spans.get(link), spans.get(candidate)
+        if inside is None or outer is None:
+            return False
+        return outer[0] <= inside[0] < outer[1]
+
+    @cached_property
+    def _subtree_spans(self) -> dict[str, tuple[int, int]]:
+        """link -> (its depth-first index, one past its last descendant's index)."""
+        spans: dict[str, tuple[int, int]] = {}
+        open_links: list[tuple[str, int]] = []
+        count = 0
+        for index, (depth, link, _) in enumerate(self.walk()):
+            count = index + 1
+            while open_links and open_links[-1][1] >= depth:
+                name, _ = open_links.pop()
+                spans[name] = (spans[name][0], index)
+            spans[link.name] = (index, index + 1)
+            open_links.append((link.name, depth))
+        for name, _ in open_links:
+            spans[name] = (spans[name][0], count)
+        return spans
 
     @cached_property
     def roots(self) -> list[str]:

@@ -10,6 +10,7 @@ from dataclasses import dataclass, field
 from urdftool.diagnostics import Diagnostic
 from urdftool.model import Robot
 from urdftool.parse.packages import PackageResolver
+from urdftool.safe_files import UnsafeFile, check_regular, read_head
 from urdftool.source import SourceIndex
 
 #: suffix -> format, longest first
@@ -45,8 +46,7 @@ def detect_format(path: str) -> str | None:
         if lower.endswith(suffix):
             return fmt
     try:
-        with open(path, "rb") as handle:
-            head = handle.read(4096)
+        head = read_head(path, 4096, "model")
     except OSError:
         return None
     if b"xmlns:xacro" in head:
@@ -70,6 +70,13 @@ def read(
         raise InputError(f"{path}: no such file")
     if os.path.isdir(path):
         raise InputError(f"{path}: is a directory")
+    try:
+        # A device or FIFO would hang the reader; an oversized file is a finding of the reader.
+        check_regular(path, "model", check_size=False)
+    except UnsafeFile as exc:
+        raise InputError(str(exc)) from exc
+    except OSError as exc:
+        raise InputError(f"{path}: {exc.strerror or exc}") from exc
     fmt = detect_format(path)
     if fmt is None:
         raise InputError(f"{path}: unknown format (expected .urdf, .xacro, .urdf.xacro, .sdf or .world)")

@@ -288,10 +288,10 @@ def _limit(values: SdfValues, axis: etree._Element | None, where: str) -> Limit 
     if element is None:
         return None
     here = f"{where}/limit"
-    lower = values.text_number(element, "lower", here, infinite=True)
-    upper = values.text_number(element, "upper", here, infinite=True)
-    effort = values.text_number(element, "effort", here, infinite=True)
-    velocity = values.text_number(element, "velocity", here, infinite=True)
+    lower = values.text_limit(element, "lower", here)
+    upper = values.text_limit(element, "upper", here)
+    effort = values.text_limit(element, "effort", here)
+    velocity = values.text_limit(element, "velocity", here)
     return Limit(
         lower=lower if lower is not None and abs(lower) < NO_LIMIT else None,
         upper=upper if upper is not None and abs(upper) < NO_LIMIT else None,

@@ -15,7 +15,15 @@ from lxml import etree
 from urdftool.catalogue.syntax import InvalidNumber, UnexpandedSubstitution, WrongVectorLength
 from urdftool.model import Pose
 from urdftool.model.pose import Matrix, homogeneous, quaternion_to_matrix
-from urdftool.parse.values import ValueReader, parse_number
+from urdftool.parse.values import (
+    UNBOUNDED,
+    ValueReader,
+    clip,
+    hint_for,
+    number_word,
+    parse_limit,
+    parse_number,
+)
 from urdftool.parse.xmlio import span_of
 
 _TRUE = {"1", "true", "True", "TRUE"}
@@ -72,11 +80,11 @@ class SdfValues(ValueReader):
         if bad is not None:
             self.diagnostics.append(
                 InvalidNumber.diagnostic(
-                    f"{where}: <{element.tag}>{raw}</{element.tag}> is not a number"
-                    + (f" ('{bad}')" if bad != raw else ""),
+                    f"{where}: <{element.tag}>{clip(raw)}</{element.tag}> is not {number_word(bad)}"
+                    + (f" ('{clip(bad)}')" if bad != raw else ""),
                     span_of(element),
                     element=where,
-                    help="separate values with spaces, not commas" if "," in raw else None,
+                    help="separate values with spaces, not commas" if "," in raw else hint_for(bad),
                     data={"value": raw},
                 )
             )
@@ -103,6 +111,17 @@ class SdfValues(ValueReader):
         element = self.child(parent, tag)
         values = self.text_numbers(element, f"{where}/{tag}", (1,), infinite)
         return values[0] if values else default
+
+    def text_limit(self, parent: etree._Element | None, tag: str, where: str) -> float | None:
+        """A joint limit in child ``<tag>``: ``None`` when absent, malformed (reported) or
+        infinite (``inf``, ``-inf``, ``1e400``: SDF's way to write "no limit", carried as absent)."""
+        element = self.child(parent, tag)
+        if element is None:
+            return None
+        raw = self.raw_text(element, f"{where}/{tag}")
+        if raw is not None and len(raw.split()) == 1 and parse_limit(raw) is UNBOUNDED:
+            return None
+        return self.text_number(parent, tag, where)
 
     def text_vector(
         self, parent: etree._Element | None, tag: str, where: str, length: int = 3

@@ -26,12 +26,53 @@ _NUMBER = re.compile(r"^[+-]?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?$")
 _SUBSTITUTION = re.compile(r"\$[({]")
 
 
+#: Longest number text read (a double needs at most 17 significant digits; padding beyond is hostile).
+MAX_NUMBER_CHARS = 400
+
+#: Largest magnitude read. Nothing in a robot description comes near it, and it keeps
+#: every product the rules form (inertia × length², volumes, eigenvalues) finite:
+#: ``1e308`` is a finite double, but its square is not.
+MAX_MAGNITUDE = 1e50
+
+_INFINITY = {"inf", "+inf", "infinity", "+infinity", "-inf", "-infinity"}
+
+
 def parse_number(text: str) -> float | None:
-    """A finite decimal number, or ``None`` (no NaN, inf, underscores, commas)."""
+    """A finite decimal number, or ``None``.
+
+    The one gate every numeric field of every format goes through: no NaN, no
+    infinity, no value that overflows to infinity (``1e309``) or lies beyond
+    :data:`MAX_MAGNITUDE` (``1e308``, whose square overflows), no underscores,
+    commas or hex. What it refuses is reported as ``invalid-number`` by the
+    readers and treated as unwritten, so no model object holds a non-finite value.
+    """
     text = text.strip()
-    if not _NUMBER.match(text):
+    if len(text) > MAX_NUMBER_CHARS or not _NUMBER.match(text):
         return None
-    return float(text)
+    value = float(text)
+    return value if abs(value) <= MAX_MAGNITUDE else None
+
+
+def parse_limit(text: str) -> float | Unbounded | None:
+    """A finite number, :data:`UNBOUNDED` for an infinity the format allows as "no limit"
+    (``inf``, ``-inf``, or a value beyond :data:`MAX_MAGNITUDE`), or ``None`` when it is not a number."""
+    stripped = text.strip()
+    if stripped.lower() in _INFINITY:
+        return UNBOUNDED
+    value = parse_number(stripped)
+    if value is None and len(stripped) <= MAX_NUMBER_CHARS and _NUMBER.match(stripped):
+        return UNBOUNDED  # out of range: 1e400, 1e300
+    return value
+
+
+class Unbounded:
+    """Marker for a limit written as infinite; readers carry it as an absent (unbounded) limit."""
+
+    def __repr__(self) -> str:
+        return "UNBOUNDED"
+
+
+UNBOUNDED = Unbounded()
 
 
 @dataclass
@@ -128,10 +169,10 @@ class ValueReader:
         self, element: etree._Element, attribute: str, where: str, raw: str, bad: str | None = None
     ) -> None:
         token = bad if bad is not None else raw
-        hint = _hint(token)
+        hint = hint_for(token)
         self.diagnostics.append(
             InvalidNumber.diagnostic(
-                f"{where}: {attribute}=\"{raw}\" is not a number"
+                f"{where}: {attribute}=\"{clip(raw)}\" is not {number_word(token)}"
                 + (f" ('{token}')" if bad is not None and bad != raw else ""),
                 self.attr_span(element, attribute),
                 element=where,
@@ -141,12 +182,30 @@ class ValueReader:
         )
 
 
-def _hint(token: str) -> str | None:
+def number_word(token: str) -> str:
+    """What *token* failed to be, for messages: a finite number (NaN, infinity), one in range
+    (``1e309``, ``1e300``), or a number at all."""
+    stripped = token.strip()
+    if stripped.lower() in {"nan", "+nan", "-nan", *_INFINITY}:
+        return "a finite number"
+    if _NUMBER.match(stripped):
+        return "a finite number in range"
+    return "a number"
+
+
+def clip(raw: str, limit: int = 80) -> str:
+    """*raw* shortened for a message (hostile values can be megabytes long)."""
+    return raw if len(raw) <= limit else raw[:limit] + "…"
+
+
+def hint_for(token: str) -> str | None:
     stripped = token.strip().rstrip(".,;")
     if stripped != token.strip() and parse_number(stripped) is not None:
         return f"did you mean {stripped}? (stray '{token.strip()[len(stripped):]}')"
     if "," in token:
         return "separate values with spaces, not commas"
-    if token.lower() in {"nan", "inf", "-inf", "+inf", "infinity"}:
+    if token.strip().lower() in {"nan", "+nan", "-nan", *_INFINITY}:
         return "use a finite value"
+    if _NUMBER.match(token.strip()):
+        return f"the value is out of range (beyond ±{MAX_MAGNITUDE:g}); use a finite value"
     return None

@@ -41,7 +41,7 @@ from urdftool.catalogue.xacro import (
 )
 from urdftool.diagnostics import Diagnostic, Severity
 from urdftool.parse.packages import PackageResolver
-from urdftool.parse.xmlio import MAX_BYTES, XmlDocument, encode_src, parse_bytes, span_of
+from urdftool.parse.xmlio import XmlDocument, encode_src, parse_bytes, read_up_to_cap, span_of, to_utf8
 from urdftool.source import SRC_ATTRIBUTE, Span, element_starts
 
 _LOCK = threading.Lock()
@@ -157,15 +157,19 @@ def _patched(session: _Session) -> Iterator[None]:
                 if xacro.filestack:
                     # Relative includes inside the moved file resolve from where it is.
                     xacro.filestack[-1] = moved
+        kind = "include" if session.files else "model"
         try:
-            with open(path, "rb") as handle:
-                data = handle.read(MAX_BYTES + 1)
+            data = read_up_to_cap(path, kind)
         except OSError as exc:
             if xacro.filestack:
                 xacro.filestack.pop()
             raise xacro.XacroException(f"{exc.strerror}: {exc.filename}", exc=exc) from exc
         session.files.append(os.path.abspath(path))
-        checked, problems = parse_bytes(data, os.path.abspath(path), stamp=False)
+        # minidom (expat) parses the same UTF-8 bytes that the entity guards have seen.
+        data, problem = to_utf8(data, os.path.abspath(path))
+        checked, problems = (None, [problem]) if problem is not None else parse_bytes(
+            data, os.path.abspath(path), stamp=False, kind=kind
+        )
         session.diagnostics.extend(problems)
         if checked is None:
             session.syntax_failed = True

@@ -21,10 +21,94 @@ from lxml import etree
 
 from urdftool.catalogue.syntax import XmlSyntax
 from urdftool.diagnostics import Diagnostic, Severity
+from urdftool.safe_files import DEFAULT_LIMITS, human, limit, open_regular
 from urdftool.source import SRC_ATTRIBUTE, Span, element_starts
 
-#: Larger inputs are refused (the largest corpus URDF is about 1 MB).
-MAX_BYTES = 64 * 1024 * 1024
+#: Larger inputs are refused by default (the largest corpus URDF is about 1 MB);
+#: ``--max-file-size`` raises the cap (see :mod:`urdftool.safe_files`).
+MAX_BYTES = DEFAULT_LIMITS["model"]
+
+_KIND_WORDS = {"model": "robot descriptions", "include": "included xacro files"}
+
+_BOMS: tuple[tuple[bytes, str], ...] = (
+    (b"\x00\x00\xfe\xff", "utf-32-be"),
+    (b"\xff\xfe\x00\x00", "utf-32-le"),
+    (b"\xfe\xff", "utf-16-be"),
+    (b"\xff\xfe", "utf-16-le"),
+)
+_DECLARED_ENCODING = re.compile(rb"^(\s*<\?xml[^>]*?encoding\s*=\s*[\"'])([A-Za-z0-9._:-]*)([\"'])")
+_UTF8_NAMES = {"utf-8", "utf8", "us-ascii", "ascii"}
+
+
+def sniff_encoding(data: bytes) -> str | None:
+    """UTF-16/32 by byte-order mark, or by the NUL pattern of ``<`` and other ASCII
+    characters at the start (XML 1.0 appendix F); ``None`` for ASCII-compatible text."""
+    for bom, name in _BOMS:
+        if data.startswith(bom):
+            return name
+    head = data[:4]
+    if len(head) < 4:
+        return None
+    zero = [b == 0 for b in head]
+    if zero == [True, True, True, False]:
+        return "utf-32-be"
+    if zero == [False, True, True, True]:
+        return "utf-32-le"
+    if zero == [True, False, True, False]:
+        return "utf-16-be"
+    if zero == [False, True, False, True]:
+        return "utf-16-le"
+    return None
+
+
+def to_utf8(data: bytes, path: str) -> tuple[bytes, Diagnostic | None]:
+    """*data* as UTF-8 with its declaration saying so; a diagnostic when it cannot be decoded."""
+    encoding = sniff_encoding(data)
+    if encoding is not None:
+        bom = next((b for b, name in _BOMS if name == encoding and data.startswith(b)), b"")
+        try:
+            data = data[len(bom):].decode(encoding).encode("utf-8")
+        except UnicodeDecodeError as exc:
+            return data, XmlSyntax.diagnostic(
+                f"file looks like {encoding.upper()} but does not decode as it: {exc.reason}",
+                Span(path, 1, 1),
+                help="save the file as UTF-8",
+            )
+    elif data.startswith(b"\xef\xbb\xbf"):
+        data = data[3:]
+    match = _DECLARED_ENCODING.match(data)
+    if match is None:
+        return data, None
+    declared = match.group(2).decode("ascii").lower()
+    if encoding is not None or declared in _UTF8_NAMES:
+        if declared not in _UTF8_NAMES:  # the text is UTF-8 now: say so
+            data = data[: match.start(2)] + b"UTF-8" + data[match.end(2):]
+        return data, None
+    try:
+        text = data.decode(declared)
+    except LookupError:
+        return data, XmlSyntax.diagnostic(
+            f"the XML declaration names an unknown encoding \"{declared}\"",
+            Span(path, 1, 1),
+            help='save the file as UTF-8 and write <?xml version="1.0" encoding="UTF-8"?>',
+        )
+    except UnicodeDecodeError as exc:
+        return data, XmlSyntax.diagnostic(
+            f"file is not valid {declared} as its XML declaration says: {exc.reason}",
+            Span(path, 1, 1),
+            help="save the file as UTF-8",
+        )
+    if not text.lstrip().startswith("<?xml"):  # EBCDIC and the like: not an XML declaration any more
+        return data, XmlSyntax.diagnostic(
+            f"the XML declaration's encoding \"{declared}\" does not fit the file's bytes",
+            Span(path, 1, 1),
+            help="save the file as UTF-8",
+        )
+    data = text.encode("utf-8")
+    match = _DECLARED_ENCODING.match(data)
+    if match is not None:
+        data = data[: match.start(2)] + b"UTF-8" + data[match.end(2):]
+    return data, None
 
 _ENTITY_DECL = re.compile(rb"<!ENTITY", re.IGNORECASE)
 _DOCTYPE = re.compile(rb"<!DOCTYPE", re.IGNORECASE)
@@ -79,22 +163,30 @@ def line_of(data: bytes, offset: int) -> int:
 
 
 def parse_bytes(
-    data: bytes, path: str, stamp: bool = True
+    data: bytes, path: str, stamp: bool = True, kind: str = "model"
 ) -> tuple[XmlDocument | None, list[Diagnostic]]:
     """Parse *data* read from *path*; return the document or the diagnostics that stop it.
 
     With *stamp*, every element records its position in *data*; without, the
     document is taken to carry positions already (xacro output).
     """
-    if len(data) > MAX_BYTES:
+    cap = limit(kind)
+    if len(data) > cap:
         return None, [
             XmlSyntax.diagnostic(
-                f"file is {len(data) / 1e6:.0f} MB; urdftool reads robot descriptions up to "
-                f"{MAX_BYTES // (1024 * 1024)} MiB",
+                f"file is {len(data) / 1e6:.0f} MB; urdftool reads {_KIND_WORDS.get(kind, kind)} up to "
+                f"{human(cap)}",
                 Span(path, 1, 1),
-                help="split the description, or check that this is the file you meant",
+                help=f"split the description, check that this is the file you meant, or raise the cap "
+                f"with --max-file-size {kind}=SIZE",
             )
         ]
+    # Every guard below reads bytes: text in UTF-16/32 (by BOM or by its first
+    # characters) or in a declared non-UTF-8 encoding is turned into UTF-8 first,
+    # so that no encoding hides an entity declaration from them.
+    data, problem = to_utf8(data, path)
+    if problem is not None:
+        return None, [problem]
     # Entity declarations can only stand in the prolog, before the root element.
     head = data[: _first_element(data)] if _DOCTYPE.search(data) else b""
     entity = _ENTITY_DECL.search(head)
@@ -268,8 +360,15 @@ def _stamp_positions(root: etree._Element, data: bytes, path: str) -> None:
             element.set(SRC_ATTRIBUTE, encode_src(path, element.sourceline or 1, 1))
 
 
-def read_file(path: str) -> tuple[XmlDocument | None, list[Diagnostic]]:
-    """Read and parse *path*. Raises :class:`OSError` when the file cannot be read."""
-    with open(path, "rb") as handle:
-        data = handle.read(MAX_BYTES + 1)
-    return parse_bytes(data, path)
+def read_file(path: str, kind: str = "model") -> tuple[XmlDocument | None, list[Diagnostic]]:
+    """Read and parse *path*. Raises :class:`OSError` when the file cannot be read
+    (:class:`~urdftool.safe_files.UnsafeFile` when it is not a regular file)."""
+    data = read_up_to_cap(path, kind)
+    return parse_bytes(data, path, kind=kind)
+
+
+def read_up_to_cap(path: str, kind: str) -> bytes:
+    """The bytes of a regular file, at most one more than *kind*'s cap (so the caller
+    can report an oversized file as a finding). Raises ``OSError``."""
+    with open_regular(path, kind, check_size=False) as handle:
+        return handle.read(limit(kind) + 1)

@@ -23,7 +23,7 @@ from urdftool.catalogue.registry import Family, Rule, register
 from urdftool.diagnostics import Diagnostic, Severity
 from urdftool.facts import meshes as survey
 from urdftool.facts.context import CheckContext
-from urdftool.facts.meshes import ENGINE_NAMES, MeshError, engines_refusing
+from urdftool.facts.meshes import ENGINE_NAMES, MeshError, describe_path, engines_refusing, read_head
 
 
 class _Meshes(Rule):
@@ -164,10 +164,12 @@ class MeshNotFound(_Meshes):
                 if found.package_dir
                 else ""
             )
-            nearby = near_misses(path)
+            what = describe_path(path)
+            nearby = near_misses(path) if what is None else []
             hint = f"; a similar file exists: {', '.join(nearby)}" if nearby else ""
             yield self.diagnostic(
-                f"{first.describe} not found",
+                f"{first.describe} not found" if what is None
+                else f"{first.describe} is {what}, not a regular file; it is not read",
                 first.location,
                 element=first.element,
                 help=f"looked for {path}{where}{hint}{survey.other_places(uses)}",
@@ -265,8 +267,7 @@ class MeshUnreadable(_Meshes):
 
 def _lfs_hint(path: str) -> str:
     try:
-        with open(path, "rb") as handle:
-            head = handle.read(64)
+        head = read_head(path, 64)
     except OSError:
         return ""
     if head.startswith(b"version https://git-lfs"):

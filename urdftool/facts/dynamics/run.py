@@ -18,6 +18,9 @@ from urdftool.physics.bodies import kinematics_only
 
 #: Rule option that turns the pass on or off (default on).
 OPTION = "dynamics"
+#: Larger models are not analysed (reported by dynamics-not-checked): the pass's memory grows
+#: about cubically with the chain length (0.6 GB at 200 links, 4 GB at 400, killed at 1,000).
+MAX_LINKS = 250
 #: Rule option: random configurations sampled besides the zero configuration.
 SAMPLES_OPTION = "dynamics_samples"
 
@@ -42,6 +45,12 @@ def dynamics_of(robot: Robot, tree: KinematicTree, options: Mapping[str, Any]) -
     ``<inertial>`` at all, which ``kinematics-only`` reports once)."""
     if not enabled(options) or not robot.links or kinematics_only(robot):
         return None
+    if len(robot.links) > MAX_LINKS:
+        # The pass factorises dense n×n mass matrices at several configurations:
+        # cubic time and quadratic memory, hours and gigabytes for thousands of links.
+        return Skipped(NotCovered(
+            f"{len(robot.links)} links, over the {MAX_LINKS} the dynamics pass handles"
+        ))
     reason = not_covered(robot, tree)
     if reason is not None:
         return Skipped(reason)

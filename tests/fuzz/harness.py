@@ -1,0 +1,87 @@
+"""Running one fuzz case in-process: check and convert, and the invariants that must hold.
+
+Invariants: no exception escapes, no ``internal-error`` (S000) diagnostic, each
+run ends within its time budget, and nothing outside the case's temporary
+folder changes (the seed's folder is fingerprinted before and after).
+"""
+
+from __future__ import annotations
+
+import os
+import shutil
+import time
+from pathlib import Path
+
+from tests.fuzz.mutations import Case
+
+#: seconds a single case may take (check + two conversions)
+TIME_BUDGET = 20.0
+
+
+def fingerprint(folder: Path) -> dict[str, tuple[int, int]]:
+    return {
+        str(p): (p.stat().st_size, p.stat().st_mtime_ns) for p in sorted(folder.rglob("*")) if p.is_file()
+    }
+
+
+def stage(case: Case, workdir: Path) -> Path:
+    """Copy the seed's folder (meshes, includes) into *workdir* and write the mutated input there."""
+    for sibling in case.seed.parent.iterdir():
+        if sibling.is_file() and sibling.stat().st_size < 2_000_000:
+            shutil.copy2(sibling, workdir / sibling.name)
+    target = workdir / case.seed.name
+    target.write_bytes(case.data)
+    return target
+
+
+def run_case(case: Case, workdir: Path) -> list[str]:
+    """Check and convert *case*; return the broken invariants (empty when all hold)."""
+    from urdftool.api import ConversionRefused, LoadError, load, to_mjcf, to_urdf
+    from urdftool.export.write import OutputError
+    from urdftool.parse import InputError
+    from urdftool.pipeline.check import CheckOptions, check_file
+
+    problems: list[str] = []
+    before = fingerprint(case.seed.parent)
+    path = stage(case, workdir)
+    start = time.monotonic()
+    try:
+        reports = check_file(str(path), CheckOptions(rule_options={"dynamics": False}))
+        for report in reports:
+            for d in report.diagnostics:
+                if d.code == "S000":
+                    problems.append(f"internal error: {d.message}")
+    except InputError:
+        pass
+    except BaseException as exc:
+        problems.append(f"check raised {type(exc).__name__}: {exc}")
+    try:
+        robot = load(str(path))
+    except (LoadError, ValueError, FileNotFoundError):
+        robot = None
+    except BaseException as exc:
+        problems.append(f"load raised {type(exc).__name__}: {exc}")
+        robot = None
+    if robot is not None:
+        for convert, out in ((to_mjcf, "out.xml"), (to_urdf, "out.urdf")):
+            try:
+                convert(robot, workdir / "out" / out)  # type: ignore[operator]
+            except (ConversionRefused, OutputError):
+                pass
+            except BaseException as exc:
+                problems.append(f"{convert.__name__} raised {type(exc).__name__}: {exc}")
+    elapsed = time.monotonic() - start
+    if elapsed > TIME_BUDGET:
+        problems.append(f"took {elapsed:.1f} s (budget {TIME_BUDGET} s)")
+    if fingerprint(case.seed.parent) != before:
+        problems.append(f"files changed outside the temporary folder, in {case.seed.parent}")
+    return problems
+
+
+def isolated_env() -> dict[str, str]:
+    """Environment overrides that keep caches inside the temporary folder."""
+    return {"URDFTOOL_NO_CACHE": "1"}
+
+
+def apply_env(overrides: dict[str, str]) -> None:
+    os.environ.update(overrides)
