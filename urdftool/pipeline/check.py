@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import contextlib
+import dataclasses
 import gc
 import os
 from collections.abc import Callable, Iterable, Iterator, Mapping, Sequence
@@ -10,13 +11,14 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from urdftool.catalogue.syntax import InternalError
-from urdftool.diagnostics import Diagnostic, FileReport, Report
+from urdftool.diagnostics import Diagnostic, FileReport, Report, Severity
 from urdftool.facts.context import CheckContext
 from urdftool.facts.simulation import OPTION as SIM_OPTION
 from urdftool.facts.simulation import Simulator
 from urdftool.model import KinematicTree, Robot
 from urdftool.parse import Loaded, read
 from urdftool.parse.packages import PackageResolver
+from urdftool.pipeline import suppress
 from urdftool.rules import Selection
 from urdftool.rules.registry import model_rules
 from urdftool.safe_files import file_limits
@@ -35,6 +37,10 @@ class CheckOptions:
     rule_options: Mapping[str, Any] = field(default_factory=dict)
     #: size caps by file kind (``model``, ``include``, ``mesh``) over the defaults; see safe_files
     file_limits: Mapping[str, int] = field(default_factory=dict)
+    #: honour ``<!-- urdftool: ignore[...] -->`` comments (``--no-suppressions`` turns them off)
+    suppressions: bool = True
+    #: rule code or name -> severity it is reported at (the configuration's ``severity`` table)
+    severity: Mapping[str, Severity] = field(default_factory=dict)
 
     def selection(self) -> Selection:
         return Selection.of(self.select, self.ignore)
@@ -121,7 +127,23 @@ def check_file(path: str, options: CheckOptions) -> list[FileReport]:
         models = read(path, options.xacro_args, resolver)
         # Rules that re-resolve URIs (to say where a mesh was looked for) use the same resolver.
         rule_options = {**options.rule_options, "resolver": resolver}
-        return [report_for(m, selection, rule_options) for m in models]
+        return [_settled(report_for(m, selection, rule_options), m, options, selection) for m in models]
+
+
+def _settled(report: FileReport, loaded: Loaded, options: CheckOptions, selection: Selection) -> FileReport:
+    """*report* after the inline suppressions of every file read and the severity overrides."""
+    diagnostics = list(report.diagnostics)
+    if options.suppressions:
+        diagnostics = suppress.apply(diagnostics, loaded.files or [loaded.path], selection)
+    if options.severity:
+        diagnostics = [_with_severity(d, options.severity) for d in diagnostics]
+    return FileReport(report.path, report.format, report.robot,
+                      tuple(sorted(diagnostics, key=Diagnostic.sort_key)))
+
+
+def _with_severity(diagnostic: Diagnostic, overrides: Mapping[str, Severity]) -> Diagnostic:
+    level = overrides.get(diagnostic.code) or overrides.get(diagnostic.name)
+    return dataclasses.replace(diagnostic, severity=level) if level else diagnostic
 
 
 def check_files(
