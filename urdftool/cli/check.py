@@ -10,8 +10,6 @@ import click
 
 from urdftool.check import check_files, default_jobs
 from urdftool.cli.common import (
-    EXIT_FINDINGS,
-    EXIT_OK,
     InputProblem,
     build_options,
     input_error,
@@ -19,10 +17,10 @@ from urdftool.cli.common import (
     model_options,
     selection_options,
 )
+from urdftool.cli.output import emit_report, exit_code, output_options
 from urdftool.diagnostics import Report
 from urdftool.discover import expand_paths
 from urdftool.parse import InputError, detect_format
-from urdftool.render import render_json, render_text
 
 #: a progress bar is shown on a terminal from this many files on
 PROGRESS_FROM = 4
@@ -32,12 +30,11 @@ PROGRESS_FROM = 4
 @click.argument("paths", nargs=-1, required=True, type=click.Path())
 @model_options
 @selection_options
-@click.option("--format", "fmt", type=click.Choice(["text", "json"]), default="text", show_default=True)
+@output_options  # --format, -o/--output-file, --color, --exit-zero (urdftool/cli/output.py)
 @click.option("--strict", is_flag=True, help="Warnings fail too (exit 1).")
 @click.option("-j", "--jobs", type=click.IntRange(0, 64), default=1, show_default=True,
               help="Worker processes; 0 picks one per core.")
 @click.option("-q", "--quiet", is_flag=True, help="Text output: errors and the summary only.")
-@click.option("-o", "--output", type=click.Path(dir_okay=False), help="Write the report to this file.")
 @click.option(
     "--model", "model_name", help="For files with several models (SDF worlds): check only this one."
 )
@@ -65,6 +62,8 @@ def check_command(
     no_dynamics: bool = False,
     sim: bool = False,
     engine: str = "all",
+    color: str = "auto",
+    exit_zero: bool = False,
 ) -> None:
     """Load each model (files, or directories searched recursively) and report diagnostics."""
     from urdftool.dynamics.sim import engine_names, rule_options_for
@@ -102,16 +101,5 @@ def check_command(
         report = Report(tuple(f for f in report.files if f.robot == model_name))
         if not report.files:
             raise InputProblem(f"no model named '{model_name}' in " + ", ".join(paths))
-    text = render_json(report) if fmt == "json" else render_text(
-        report, colour=output is None and sys.stdout.isatty(), quiet=quiet
-    )
-    if output:
-        from urdftool.export.write import OutputError, write_text_atomic
-
-        try:
-            write_text_atomic(output, text, inputs=files)
-        except OutputError as exc:
-            raise InputProblem(str(exc)) from exc
-    else:
-        click.echo(text, nl=False)
-    sys.exit(EXIT_FINDINGS if report.failed(strict) else EXIT_OK)
+    emit_report(report, fmt, output, color, quiet, inputs=files)
+    sys.exit(exit_code(report, strict, exit_zero))
