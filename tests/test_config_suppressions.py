@@ -168,3 +168,39 @@ def test_baseline_reports_new_findings_and_counts_fixed_ones(tmp_path: Path) -> 
     new = [d for f in result.report.files for d in f.diagnostics]
     assert [d.code for d in new] == ["S009"] and "soft" in new[0].message
     assert result.fixed >= 1
+
+
+def _cli(*args: object) -> tuple[int, str, str]:
+    from click.testing import CliRunner
+
+    from urdftool.cli import main
+
+    result = CliRunner().invoke(main, [str(a) for a in args])
+    return result.exit_code, result.stdout, result.stderr
+
+
+def test_cli_reads_the_config_and_shows_where_each_setting_came_from(tmp_path: Path) -> None:
+    path = robot(tmp_path)
+    assert _cli("check", "--no-dynamics", path)[0] == 1  # zero mass is an error
+    (tmp_path / "pyproject.toml").write_text('[tool.urdftool]\nignore = ["zero-mass", "S009"]\n')
+    code, out, _ = _cli("check", "--no-dynamics", path)
+    assert code == 0, out
+    code, out, _ = _cli("check", "--show-settings", path)
+    assert code == 0 and "pyproject.toml [tool.urdftool]" in out and "ignore" in out
+    assert _cli("check", "--no-dynamics", "--isolated", path)[0] == 1
+    (tmp_path / "pyproject.toml").write_text('[tool.urdftool]\nignroe = ["I002"]\n')
+    code, _, err = _cli("check", path)
+    assert code == 2 and "did you mean 'ignore'" in err
+
+
+def test_cli_suppressions_and_baseline(tmp_path: Path) -> None:
+    path = robot(tmp_path, comment_link="<!-- urdftool: ignore[zero-mass] -->\n  ")
+    code, out, _ = _cli("check", "--no-dynamics", "--select", "I002", path)
+    assert code == 0, out
+    assert _cli("check", "--no-dynamics", "--select", "I002", "--no-suppressions", path)[0] == 1
+    plain = robot(tmp_path, name="plain.urdf")
+    baseline = tmp_path / "baseline.json"
+    code, _, err = _cli("check", "--no-dynamics", "--write-baseline", baseline, plain)
+    assert code == 0 and "recorded" in err and baseline.is_file()
+    code, out, err = _cli("check", "--no-dynamics", "--baseline", baseline, plain)
+    assert code == 0 and "known finding(s) hidden" in err, out

@@ -11,6 +11,7 @@ import importlib
 
 import click
 
+from urdftool.cli.suggest import unknown_command
 from urdftool.version import __version__
 
 #: command name -> "module:attribute" of its click command
@@ -19,7 +20,9 @@ COMMANDS: dict[str, str] = {
     "convert": "urdftool.cli.convert:convert_command",
     "graph": "urdftool.cli.graph:graph_command",
     "info": "urdftool.cli.info:info_command",
+    "lsp": "urdftool.cli.lsp:lsp_command",
     "rule": "urdftool.cli.rule:rule_command",
+    "schema": "urdftool.cli.schema:schema_command",
     "sim": "urdftool.cli.sim:sim_command",
 }
 
@@ -38,6 +41,15 @@ class LazyGroup(click.Group):
         command = getattr(importlib.import_module(module_name), attribute)
         assert isinstance(command, click.Command)
         return command
+
+    def resolve_command(
+        self, ctx: click.Context, args: list[str]
+    ) -> tuple[str | None, click.Command | None, list[str]]:
+        """As click's, but an unknown command suggests the nearest ones (urdftool/cli/suggest.py)."""
+        name = args[0]
+        if self.get_command(ctx, name) is None and not name.startswith("-"):
+            raise unknown_command(ctx, name, self.list_commands(ctx))
+        return super().resolve_command(ctx, args)
 
 
 @click.group(

@@ -2,14 +2,15 @@
 
 from __future__ import annotations
 
+import dataclasses
 import os
 import sys
 from collections.abc import Sequence
 
 import click
+from click.core import ParameterSource
 
 from urdftool.cli.common import (
-    EXIT_FINDINGS,
     EXIT_OK,
     InputProblem,
     build_options,
@@ -18,14 +19,17 @@ from urdftool.cli.common import (
     model_options,
     selection_options,
 )
-from urdftool.diagnostics import Report
-from urdftool.export.write import OutputError, write_text_atomic
+from urdftool.cli.output import emit_report, exit_code, output_options
+from urdftool.diagnostics import FileReport, Report
+from urdftool.export.write import OutputError
 from urdftool.facts.simulation import engine_names, rule_options_for
 from urdftool.facts.simulation.scene import SimOptions
 from urdftool.parse import InputError, detect_format
-from urdftool.pipeline.check import check_files, default_jobs
+from urdftool.pipeline import baseline
+from urdftool.pipeline.check import CheckOptions, check_files, default_jobs
 from urdftool.pipeline.discover import expand_paths
-from urdftool.render import render_json, render_text
+from urdftool.pipeline.settings import Overrides, Settings, SettingsError, group_by_settings, resolve
+from urdftool.rules import UnknownSelector
 
 #: a progress bar is shown on a terminal from this many files on
 PROGRESS_FROM = 4
@@ -35,12 +39,11 @@ PROGRESS_FROM = 4
 @click.argument("paths", nargs=-1, required=True, type=click.Path())
 @model_options
 @selection_options
-@click.option("--format", "fmt", type=click.Choice(["text", "json"]), default="text", show_default=True)
+@output_options  # --format, -o/--output-file, --color, --exit-zero (urdftool/cli/output.py)
 @click.option("--strict", is_flag=True, help="Warnings fail too (exit 1).")
 @click.option("-j", "--jobs", type=click.IntRange(0, 64), default=1, show_default=True,
               help="Worker processes; 0 picks one per core.")
 @click.option("-q", "--quiet", is_flag=True, help="Text output: errors and the summary only.")
-@click.option("-o", "--output", type=click.Path(dir_okay=False), help="Write the report to this file.")
 @click.option(
     "--model", "model_name", help="For files with several models (SDF worlds): check only this one."
 )
@@ -52,6 +55,15 @@ PROGRESS_FROM = 4
 )
 @click.option("--engine", type=click.Choice(["mujoco", "pybullet", "all"]), default="all", show_default=True,
               help="With --sim: the engine(s) to simulate in.")
+@click.option("--extend-select", multiple=True, help="Rules to add to the selection (comma-separated).")
+@click.option("--isolated", is_flag=True, help="Ignore urdftool.toml and pyproject.toml settings.")
+@click.option("--no-suppressions", is_flag=True, help="Ignore <!-- urdftool: ignore[...] --> comments.")
+@click.option("--baseline", "baseline_file", type=click.Path(dir_okay=False),
+              help="Report only findings not recorded in this baseline file.")
+@click.option("--write-baseline", type=click.Path(dir_okay=False),
+              help="Record every finding in this baseline file (exit 0) and report nothing.")
+@click.option("--show-settings", is_flag=True,
+              help="Print the settings each file is checked with, and where each came from.")
 def check_command(
     paths: Sequence[str],
     xacro_args: Sequence[str],
@@ -68,12 +80,25 @@ def check_command(
     no_dynamics: bool = False,
     sim: bool = False,
     engine: str = "all",
+    color: str = "auto",
+    exit_zero: bool = False,
+    extend_select: Sequence[str] = (),
+    isolated: bool = False,
+    no_suppressions: bool = False,
+    baseline_file: str | None = None,
+    write_baseline: str | None = None,
+    show_settings: bool = False,
 ) -> None:
-    """Load each model (files, or directories searched recursively) and report diagnostics."""
+    """Load each model (files, or directories searched recursively) and report diagnostics.
 
+    Settings come from the nearest urdftool.toml or pyproject.toml [tool.urdftool] above each
+    file (flags win; --isolated ignores them); <!-- urdftool: ignore[CODE] --> comments silence
+    findings on their line or the next (--no-suppressions shows everything).
+    """
     simulation = rule_options_for(SimOptions(engine_names(engine))) if sim else {}
     options = build_options(xacro_args, packages, package_paths, select, ignore, dynamics=not no_dynamics,
                             **simulation)
+    options = dataclasses.replace(options, suppressions=not no_suppressions)
     for path in paths:
         if not os.path.exists(path):
             raise InputProblem(f"{path}: no such file or directory")
@@ -81,36 +106,85 @@ def check_command(
             raise InputProblem(
                 f"{path}: unknown format (expected .urdf, .xacro, .urdf.xacro, .sdf or .world)"
             )
+    format_given = click.get_current_context().get_parameter_source("fmt") is ParameterSource.COMMANDLINE
+    overrides = Overrides(
+        select=options.select, ignore=options.ignore, extend_select=tuple(_split(extend_select)),
+        strict=strict or None, package_paths=options.package_paths, packages=options.packages,
+        xacro_args=options.xacro_args, format=fmt if format_given else None, isolated=isolated,
+    )
     files = expand_paths(list(paths), options.resolver())
     if not files:
         raise InputProblem("no robot descriptions found in " + ", ".join(paths))
+    try:
+        if show_settings:
+            for path in files:
+                click.echo(f"# {path}\n{resolve(path, overrides).describe()}", nl=False)
+            sys.exit(EXIT_OK)
+        groups = group_by_settings(files, overrides)
+    except SettingsError as exc:
+        raise InputProblem(str(exc)) from exc
+    report = _check_groups(groups, files, options, jobs, quiet)
+    if model_name is not None:
+        report = Report(tuple(f for f in report.files if f.robot == model_name))
+        if not report.files:
+            raise InputProblem(f"no model named '{model_name}' in " + ", ".join(paths))
+    if write_baseline:
+        try:
+            count = baseline.write_baseline(report, write_baseline, inputs=files)
+        except OutputError as exc:
+            raise InputProblem(str(exc)) from exc
+        click.echo(f"urdftool: recorded {count} finding(s) in {write_baseline}", err=True)
+        sys.exit(EXIT_OK)
+    if baseline_file:
+        try:
+            known = baseline.apply_baseline(report, baseline.read_baseline(baseline_file), baseline_file)
+        except baseline.BaselineError as exc:
+            raise InputProblem(str(exc)) from exc
+        report = known.report
+        if not quiet and (known.known or known.fixed):
+            fixed = (f"; {known.fixed} recorded finding(s) are gone: shrink it with --write-baseline"
+                     if known.fixed else "")
+            click.echo(f"urdftool: {known.known} known finding(s) hidden by {baseline_file}{fixed}", err=True)
+    settings_format = next((settings.format for settings, _ in groups if settings.format), None)
+    strict = strict or any(settings.strict for settings, _ in groups)
+    emit_report(report, fmt if format_given else settings_format or fmt, output, color, quiet, inputs=files)
+    sys.exit(exit_code(report, strict, exit_zero))
+
+
+def _split(values: Sequence[str]) -> list[str]:
+    return [part.strip() for value in values for part in value.split(",") if part.strip()]
+
+
+def _check_groups(groups: list[tuple[Settings, list[str]]], files: list[str], options: CheckOptions,
+                  jobs: int, quiet: bool) -> Report:
+    """Check each group of files with the options its settings give; reports in input order."""
     workers = jobs or default_jobs()
     progress = None
     if is_terminal() and len(files) >= PROGRESS_FROM and not quiet:
         bar = click.progressbar(length=len(files), label="checking", file=sys.stderr)
         bar.__enter__()
+        done_so_far = [0]
 
         def progress(done: int, total: int) -> None:
             bar.update(1)
-            if done == total:
+            done_so_far[0] += 1
+            if done_so_far[0] == len(files):
                 bar.__exit__(None, None, None)
 
-    try:
-        report = check_files(files, options, jobs=workers, progress=progress)
-    except InputError as exc:  # a file found in a directory that cannot be read at all
-        raise input_error(exc) from exc
-    if model_name is not None:
-        report = Report(tuple(f for f in report.files if f.robot == model_name))
-        if not report.files:
-            raise InputProblem(f"no model named '{model_name}' in " + ", ".join(paths))
-    text = render_json(report) if fmt == "json" else render_text(
-        report, colour=output is None and sys.stdout.isatty(), quiet=quiet
-    )
-    if output:
+    order = {path: index for index, path in enumerate(files)}
+    reports: list[FileReport] = []
+    for settings, group in groups:
+        group_options = dataclasses.replace(
+            options, select=settings.select, ignore=settings.ignore, xacro_args=dict(settings.xacro_args),
+            packages=dict(settings.packages), package_paths=settings.package_paths,
+            severity=dict(settings.severity),
+        )
         try:
-            write_text_atomic(output, text, inputs=files)
-        except OutputError as exc:
-            raise InputProblem(str(exc)) from exc
-    else:
-        click.echo(text, nl=False)
-    sys.exit(EXIT_FINDINGS if report.failed(strict) else EXIT_OK)
+            group_options.selection()
+            result = check_files(group, group_options, jobs=workers, progress=progress)
+        except UnknownSelector as exc:
+            raise InputProblem(f"{settings.config or 'settings'}: {exc}") from exc
+        except InputError as exc:  # a file found in a directory that cannot be read at all
+            raise input_error(exc) from exc
+        reports.extend(result.files)
+    return Report(tuple(sorted(reports, key=lambda r: order.get(r.path, len(order)))))

@@ -19,6 +19,7 @@ from urdftool.cli.common import (
 )
 from urdftool.facts.simulation import engine_names
 from urdftool.facts.simulation.scene import DURATION, SimOptions
+from urdftool.facts.simulation.verdict import verdict_failed
 from urdftool.parse import InputError, detect_format
 from urdftool.render import render_json, render_text
 
@@ -82,4 +83,5 @@ def sim_command(
         raise InputProblem(f"{path}: no model named '{model_name}'")
     click.echo(render_json(report) if fmt == "json" else render_text(report, colour=sys.stdout.isatty()),
                nl=False)
-    sys.exit(EXIT_FINDINGS if report.failed(strict) else EXIT_OK)
+    # a "failed" verdict fails the run even when its findings are only warnings
+    sys.exit(EXIT_FINDINGS if report.failed(strict) or verdict_failed(report) else EXIT_OK)

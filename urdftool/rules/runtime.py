@@ -320,17 +320,17 @@ class SimSummary(_Runtime):
             name = display_name(run.engine)
             if run.unavailable:
                 yield self.diagnostic(f"{name}: not simulated: {run.unavailable}", ctx.robot.span,
-                                      data=_summary(run))
+                                      data={**_summary(run), "verdict": "not simulated"})
                 continue
             if run.refused:
                 codes = ", ".join(sorted({d.code for d in run.refused}))
                 yield self.diagnostic(f"{name}: not simulated: the export was refused ({codes})",
-                                      ctx.robot.span, data=_summary(run))
+                                      ctx.robot.span, data={**_summary(run), "verdict": "not simulated"})
                 yield from run.refused
                 continue
-            yield self.diagnostic(f"{name}: {_verdict(ctx.robot, run, result.scene.floating, hold)}",
-                                  ctx.robot.span,
-                                  data=_summary(run))
+            verdict = _verdict(ctx.robot, run, result.scene.floating, hold)
+            yield self.diagnostic(f"{name}: {verdict}", ctx.robot.span,
+                                  data={**_summary(run), "verdict": verdict.split(" ", 1)[0].rstrip(":")})
 
 
 def _verdict(robot: Robot, run: EngineRun, floating: bool, hold: bool) -> str:

@@ -1,0 +1,55 @@
+"""Output options of ``check``: ``--format``, ``-o/--output-file``, ``--color``,
+``--exit-zero``; and writing the rendered report."""
+
+from __future__ import annotations
+
+import sys
+from collections.abc import Iterable
+
+import click
+
+from urdftool.cli.common import EXIT_FINDINGS, EXIT_OK, F, InputProblem
+from urdftool.diagnostics import Report
+from urdftool.export.write import OutputError, write_text_atomic
+from urdftool.facts.simulation.verdict import verdict_failed
+from urdftool.render.colour import CHOICES, want_colour
+from urdftool.render.formats import FORMATS, render_report
+
+
+def output_options(func: F) -> F:
+    for option in reversed((
+        click.option("--format", "fmt", type=click.Choice(FORMATS), default="text", show_default=True,
+                     help="text for people; json (CONTRACTS.md), sarif (code scanning), github "
+                     "(workflow annotations), junit (test reports), gitlab (Code Quality) for tools."),
+        click.option("-o", "--output-file", "--output", "output", type=click.Path(dir_okay=False),
+                     help="Write the report to this file (atomically) instead of standard output."),
+        click.option("--color", "--colour", "color", type=click.Choice(CHOICES), default="auto",
+                     show_default=True, help="Colour the text output (auto: on a terminal, "
+                     "honouring NO_COLOR and FORCE_COLOR)."),
+        click.option("--exit-zero", is_flag=True,
+                     help="Exit 0 even when findings fail the check (report-only runs)."),
+    )):
+        func = option(func)
+    return func
+
+
+def emit_report(report: Report, fmt: str, output: str | None, color: str, quiet: bool,
+                inputs: Iterable[str]) -> None:
+    """Render *report* and write it to *output* (atomically) or standard output."""
+    colour = want_colour(color, output is None and sys.stdout.isatty())
+    text = render_report(report, fmt, colour=colour, quiet=quiet)
+    if output:
+        try:
+            write_text_atomic(output, text, inputs=inputs)
+        except OutputError as exc:
+            raise InputProblem(str(exc)) from exc
+    else:
+        click.echo(text, nl=False, color=colour or None)
+
+
+def exit_code(report: Report, strict: bool, exit_zero: bool = False) -> int:
+    """0 or 1 for ``check``: findings at failing severity or a failed simulation verdict fail,
+    unless *exit_zero*."""
+    if exit_zero:
+        return EXIT_OK
+    return EXIT_FINDINGS if report.failed(strict) or verdict_failed(report) else EXIT_OK
