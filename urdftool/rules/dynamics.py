@@ -17,6 +17,7 @@ from urdftool.diagnostics import Diagnostic, Severity
 from urdftool.facts.context import CheckContext
 from urdftool.facts.dynamics.analysis import GRAVITY, Conditioning, DynamicsAnalysis, GravityLoad
 from urdftool.facts.dynamics.configurations import rounded
+from urdftool.facts.dynamics.linear import DENSE_DOF
 from urdftool.facts.dynamics.run import Skipped, dynamics_of
 from urdftool.model import JointType
 from urdftool.physics.describe import fmt
@@ -278,6 +279,16 @@ class DynamicsNotChecked(_Dynamics):
             span, element = self._where(ctx, first)
             yield self.diagnostic(f"dynamics not checked: {result.why.reason}", span, element=element,
                                   data={"reason": result.why.reason, "elements": list(result.why.elements)})
+        elif isinstance(result, DynamicsAnalysis) and not result.dense:
+            done = "gravity loads checked with the linear-time pass" if result.gravity_computed else \
+                "nothing else computed"
+            yield self.diagnostic(
+                f"mass-matrix conditioning not checked: {result.dof} moving degrees of freedom, over the "
+                f"{DENSE_DOF} the dense pass handles; {done}",
+                ctx.robot.span,
+                element="robot",
+                data={"reason": "size", "dof": result.dof, "limit": DENSE_DOF},
+            )
         elif isinstance(result, DynamicsAnalysis) and not result.floating and ctx.robot.loop_closures \
                 and result.dof:
             closing = ctx.robot.loop_closures[0].joint

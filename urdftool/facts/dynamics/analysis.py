@@ -100,6 +100,8 @@ class DynamicsAnalysis:
     #: one entry per one-DOF independent joint, for fixed-base robots without loops
     gravity: list[GravityLoad] = field(default_factory=list)
     gravity_computed: bool = False
+    #: False when the model was too large for the dense pass (:mod:`.linear`): no conditioning
+    dense: bool = True
 
 
 def analyse(robot: Robot, tree: KinematicTree, floating: bool, base_reason: str,

@@ -13,14 +13,12 @@ from typing import Any
 
 from urdftool.facts.dynamics.analysis import SAMPLES, analyse
 from urdftool.facts.dynamics.coverage import NotCovered, floating_base, not_covered
+from urdftool.facts.dynamics.linear import DENSE_DOF, gravity_loads, moving_dof
 from urdftool.model import KinematicTree, Robot
 from urdftool.physics.bodies import kinematics_only
 
 #: Rule option that turns the pass on or off (default on).
 OPTION = "dynamics"
-#: Larger models are not analysed (reported by dynamics-not-checked): the pass's memory grows
-#: about cubically with the chain length (0.6 GB at 200 links, 4 GB at 400, killed at 1,000).
-MAX_LINKS = 250
 #: Rule option: random configurations sampled besides the zero configuration.
 SAMPLES_OPTION = "dynamics_samples"
 
@@ -45,14 +43,13 @@ def dynamics_of(robot: Robot, tree: KinematicTree, options: Mapping[str, Any]) -
     ``<inertial>`` at all, which ``kinematics-only`` reports once)."""
     if not enabled(options) or not robot.links or kinematics_only(robot):
         return None
-    if len(robot.links) > MAX_LINKS:
-        # The pass factorises dense n×n mass matrices at several configurations:
-        # cubic time and quadratic memory, hours and gigabytes for thousands of links.
-        return Skipped(NotCovered(
-            f"{len(robot.links)} links, over the {MAX_LINKS} the dynamics pass handles"
-        ))
     reason = not_covered(robot, tree)
     if reason is not None:
         return Skipped(reason)
     floating, why = floating_base(robot, tree)
-    return analyse(robot, tree, floating, why, int(options.get(SAMPLES_OPTION, SAMPLES)))
+    samples = int(options.get(SAMPLES_OPTION, SAMPLES))
+    if moving_dof(tree) > DENSE_DOF:
+        # Pinocchio's Data grows about as DOF³ and the conditioning needs dense DOF×DOF
+        # matrices: large models get the linear gravity pass only (and a note that says so).
+        return gravity_loads(robot, tree, floating, why, samples)
+    return analyse(robot, tree, floating, why, samples)
