@@ -2,8 +2,10 @@
 
 from __future__ import annotations
 
+import re
 import sys
 from collections.abc import Sequence
+from pathlib import Path
 
 import click
 
@@ -11,9 +13,10 @@ from urdftool.cli.common import EXIT_FINDINGS, EXIT_OK, EXIT_USAGE, build_option
 from urdftool.diagnostics import Diagnostic, Severity
 from urdftool.export import ExportOptions, UnknownTarget, target_for, verify_model
 from urdftool.export.write import OutputError, guard_inputs, is_stale, model_inputs
-from urdftool.parse import InputError
+from urdftool.parse import InputError, Loaded
+from urdftool.pipeline.check import CheckOptions
 from urdftool.pipeline.convert import convert_robot, output_paths, write_conversion
-from urdftool.pipeline.load import NoSuchModel, load_one
+from urdftool.pipeline.load import load_models
 from urdftool.render.text import render_diagnostic
 from urdftool.source import SourceIndex
 
@@ -45,6 +48,8 @@ def _refuse_output(out: str, inputs: Sequence[str]) -> None:
 )
 @click.option("--verify", is_flag=True, help="Load the output in its engine and compare it with the source.")
 @click.option("--model", "model_name", help="For files with several models (SDF worlds): which one.")
+@click.option("--all-models", is_flag=True,
+              help="For files with several models: convert each, to OUT with the model's name added.")
 @click.option(
     "--floating-base", type=click.Choice(["auto", "free", "fixed"]), default="auto", show_default=True
 )
@@ -71,6 +76,7 @@ def convert_command(
     copy_assets: bool,
     scene: bool,
     quiet: bool,
+    all_models: bool,
     xacro_args: Sequence[str],
     packages: Sequence[str],
     package_paths: Sequence[str],
@@ -83,17 +89,9 @@ def convert_command(
         raise click.BadParameter(str(exc), param_hint="--to/-o") from exc
     _refuse_output(out, [source])  # before any work: -o is the input, a device, a FIFO...
     try:
-        loaded = load_one(source, options, model_name)
+        chosen = _models(source, options, model_name, all_models)
     except InputError as exc:
         raise input_error(exc) from exc
-    except NoSuchModel as exc:
-        click.echo(f"urdftool: {exc}", err=True)
-        sys.exit(EXIT_USAGE)
-    if loaded.robot is None:
-        _emit(loaded.diagnostics)
-        sys.exit(EXIT_FINDINGS)
-    inputs = model_inputs(loaded.robot, loaded.files or [source])
-    _refuse_output(out, inputs)  # an included xacro file or a mesh
     export_options = ExportOptions(
         floating_base=floating_base,
         actuators=actuators,
@@ -101,44 +99,88 @@ def convert_command(
         copy_assets=copy_assets,
         scene=scene,
     )
+    codes = []
+    for loaded in chosen:
+        name = (loaded.robot.name if loaded.robot else None) or "model"
+        where = out if len(chosen) == 1 else _per_model(out, name)
+        if len(chosen) > 1:
+            click.echo(f"urdftool: model '{name}' -> {where}", err=True)
+        codes.append(_convert_one(loaded, source, where, target, export_options, check_only, verify, quiet))
+    sys.exit(max(codes))
+
+
+def _models(source: str, options: CheckOptions, model_name: str | None, all_models: bool) -> list[Loaded]:
+    """The models to convert: the one named, all of them, or the only one (a world must say which)."""
+    models = load_models(source, options)
+    if model_name is not None:
+        chosen = [m for m in models if m.robot and m.robot.name == model_name]
+        if not chosen:
+            names = ", ".join(m.robot.name or "?" for m in models if m.robot)
+            click.echo(f"urdftool: {source} has no model named '{model_name}' (it has: {names})", err=True)
+            sys.exit(EXIT_USAGE)
+        return chosen[:1]
+    robots = [m for m in models if m.robot is not None]
+    if len(robots) > 1 and not all_models:
+        names = ", ".join(m.robot.name or "?" for m in robots if m.robot)
+        click.echo(f"urdftool: {source} holds {len(robots)} models ({names}): choose one with "
+                   "--model NAME, or convert each with --all-models", err=True)
+        sys.exit(EXIT_USAGE)
+    return robots or models[:1]
+
+
+def _per_model(out: str, name: str) -> str:
+    """OUT with the model's name before the suffix (``world.xml`` -> ``world_robot.xml``)."""
+    path = Path(out)
+    safe = re.sub(r"[^A-Za-z0-9_.-]+", "_", name).strip("_") or "model"
+    return str(path.with_name(f"{path.stem}_{safe}{path.suffix}"))
+
+
+def _convert_one(loaded: Loaded, source: str, out: str, target: str, export_options: ExportOptions,
+                 check_only: bool, verify: bool, quiet: bool) -> int:
+    """Convert one model; the exit code for it."""
+    if loaded.robot is None:
+        _emit(loaded.diagnostics)
+        return EXIT_FINDINGS
+    inputs = model_inputs(loaded.robot, loaded.files or [source])
+    _refuse_output(out, inputs)  # an included xacro file or a mesh
     try:
         conversion = convert_robot(loaded.robot, target, out, export_options, inputs)
     except UnknownTarget as exc:
         click.echo(f"urdftool: {exc}", err=True)
-        sys.exit(EXIT_USAGE)
+        return EXIT_USAGE
     _emit([d for d in conversion.diagnostics if not quiet or d.severity is Severity.ERROR])
     if conversion.refused:
         structural = conversion.errors and all(d.code[0] in "SX" for d in conversion.errors)
         hint = ": fix the errors above first" if structural else ""
         click.echo(f"urdftool: {source}: not converted{hint}", err=True)
-        sys.exit(EXIT_FINDINGS)
+        return EXIT_FINDINGS
     try:
         for path in output_paths(conversion):
             guard_inputs(path, conversion.inputs)
     except OutputError as exc:
         click.echo(f"urdftool: {exc}", err=True)
-        sys.exit(EXIT_USAGE)
+        return EXIT_USAGE
     if check_only:
         folder = conversion.out.resolve().parent
         stale = [rel for rel, data in conversion.files.items() if is_stale(folder / rel, data)]
         for rel in stale:
             click.echo(f"{folder / rel}: stale (differs from what would be written)", err=True)
-        sys.exit(EXIT_FINDINGS if stale else EXIT_OK)
+        return EXIT_FINDINGS if stale else EXIT_OK
     try:
         write_conversion(conversion)
     except OutputError as exc:
         click.echo(f"urdftool: {exc}", err=True)
-        sys.exit(EXIT_USAGE)
-    if verify:
-        try:
-            outcome = verify_model(loaded.robot, target, out, export_options)
-        except UnknownTarget as exc:
-            click.echo(f"urdftool: {exc}", err=True)
-            sys.exit(EXIT_USAGE)
-        _emit(outcome.diagnostics)
-        if outcome.rows:
-            click.echo(f"{'quantity':40} {'max error':>12} {'tolerance':>12}  result")
-            for name, error, tolerance, passed in outcome.rows:
-                click.echo(f"{name:40} {error:12.3g} {tolerance:12.3g}  {'ok' if passed else 'FAIL'}")
-        sys.exit(EXIT_OK if outcome.ok else EXIT_FINDINGS)
-    sys.exit(EXIT_OK)
+        return EXIT_USAGE
+    if not verify:
+        return EXIT_OK
+    try:
+        outcome = verify_model(loaded.robot, target, out, export_options)
+    except UnknownTarget as exc:
+        click.echo(f"urdftool: {exc}", err=True)
+        return EXIT_USAGE
+    _emit(outcome.diagnostics)
+    if outcome.rows:
+        click.echo(f"{'quantity':40} {'max error':>12} {'tolerance':>12}  result")
+        for name, error, tolerance, passed in outcome.rows:
+            click.echo(f"{name:40} {error:12.3g} {tolerance:12.3g}  {'ok' if passed else 'FAIL'}")
+    return EXIT_OK if outcome.ok else EXIT_FINDINGS

@@ -108,7 +108,8 @@ def build(
 def _structure(robot: Robot, tree: KinematicTree) -> list[Diagnostic]:
     if not robot.links:
         return [EmptyRobot.diagnostic("the robot has no links; nothing to export", robot.span)]
-    if len(tree.roots) > 1:
+    free_bodies = robot.root_poses is not None and all(r in robot.root_poses for r in tree.roots)
+    if len(tree.roots) > 1 and not free_bodies:
         return [MultipleRoots.diagnostic(
             f"the robot has {len(tree.roots)} roots ({', '.join(tree.roots[:5])}); MJCF needs one tree",
             robot.span)]

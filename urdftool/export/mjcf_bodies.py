@@ -126,7 +126,30 @@ class BodyWriter:
             self.result.joints.append(MjJoint(self.base.free_joint, "free", "", (0, 0, 0, 1, 0, 0, 0)))
         self._fill(body, links[root], moving=self.base.kind == "free")
         self._bodies(body, links, root, top_level=False)
+        self._free_bodies(worldbody, links, root)
         return self.result
+
+    def _free_bodies(self, worldbody: etree._Element, links: Mapping[str, Link], root: str) -> None:
+        """SDF's free bodies (the model's other roots): each a body with a free joint, placed where
+        the model puts it relative to the first root."""
+        poses = self.robot.root_poses or {}
+        if root not in poses:
+            return
+        to_root = poses[root].inverse()
+        taken = {j.name for j in self.robot.joints} | {j.name for j in self.result.joints}
+        for other in self.tree.roots[1:]:
+            if other not in poses:
+                continue
+            placed = to_root.compose(poses[other])
+            body = etree.SubElement(worldbody, "body", {"name": other, **pose_attributes(placed)})
+            name = f"{other}_free"
+            while name in taken:
+                name += "_"
+            taken.add(name)
+            etree.SubElement(body, "freejoint", {"name": name})
+            self.result.joints.append(MjJoint(name, "free", "", (*placed.xyz, *placed.quaternion)))
+            self._fill(body, links[other], moving=True)
+            self._bodies(body, links, other, top_level=False)
 
     def _bodies(self, parent: etree._Element, links: Mapping[str, Link], root: str, top_level: bool) -> None:
         """The bodies below *root*, depth first in file order, without recursion (chains can be deep)."""

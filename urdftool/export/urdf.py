@@ -73,6 +73,10 @@ class UrdfFlavor:
 
 URDF = UrdfFlavor()
 
+#: What an unlimited effort (N·m or N) or velocity (rad/s or m/s) is written as: URDF readers
+#: (urdfdom, check_urdf) require both on a moving joint. Far above any real actuator.
+UNLIMITED_STAND_INS = {"effort": 1e6, "velocity": 1e6}
+
 
 def refusals(robot: Robot, flavor: UrdfFlavor = URDF) -> list[Diagnostic]:
     """What *flavor* cannot hold, each at the element that needs it (errors: nothing is written)."""
@@ -218,8 +222,44 @@ class UrdfWriter:
 
     # -- joints ----------------------------------------------------------------
 
+    def _limit_values(self, joint: Joint) -> dict[str, float]:
+        """The ``<limit>`` attributes to write; effort and velocity get finite stand-ins when the
+        source leaves them unlimited (SDF), since URDF readers require both on a moving joint."""
+        limit = joint.limit
+        values = {key: value for key in ("lower", "upper", "effort", "velocity")
+                  if limit is not None and (value := getattr(limit, key)) is not None}
+        if self.robot.format != "sdf" or joint.type not in (
+                JointType.REVOLUTE, JointType.PRISMATIC, JointType.CONTINUOUS):
+            return values  # a URDF source is written as it is (its own findings say what is missing)
+        if limit is None and joint.type is JointType.CONTINUOUS:
+            return values
+        for key, stand_in in UNLIMITED_STAND_INS.items():
+            if key not in values:
+                values[key] = stand_in
+                self._note(joint, f"{key} is unlimited in the source; written as {num(stand_in)}, urdftool's "
+                           "stand-in for unlimited", f"unlimited {key}", {key: stand_in})
+        return values
+
+    def _note(self, joint: Joint, what: str, reason: str, data: dict[str, float]) -> None:
+        self.diagnostics.append(ConversionDropped.diagnostic(
+            f"joint '{joint.name}': {what}",
+            joint.span,
+            element=f"joint[{joint.name}]",
+            severity=Severity.INFO,
+            data={"reason": reason, **data},
+        ))
+
     def joint(self, joint: Joint) -> etree._Element:
         type_name = self.flavor.joint_types.get(joint.type, joint.type.value)
+        limit_values = self._limit_values(joint)
+        if self.robot.format == "sdf" and joint.type is JointType.REVOLUTE \
+                and ("lower" not in limit_values or "upper" not in limit_values):
+            # SDF writes an unlimited revolute joint with infinite (or no) limits: URDF's word is continuous.
+            type_name = "continuous"
+            limit_values.pop("lower", None)
+            limit_values.pop("upper", None)
+            self._note(joint, "a revolute joint without finite limits is written as continuous",
+                       "unlimited revolute", {})
         element = etree.Element("joint", name=joint.name, type=type_name)
         origin = origin_element(joint.origin)
         if origin is not None:
@@ -228,12 +268,11 @@ class UrdfWriter:
         etree.SubElement(element, "child", link=joint.child)
         if joint.type is not JointType.FIXED:
             etree.SubElement(element, "axis", xyz=vec(joint.axis))
-        if joint.limit is not None:
+        if limit_values:
             limit = etree.SubElement(element, "limit")
             for key in ("lower", "upper", "effort", "velocity"):
-                value = getattr(joint.limit, key)
-                if value is not None:
-                    limit.set(key, num(value))
+                if key in limit_values:
+                    limit.set(key, num(limit_values[key]))
         if joint.dynamics is not None:
             etree.SubElement(element, "dynamics", damping=num(joint.dynamics.damping),
                              friction=num(joint.dynamics.friction))

@@ -260,6 +260,9 @@ class Robot:
     diagnostics: tuple[Diagnostic, ...] = field(default=(), compare=False)
     #: Joint name -> value (rad or m) of a named home configuration, when known.
     home: Mapping[str, float] | None = field(default=None, compare=False)
+    #: Root link -> its pose in the model frame, for formats where a model may hold several
+    #: roots: SDF's free bodies (links no joint holds), which simulators give a free joint each.
+    root_poses: Mapping[str, Pose] | None = field(default=None, compare=False)
 
     def link(self, name: str) -> Link | None:
         for link in self.links:

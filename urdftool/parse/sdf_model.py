@@ -236,8 +236,11 @@ class SdfModelReader:
         tree = [self._place(j, frames) for j in tree]
         closures = [self._closure(j, frames) for j in cut]
         self.extensions.extend(self._frame_extensions(frames))
+        children = {j.child for j in tree}
+        roots = {n: Pose.from_matrix(frames[n]) for n in names if n not in children and n in frames}
         return Robot(name=name, links=tuple(links), joints=tuple(tree), extensions=tuple(self.extensions),
-                     loop_closures=tuple(closures), path=self.path, format="sdf", span=span_of(model))
+                     loop_closures=tuple(closures), path=self.path, format="sdf", span=span_of(model),
+                     root_poses=roots if len(roots) > 1 else None)
 
     def _weld_to_world(self, names: list[str], joints: list[Joint], model: etree._Element) -> list[Joint]:
         """Fixed joints from ``world`` to each free link of a static model."""
