@@ -9,12 +9,14 @@ from click.testing import CliRunner
 
 from urdftool.cli import main
 
-INERTIAL = "<inertial><mass>1</mass><inertia><ixx>0.01</ixx><iyy>0.01</iyy><izz>0.01</izz></inertia></inertial>"
+INERTIAL = ("<inertial><mass>1</mass><inertia><ixx>0.01</ixx><iyy>0.01</iyy><izz>0.01</izz></inertia>"
+            "</inertial>")
 WORLD = f"""<sdf version="1.8"><world name="w">
   <model name="ground"><static>true</static><link name="slab"/></model>
   <model name="pair">
     <pose>1 0 0 0 0 0</pose>
-    <link name="box">{INERTIAL}<collision name="c"><geometry><box><size>0.1 0.1 0.1</size></box></geometry></collision></link>
+    <link name="box">{INERTIAL}
+      <collision name="c"><geometry><box><size>0.1 0.1 0.1</size></box></geometry></collision></link>
     <link name="ball"><pose>0 0.5 0.2 0 0 0.3</pose>{INERTIAL}
       <collision name="c"><geometry><sphere><radius>0.05</radius></sphere></geometry></collision></link>
   </model>
@@ -55,7 +57,8 @@ def test_free_bodies_become_free_joints_in_mjcf_where_the_model_puts_them(tmp_pa
     mujoco.mj_resetDataKeyframe(model, data, 0)
     mujoco.mj_forward(model, data)
     box, ball = (model.body(name).id for name in ("box", "ball"))
-    assert model.body_jntnum[ball] == 1 and model.jnt_type[model.body_jntadr[ball]] == mujoco.mjtJoint.mjJNT_FREE
+    assert model.body_jntnum[ball] == 1
+    assert model.jnt_type[model.body_jntadr[ball]] == mujoco.mjtJoint.mjJNT_FREE
     # The ball sits 0.5 m along y and 0.2 m up from the box, turned 0.3 rad about z, in the model frame.
     np.testing.assert_allclose(data.xpos[ball] - data.xpos[box], [0, 0.5, 0.2], atol=1e-12)
     yaw = np.arctan2(data.xmat[ball].reshape(3, 3)[1, 0], data.xmat[ball].reshape(3, 3)[0, 0])
