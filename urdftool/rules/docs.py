@@ -12,6 +12,14 @@ from pathlib import Path
 from urdftool.rules.registry import Rule, all_rules
 
 
+#: What each severity promises (docs/severity.md), stated on every rule's page.
+SEVERITY_MEANING = {
+    "error": "a consumer will reject the file or silently misbehave on it",
+    "warning": "probably not what the author meant, though every consumer loads it",
+    "info": "a note or a style point; it never fails a check",
+}
+
+
 def rule_markdown(rule: type[Rule]) -> str:
     sections = rule.sections()
     lines = [
@@ -20,7 +28,8 @@ def rule_markdown(rule: type[Rule]) -> str:
         rule.summary(),
         "",
         f"- family: {rule.family.title} ({rule.family.letter})",
-        f"- default severity: {rule.severity.value}",
+        f"- default severity: {rule.severity.value}: {SEVERITY_MEANING[rule.severity.value]} "
+        "(docs/severity.md; the *Why it matters* section says what happens to this file's consumers)",
         f"- since: {rule.since}",
         "",
     ]
