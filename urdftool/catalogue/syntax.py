@@ -522,3 +522,36 @@ class UnusedSuppression(_Syntax):
     code = "S024"
     name = "unused-suppression"
     severity = Severity.WARNING
+
+
+@register
+class VendorExtension(_Syntax):
+    """An attribute or element a vendor adds to URDF: recognised, and what reads it.
+
+    ## What it does
+    Reports once per kind, at its first use, the attributes and elements that
+    real robot vendors add to URDF and that some tool reads (Franka's joint
+    friction model `<dynamics D K mu_coulomb mu_viscous>`, Gazebo's
+    `<joint dont_collapse>`, ROS-Industrial's `<collision><material>`, …), with
+    the tool that reads them and how often they occur. The table is in
+    `docs/extensions.md`. Anything not in it stays `unknown-attribute` or
+    `unknown-element`.
+
+    ## Why it matters
+    urdfdom, yourdfpy and Pinocchio ignore them, so they are not mistakes; but
+    a consumer that does not know them loses what they say (friction, a kept
+    fixed joint). A note per kind keeps that visible without repeating a
+    warning on every joint.
+
+    ## Example
+    ```xml
+    <dynamics D="1" K="7000" damping="0.003" friction="0.0" mu_coulomb="0" mu_viscous="16"/>
+    ```
+
+    ## Fix
+    Nothing to fix. Silence it with `--ignore vendor-extension`.
+    """
+
+    code = "S025"
+    name = "vendor-extension"
+    severity = Severity.INFO

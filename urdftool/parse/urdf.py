@@ -23,6 +23,7 @@ from urdftool.catalogue.syntax import (
     UnknownAttribute,
     UnknownElement,
     UnknownJointType,
+    VendorExtension,
 )
 from urdftool.diagnostics import Diagnostic, Severity
 from urdftool.model import (
@@ -59,11 +60,13 @@ from urdftool.parse.urdf_schema import (
     SDF_ISMS,
     SPHERICAL_NAMES,
     URDF_TYPES,
+    VENDOR_ATTRIBUTES,
+    VENDOR_ELEMENTS,
     is_extension_name,
 )
 from urdftool.parse.values import ValueReader
 from urdftool.parse.xmlio import span_of
-from urdftool.source import SRC_ATTRIBUTE, SourceIndex
+from urdftool.source import SRC_ATTRIBUTE, SourceIndex, Span
 
 
 @dataclass
@@ -79,6 +82,21 @@ class UrdfReader:
 
     def __post_init__(self) -> None:
         self.values = ValueReader(self.sources, check_substitutions=not self.expanded)
+        #: (element, who reads it) -> (where first seen, elements carrying it, the names seen)
+        self.vendor: dict[tuple[str, str], tuple[Span | None, int, list[str]]] = {}
+
+    def _vendor(self, tag: str, names: list[str], span: Span | None, reader: str) -> None:
+        first, count, seen = self.vendor.get((tag, reader), (span, 0, []))
+        self.vendor[tag, reader] = (first, count + 1, [*seen, *(n for n in names if n not in seen)])
+
+    def _report_vendor(self) -> None:
+        for (tag, reader), (span, count, names) in self.vendor.items():
+            times = f" on {count} elements" if count > 1 else ""
+            key = f"<{tag} {' '.join(names)}>" if tag.isidentifier() else f"{tag}{''.join(names)}"
+            self._report(VendorExtension.diagnostic(
+                f"{key}{times}: {reader}", span,
+                data={"extension": key, "count": count, "names": names, "read_by": reader},
+            ))
 
     @property
     def diagnostics(self) -> list[Diagnostic]:
@@ -93,10 +111,13 @@ class UrdfReader:
         allowed = ATTRIBUTES.get(element.tag)
         if allowed is None:
             return
+        vendor: dict[str, list[str]] = {}
         for name in element.attrib:
             if name == SRC_ATTRIBUTE or name.startswith("{") or ":" in name or name.startswith("xmlns"):
                 continue
-            if name not in allowed:
+            if (element.tag, name) in VENDOR_ATTRIBUTES:
+                vendor.setdefault(VENDOR_ATTRIBUTES[element.tag, name], []).append(name)
+            elif name not in allowed:
                 self._report(
                     UnknownAttribute.diagnostic(
                         f"{where}: <{element.tag}> has no attribute '{name}'"
@@ -106,6 +127,8 @@ class UrdfReader:
                         data={"attribute": name, "allowed": sorted(allowed)},
                     )
                 )
+        for reader, names in vendor.items():
+            self._vendor(element.tag, names, self.values.attr_span(element, names[0]), reader)
 
     def _children(self, element: etree._Element, where: str) -> dict[str, list[etree._Element]]:
         """Group child elements by tag, reporting unknown and repeated ones."""
@@ -130,6 +153,10 @@ class UrdfReader:
                                 severity=Severity.WARNING if tag in COSMETIC_REPEATS else None,
                             )
                         )
+            elif (element.tag, tag) in VENDOR_ELEMENTS:
+                reader = VENDOR_ELEMENTS[element.tag, tag]
+                for item in items:
+                    self._vendor(f"<{element.tag}>", [f"<{tag}>"], span_of(item), reader)
             elif not self._tolerated(element.tag, tag):
                 for item in items:
                     self._report(
@@ -212,6 +239,7 @@ class UrdfReader:
                         )
                     )
                 extensions.append(_extension(child))
+        self._report_vendor()
         return Robot(
             name=name,
             links=tuple(links),

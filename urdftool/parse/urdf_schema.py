@@ -62,8 +62,30 @@ CHILDREN: dict[str, dict[str, bool]] = {
 #: Gazebo use the first): a warning, not an error that blocks every export.
 COSMETIC_REPEATS = frozenset({"material"})
 
-#: Top-level elements that are not URDF proper but are expected there.
-KNOWN_EXTENSIONS = frozenset({"gazebo", "transmission", "ros2_control", "sensor", "klampt", "plugin"})
+#: Top-level elements that are not URDF proper but are expected there (MuJoCo's URDF import
+#: reads ``<mujoco><compiler …/></mujoco>``).
+KNOWN_EXTENSIONS = frozenset(
+    {"gazebo", "transmission", "ros2_control", "sensor", "klampt", "plugin", "mujoco"}
+)
+
+#: Attributes real vendors add to URDF elements, (element, attribute) -> who reads them.
+#: Reported once per kind as ``vendor-extension`` (info), not as ``unknown-attribute``
+#: per element (docs/extensions.md).
+VENDOR_ATTRIBUTES: dict[tuple[str, str], str] = {
+    ("dynamics", "D"): "Franka's joint friction model (franka_description), read by franka_gazebo",
+    ("dynamics", "K"): "Franka's joint friction model (franka_description), read by franka_gazebo",
+    ("dynamics", "mu_coulomb"): "Franka's joint friction model (franka_description), read by franka_gazebo",
+    ("dynamics", "mu_viscous"): "Franka's joint friction model (franka_description), read by franka_gazebo",
+    ("joint", "dont_collapse"): "Gazebo's URDF conversion (sdformat): keeps a fixed joint from being lumped",
+    ("link", "type"): "a vendor annotation (PR2's descriptions); no URDF reader uses it",
+}
+
+#: Child elements real vendors add, (parent, child) -> who reads them (``vendor-extension``).
+VENDOR_ELEMENTS: dict[tuple[str, str], str] = {
+    ("collision", "material"): "ROS-Industrial support packages colour collisions; URDF readers ignore it",
+    ("link", "self_filter"): "robot_self_filter's per-link padding (ANYmal); URDF readers ignore it",
+    ("link", "self_collision_checking"): "PR2's self-collision shapes; URDF readers ignore it",
+}
 
 #: Elements that SDF or Gazebo define and that URDF loaders silently ignore.
 #: They are kept on the link or joint and judged by ``sdf-element-in-urdf``.

@@ -11,7 +11,6 @@ from pathlib import Path
 
 from urdftool.rules.registry import Rule, all_rules
 
-
 #: What each severity promises (docs/severity.md), stated on every rule's page.
 SEVERITY_MEANING = {
     "error": "a consumer will reject the file or silently misbehave on it",
