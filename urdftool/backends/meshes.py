@@ -17,9 +17,11 @@ form). :func:`load_many` reads many files in parallel worker processes.
 from __future__ import annotations
 
 import hashlib
+import logging
 import os
 import re
 import threading
+import warnings
 from collections.abc import Iterable
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
@@ -204,6 +206,16 @@ def collada_declares_entities(path: str) -> bool:
     return b"<!ENTITY" in head.upper()
 
 
+def _quiet_trimesh_log() -> None:
+    """Give trimesh's logger a handler of its own, so its warnings (and the tracebacks it logs
+    for files it cannot read, which urdftool reports as findings) do not fall through to
+    Python's last-resort handler on stderr. An application that configures logging still
+    sees them through its own handlers."""
+    logger = logging.getLogger("trimesh")
+    if not any(isinstance(h, logging.NullHandler) for h in logger.handlers):
+        logger.addHandler(logging.NullHandler())
+
+
 def load_trimesh(path: str, lean: bool = True):  # type: ignore[no-untyped-def]
     """The file as one ``trimesh.Trimesh`` in metres.
 
@@ -212,6 +224,8 @@ def load_trimesh(path: str, lean: bool = True):  # type: ignore[no-untyped-def]
     the file (*lean*), else with trimesh (pycollada); both give the same mesh.
     """
     import trimesh
+
+    _quiet_trimesh_log()
 
     try:
         check_regular(path, "mesh")  # trimesh opens the file itself: no devices, no FIFOs
@@ -323,6 +337,14 @@ def read_facts(path: str, lean: bool = True) -> MeshFacts:
     *lean* reads COLLADA files with the lean reader where it can (see :func:`load_trimesh`).
     """
     mesh = load_trimesh(path, lean)
+    # A flat or empty mesh has zero volume, and trimesh divides by it while measuring: the
+    # result is handled below, and the RuntimeWarning would only litter the user's terminal.
+    with warnings.catch_warnings(), np.errstate(all="ignore"):
+        warnings.simplefilter("ignore", RuntimeWarning)
+        return _measure(path, mesh)
+
+
+def _measure(path: str, mesh: Any) -> MeshFacts:
     watertight = bool(mesh.is_watertight)
     solid = mesh if watertight else _convex_hull(mesh)
     lo, hi = mesh.bounds
