@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import os
 from collections.abc import Iterable, Mapping
+from concurrent.futures import Executor
 from pathlib import Path
 
 from urdftool.diagnostics import Diagnostic, FileReport, Report
@@ -119,6 +120,43 @@ def check(
         return Report(tuple(check_file(os.fspath(path_or_robot), options)))
     except InputError as exc:
         raise _input_error(path_or_robot, exc) from exc
+
+
+def _check_path(path: str, options: CheckOptions) -> Report:
+    """One file's report (module level, so executors in other processes can pickle it)."""
+    try:
+        return Report(tuple(check_file(path, options)))
+    except InputError as exc:
+        raise _input_error(path, exc) from exc
+
+
+def check_many(
+    paths: Iterable[PathLike],
+    executor: Executor | None = None,
+    *,
+    select: Iterable[str] | None = None,
+    ignore: Iterable[str] | None = None,
+    xacro_args: Mapping[str, str] | None = None,
+    packages: Mapping[str, PathLike] | None = None,
+    package_paths: Iterable[PathLike] = (),
+) -> list[Report]:
+    """Check many files, each on *executor* when given: one :class:`Report` per path, in order.
+
+    *executor* is any :class:`concurrent.futures.Executor`: a process pool, or a
+    cluster's (``distributed.Client(...).get_executor()`` for Dask,
+    ``ray.util.ActorPool``-backed executors for Ray). Work is sent with
+    ``executor.submit`` and results are plain, picklable dataclasses, so nothing
+    but urdftool itself needs to be installed on the workers. Without an
+    executor the files are checked here, one after the other. Raises as
+    :func:`check` does.
+    """
+    options = _options(xacro_args, packages, package_paths, select, ignore)
+    options.selection()  # raises UnknownSelector (a ValueError) before any work is sent
+    files = [os.fspath(p) for p in paths]
+    if executor is None:
+        return [_check_path(path, options) for path in files]
+    futures = [executor.submit(_check_path, path, options) for path in files]
+    return [future.result() for future in futures]
 
 
 def to_dot(
