@@ -198,6 +198,12 @@ def test_xacro_warnings_are_findings_not_stderr() -> None:
     assert [d.location.line for d in report.diagnostics] == [4, 5]
 
 
+def test_the_simulate_function_is_not_shadowed_by_a_subpackage() -> None:
+    import urdftool.pipeline.simulate
+
+    assert callable(urdftool.simulate) and callable(urdftool.check_many)
+
+
 def test_public_names() -> None:
     for name in ("load", "check", "Report", "Diagnostic", "LoadError", "Robot", "Severity", "Span"):
         assert name in urdftool.__all__, name

@@ -21,7 +21,7 @@ from urdftool.pipeline.check import CheckOptions, run_rules
 from urdftool.pipeline.convert import convert_robot, write_conversion
 from urdftool.pipeline.load import load_models
 from urdftool.rules import Selection
-from urdftool.simulate.run import Exported, simulate
+from urdftool.simulation.run import Exported, simulate
 
 #: The rules a simulation report runs.
 RUNTIME = Selection.of(("R",), ())

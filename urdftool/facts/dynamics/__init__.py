@@ -5,7 +5,7 @@
   (physically invalid inertia, joints Pinocchio cannot hold, several roots);
 * :mod:`~urdftool.facts.dynamics.analysis`: mass matrix conditioning and static gravity
   torques with Pinocchio (read by the ``D`` rules);
-* :mod:`~urdftool.simulate.run`: the smoke simulation in MuJoCo and PyBullet (read by
+* :mod:`~urdftool.simulation.run`: the smoke simulation in MuJoCo and PyBullet (read by
   the ``R`` rules and ``urdftool sim``).
 
 Pinocchio, MuJoCo and PyBullet are imported inside the functions that use them,

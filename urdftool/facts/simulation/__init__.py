@@ -4,7 +4,7 @@ Running a simulation needs an export (MuJoCo and PyBullet load urdftool's own
 MJCF and URDF), and exporters sit above the rules. So this layer only names the
 fact: the data (:class:`SimResult`, :mod:`.record`, :mod:`.scene`) and a
 :data:`Simulator` slot on the check context. The pipeline fills the slot with
-:func:`urdftool.simulate.run.simulate` when a simulation is asked for; the
+:func:`urdftool.simulation.run.simulate` when a simulation is asked for; the
 runtime rules read :func:`simulation` and never run an engine themselves.
 """
 

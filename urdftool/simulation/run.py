@@ -22,8 +22,8 @@ from urdftool.facts.simulation import ENGINE_INFO, SimResult, display_name
 from urdftool.facts.simulation.record import EngineRun
 from urdftool.facts.simulation.scene import Scene, SimOptions, prepare
 from urdftool.model import Robot
-from urdftool.simulate.mujoco import run_mujoco
-from urdftool.simulate.pybullet import run_pybullet
+from urdftool.simulation.mujoco import run_mujoco
+from urdftool.simulation.pybullet import run_pybullet
 
 
 @dataclass
