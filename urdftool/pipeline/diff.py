@@ -281,10 +281,28 @@ def _finding_changes(old: Sequence[Diagnostic], new: Sequence[Diagnostic],
     a = Counter(_finding_key(d, links) for d in old)
     b = Counter(_finding_key(d, links) for d in new)
     severity = {_finding_key(d, links): d.severity for d in [*old, *new]}
-    for key in sorted((b - a).elements()):
+    appeared, gone = list((b - a).elements()), list((a - b).elements())
+    # A finding reported once per file for the first element that shows it (a mesh used by two
+    # links), or about a renamed link, moves to another name without anything changing: pair those.
+    loose = Counter(_loose(k) for k in gone)
+    kept_new = []
+    for key in appeared:
+        if loose[_loose(key)]:
+            loose[_loose(key)] -= 1
+            gone.remove(next(g for g in gone if _loose(g) == _loose(key)))
+        else:
+            kept_new.append(key)
+    for key in sorted(kept_new):
         yield Change("finding-new", key[0], severity[key].value, None, key[1], severity=severity[key].value)
-    for key in sorted((a - b).elements()):
+    for key in sorted(gone):
         yield Change("finding-gone", key[0], severity[key].value, key[1], None, severity=severity[key].value)
+
+
+_NAMED = re.compile(r"\b(link|joint|links|joints) '[^']*'")
+
+
+def _loose(key: tuple[str, str]) -> tuple[str, str]:
+    return key[0], _NAMED.sub(r"\1 '…'", key[1])
 
 
 def compare(old: Robot, new: Robot, old_findings: Sequence[Diagnostic] = (),
