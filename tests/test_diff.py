@@ -33,7 +33,7 @@ def test_a_changed_xacro_property_moves_links_and_masses_exactly(tmp_path: Path)
     new = _edited_rrbot(tmp_path)
     result = urdftool.diff(RRBOT / "urdf" / "rrbot.xacro", new, packages=PACKAGES, findings=False)
     moved = {c.subject: c for c in result.of_kind("pose") if c.field == "position"}
-    # joint2 sits at height2 - 2·axel_offset: 0.9 m → 1.1 m, so link3 (and the camera, hokuyo on it) move 200 mm
+    # joint2 sits at height2 - 2·axel_offset: 0.9 m → 1.1 m, so link3 moves 200 mm
     assert moved["link3"].size == pytest.approx(200.0, abs=1e-9)
     assert moved["link3"].old[2] == pytest.approx(1.95 + 0.9, abs=1e-9)
     assert moved["link3"].new[2] == pytest.approx(1.95 + 1.1, abs=1e-9)
@@ -106,7 +106,9 @@ def test_new_errors_trip_the_gate(tmp_path: Path) -> None:
         parse_fail_on("pose>1deg")
 
 
-def test_rev_compares_a_git_revision_with_the_working_copy(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+def test_rev_compares_a_git_revision_with_the_working_copy(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
     assert PANDA is not None
     monkeypatch.chdir(tmp_path)
     path = tmp_path / "panda.urdf"
@@ -115,7 +117,8 @@ def test_rev_compares_a_git_revision_with_the_working_copy(tmp_path: Path, monke
                     ["-c", "user.name=t", "-c", "user.email=t@t", "commit", "-qm", "panda"]):
         subprocess.run(["git", *command], check=True)
     path.write_text(PANDA.read_text().replace('xyz="0 0 0.333"', 'xyz="0 0 0.334"'))
-    result = CliRunner().invoke(main, ["diff", "--rev", "HEAD", "panda.urdf", "--no-findings", "--format", "json"])
+    result = CliRunner().invoke(main, ["diff", "--rev", "HEAD", "panda.urdf", "--no-findings",
+                                       "--format", "json"])
     assert result.exit_code == 0, result.output
     data = json.loads(result.stdout)
     assert data["old"] == "panda.urdf@HEAD"

@@ -43,7 +43,7 @@ def test_number_repairs_only_where_the_intent_is_clear(value: str, expected: str
 def test_fix_mends_every_fixable_rule_and_leaves_other_bytes(tmp_path: Path) -> None:
     path = _copy(tmp_path, "arm.urdf")
     before = path.read_bytes()
-    assert SAFE | UNSAFE <= set(_codes(path))
+    assert set(_codes(path)) >= SAFE | UNSAFE
     result = fix_files([str(path)], OPTIONS, unsafe=True)
     after = path.read_bytes()
     assert not (SAFE | UNSAFE) & set(_codes(path))
@@ -64,7 +64,7 @@ def test_safe_fixes_leave_unsafe_ones(tmp_path: Path) -> None:
     fix_files([str(path)], OPTIONS)
     codes = set(_codes(path))
     assert not SAFE & codes
-    assert UNSAFE <= codes
+    assert codes >= UNSAFE
 
 
 def test_line_endings_are_kept(tmp_path: Path) -> None:
@@ -90,7 +90,9 @@ def test_xacro_literal_fixed_in_the_macro_expression_display_only(tmp_path: Path
     assert set(_codes(path)) & {"S005", "S009"} == set()
 
 
-def test_nothing_is_written_when_the_result_would_not_parse(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+def test_nothing_is_written_when_the_result_would_not_parse(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
     path = _copy(tmp_path, "arm.urdf")
     before = path.read_bytes()
     monkeypatch.setattr("urdftool.pipeline.fix.apply_edits",

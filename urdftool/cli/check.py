@@ -131,7 +131,8 @@ def check_command(
         raise InputProblem(str(exc)) from exc
     if fix or fix_only or show_diff:
         report = run_fixes([(_group_options(settings, options), group) for settings, group in groups],
-                           unsafe=unsafe_fixes, write=not show_diff, fix_only=fix_only, jobs=jobs or default_jobs())
+                           unsafe=unsafe_fixes, write=not show_diff, fix_only=fix_only,
+                           jobs=jobs or default_jobs())
     else:
         report = _check_groups(groups, files, options, jobs, quiet)
     if model_name is not None:

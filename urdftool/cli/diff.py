@@ -8,9 +8,24 @@ from collections.abc import Iterator, Sequence
 
 import click
 
-from urdftool.cli.common import EXIT_FINDINGS, EXIT_OK, InputProblem, build_options, input_error, model_options
+from urdftool.cli.common import (
+    EXIT_FINDINGS,
+    EXIT_OK,
+    InputProblem,
+    build_options,
+    input_error,
+    model_options,
+)
 from urdftool.parse import InputError
-from urdftool.pipeline.diff import DiffError, FailOnError, RobotDiff, diff_files, parse_fail_on, revision, tripped
+from urdftool.pipeline.diff import (
+    DiffError,
+    FailOnError,
+    RobotDiff,
+    diff_files,
+    parse_fail_on,
+    revision,
+    tripped,
+)
 from urdftool.pipeline.load import NoSuchModel
 from urdftool.render.diff import RENDERERS
 

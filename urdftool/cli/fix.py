@@ -24,12 +24,14 @@ def fix_options(func: F) -> F:
                      help="Apply the safe fixes to the files (the .xacro where a value was written), then "
                      "report what is left."),
         click.option("--unsafe-fixes", is_flag=True,
-                     help="With --fix, --diff or --fix-only: apply the unsafe fixes too (they change physics)."),
+                     help="With --fix, --diff or --fix-only: apply the unsafe fixes too "
+                     "(they change physics)."),
         click.option("--diff", "show_diff", is_flag=True,
                      help="Print the fixes as a unified diff (applies with `patch -p0` or `git apply -p0`) "
                      "and write nothing; exit 1 when there is something to fix."),
         click.option("--fix-only", is_flag=True,
-                     help="Apply the fixes and report only what was fixed (exit 0 unless a file was refused)."),
+                     help="Apply the fixes and report only what was fixed "
+                     "(exit 0 unless a file was refused)."),
     ]
     for decorator in reversed(decorators):
         func = decorator(func)

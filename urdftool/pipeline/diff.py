@@ -97,7 +97,7 @@ class RobotDiff:
 
 def match(old: Robot, new: Robot) -> tuple[dict[str, str], dict[str, str]]:
     """Old link and joint names to new ones: by name, then by position in the tree."""
-    old_links, new_links = {l.name for l in old.links}, {l.name for l in new.links}
+    old_links, new_links = {lk.name for lk in old.links}, {lk.name for lk in new.links}
     links = {n: n for n in old_links & new_links}
     old_joints, new_joints = {j.name: j for j in old.joints}, {j.name: j for j in new.joints}
     joints = {n: n for n in old_joints.keys() & new_joints.keys()}
@@ -130,7 +130,8 @@ def match(old: Robot, new: Robot) -> tuple[dict[str, str], dict[str, str]]:
                 candidate = exact[0]
             else:
                 # the one unmatched joint under the same parent on both sides, of the same type
-                siblings_old = [j for n, j in old_joints.items() if n not in joints and j.parent == joint.parent]
+                siblings_old = [j for n, j in old_joints.items()
+                                if n not in joints and j.parent == joint.parent]
                 siblings_new = [j for j in free_new if parent is not None and j.parent == parent]
                 if len(siblings_old) != 1 or len(siblings_new) != 1 or siblings_new[0].type != joint.type:
                     continue
@@ -152,7 +153,8 @@ def _rounded(values: Sequence[float]) -> list[float]:
     return [float(v) for v in values]
 
 
-def _joint_changes(a: Joint, b: Joint, links: Mapping[str, str], joints: Mapping[str, str]) -> Iterator[Change]:
+def _joint_changes(a: Joint, b: Joint, links: Mapping[str, str],
+                   joints: Mapping[str, str]) -> Iterator[Change]:
     name = b.name
     if a.type != b.type:
         yield Change("joint", name, "type", a.type.value, b.type.value)
@@ -162,7 +164,8 @@ def _joint_changes(a: Joint, b: Joint, links: Mapping[str, str], joints: Mapping
         yield Change("joint", name, "child", a.child, b.child)
     if not _close(a.axis, b.axis, ANGLE_TOL):
         yield Change("joint", name, "axis", _rounded(a.axis), _rounded(b.axis))
-    if not _close(a.origin.xyz, b.origin.xyz, LENGTH_TOL) or not _close(a.origin.rpy, b.origin.rpy, ANGLE_TOL):
+    if (not _close(a.origin.xyz, b.origin.xyz, LENGTH_TOL)
+            or not _close(a.origin.rpy, b.origin.rpy, ANGLE_TOL)):
         yield Change("joint", name, "origin", {"xyz": list(a.origin.xyz), "rpy": list(a.origin.rpy)},
                      {"xyz": list(b.origin.xyz), "rpy": list(b.origin.rpy)})
     for part, fields in (("limit", ("lower", "upper", "effort", "velocity")),
@@ -211,7 +214,8 @@ def _link_changes(a: Link, b: Link, pose_a: Any, pose_b: Any) -> Iterator[Change
         ia, ib = _inertia_world(a), _inertia_world(b)
         worst = float(np.max(np.abs(ia - ib)))
         if worst > INERTIA_TOL:
-            yield Change("inertia", name, "inertia", ia.round(15).tolist(), ib.round(15).tolist(), worst, "kg·m²")
+            yield Change("inertia", name, "inertia", ia.round(15).tolist(), ib.round(15).tolist(),
+                         worst, "kg·m²")
     for role in ("visual", "collision"):
         old, new = _meshes(a, role), _meshes(b, role)
         if old != new:
@@ -248,13 +252,15 @@ def _extension_key(extension: Extension) -> str:
         children = "".join(canon(child) for child in element if isinstance(child.tag, str))
         return f"<{tag} {attrs}>{text}{children}</{tag}>"
 
-    return canon(extension.element) if extension.element is not None else f"{extension.tag}{extension.attributes}"
+    if extension.element is None:
+        return f"{extension.tag}{sorted(extension.attributes.items())}"
+    return canon(extension.element)
 
 
 def _extension_changes(old: Robot, new: Robot) -> Iterator[Change]:
     def all_extensions(robot: Robot) -> Counter[tuple[str, str, str]]:
         found: Counter[tuple[str, str, str]] = Counter()
-        owners = [("robot", robot.extensions)] + [(l.name, l.extensions) for l in robot.links] + [
+        owners = [("robot", robot.extensions)] + [(lk.name, lk.extensions) for lk in robot.links] + [
             (j.name, j.extensions) for j in robot.joints]
         for owner, extensions in owners:
             for extension in extensions:
@@ -310,7 +316,7 @@ def compare(old: Robot, new: Robot, old_findings: Sequence[Diagnostic] = (),
     """Every change from *old* to *new* (see the module docstring)."""
     links, joints = match(old, new)
     changes: list[Change] = []
-    new_links = {l.name: l for l in new.links}
+    new_links = {lk.name: lk for lk in new.links}
     new_joints = {j.name: j for j in new.joints}
     matched_new_links = set(links.values())
     matched_new_joints = set(joints.values())
@@ -319,12 +325,13 @@ def compare(old: Robot, new: Robot, old_findings: Sequence[Diagnostic] = (),
             changes.append(Change("link-removed", link.name))
         elif links[link.name] != link.name:
             changes.append(Change("link-renamed", links[link.name], "name", link.name, links[link.name]))
-    changes += [Change("link-added", l.name) for l in new.links if l.name not in matched_new_links]
+    changes += [Change("link-added", lk.name) for lk in new.links if lk.name not in matched_new_links]
     for joint in old.joints:
         if joint.name not in joints:
             changes.append(Change("joint-removed", joint.name))
         elif joints[joint.name] != joint.name:
-            changes.append(Change("joint-renamed", joints[joint.name], "name", joint.name, joints[joint.name]))
+            renamed = joints[joint.name]
+            changes.append(Change("joint-renamed", renamed, "name", joint.name, renamed))
     changes += [Change("joint-added", j.name) for j in new.joints if j.name not in matched_new_joints]
     for joint in old.joints:
         if joint.name in joints:
@@ -407,9 +414,11 @@ def _exceeds(diff: RobotDiff, what: str, limit: float, unit: str | None) -> bool
     if what in ("pose", "com"):
         kinds = ("pose",) if what == "pose" else ("com", "total-com")
         mm = limit * _LENGTH_MM[unit]
-        return any(c.size is not None and c.field != "orientation" and c.size > mm for c in diff.of_kind(*kinds))
+        return any(c.size is not None and c.field != "orientation" and c.size > mm
+                   for c in diff.of_kind(*kinds))
     if what == "rotation":
-        return any(c.size is not None and c.size > limit for c in diff.of_kind("pose") if c.field == "orientation")
+        return any(c.size is not None and c.size > limit
+                   for c in diff.of_kind("pose") if c.field == "orientation")
     if what == "mass":
         changes = diff.of_kind("mass", "total-mass")
         if unit == "kg":
@@ -431,7 +440,8 @@ class DiffError(ValueError):
         self.diagnostics = tuple(diagnostics)
 
 
-def _side(path: str, options: CheckOptions, model: str | None, findings: bool) -> tuple[Robot, list[Diagnostic]]:
+def _side(path: str, options: CheckOptions, model: str | None,
+          findings: bool) -> tuple[Robot, list[Diagnostic]]:
     loaded = load_one(path, options, model)
     if loaded.robot is None:
         errors = [d for d in loaded.diagnostics if d.severity is Severity.ERROR]

@@ -51,7 +51,8 @@ def describe(change: Change) -> str:
     field = f" {change.field}" if change.field and change.field != kind else ""
     owner = "joint" if kind == "joint" else "link" if kind in ("mass", "com", "inertia", "mesh") else ""
     subject = f"{owner} '{change.subject}'" if owner else f"'{change.subject}'"
-    return f"{_TITLES.get(kind, kind)}{field} of {subject}: {_number(change.old)} → {_number(change.new)}{size}"
+    values = f"{_number(change.old)} → {_number(change.new)}"
+    return f"{_TITLES.get(kind, kind)}{field} of {subject}: {values}{size}"
 
 
 def render_text(diff: RobotDiff, tripped: Sequence[str] = ()) -> str:
@@ -80,7 +81,8 @@ def render_markdown(diff: RobotDiff, tripped: Sequence[str] = ()) -> str:
     rows = ["| what | subject | change | size |", "|---|---|---|---|"]
     for c in diff.changes:
         size = "" if c.size is None else f"{c.size:.6g} {c.unit}"
-        rows.append(f"| {_TITLES.get(c.kind, c.kind)} | `{_cell(c.subject)}` | {_cell(describe(c))} | {size} |")
+        title = _TITLES.get(c.kind, c.kind)
+        rows.append(f"| {title} | `{_cell(c.subject)}` | {_cell(describe(c))} | {size} |")
     tail = f"\n\n**fail-on tripped:** {', '.join(tripped)}\n" if tripped else "\n"
     return head + "\n".join(rows) + tail
 
