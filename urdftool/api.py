@@ -16,6 +16,7 @@ from urdftool.model import Robot
 from urdftool.parse import InputError
 from urdftool.pipeline.check import CheckOptions, check_file, run_rules
 from urdftool.pipeline.convert import Conversion, convert_robot, graph_findings, write_conversion
+from urdftool.pipeline import fixes
 from urdftool.pipeline.diff import DiffError, RobotDiff, compare, diff_files
 from urdftool.pipeline.load import NoSuchModel, load_one
 from urdftool.rules import Selection
@@ -112,7 +113,7 @@ def check(
     if isinstance(path_or_robot, Robot):
         selection = Selection.of(select, ignore)
         robot = path_or_robot
-        diags = run_rules(robot, selection)
+        diags = fixes.attach(run_rules(robot, selection))
         return Report((FileReport(robot.path, robot.format, robot.name, tuple(diags)),))
     options = _options(xacro_args, packages, package_paths, select, ignore)
     options.selection()  # raises UnknownSelector (a ValueError) early
