@@ -14,9 +14,9 @@ from urdftool.facts.simulation import engine_names
 from urdftool.facts.simulation.scene import SimOptions
 from urdftool.model import Robot
 from urdftool.parse import InputError
+from urdftool.pipeline import fixes
 from urdftool.pipeline.check import CheckOptions, check_file, run_rules
 from urdftool.pipeline.convert import Conversion, convert_robot, graph_findings, write_conversion
-from urdftool.pipeline import fixes
 from urdftool.pipeline.diff import DiffError, RobotDiff, compare, diff_files
 from urdftool.pipeline.load import NoSuchModel, load_one
 from urdftool.rules import Selection
