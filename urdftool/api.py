@@ -15,8 +15,10 @@ from urdftool.facts.simulation import engine_names
 from urdftool.facts.simulation.scene import SimOptions
 from urdftool.model import Robot
 from urdftool.parse import InputError
+from urdftool.pipeline import fixes
 from urdftool.pipeline.check import CheckOptions, check_file, run_rules
 from urdftool.pipeline.convert import Conversion, convert_robot, graph_findings, write_conversion
+from urdftool.pipeline.diff import DiffError, RobotDiff, compare, diff_files
 from urdftool.pipeline.load import NoSuchModel, load_one
 from urdftool.rules import Selection
 
@@ -112,7 +114,7 @@ def check(
     if isinstance(path_or_robot, Robot):
         selection = Selection.of(select, ignore)
         robot = path_or_robot
-        diags = run_rules(robot, selection)
+        diags = fixes.attach(run_rules(robot, selection))
         return Report((FileReport(robot.path, robot.format, robot.name, tuple(diags)),))
     options = _options(xacro_args, packages, package_paths, select, ignore)
     options.selection()  # raises UnknownSelector (a ValueError) early
@@ -365,3 +367,38 @@ def simulate(
                              model)
     except InputError as exc:
         raise _input_error(path_or_robot, exc) from exc
+
+
+def diff(
+    old: PathLike | Robot,
+    new: PathLike | Robot,
+    xacro_args: Mapping[str, str] | None = None,
+    packages: Mapping[str, PathLike] | None = None,
+    package_paths: Iterable[PathLike] = (),
+    model: str | None = None,
+    findings: bool = True,
+) -> RobotDiff:
+    """What changed from *old* to *new* (files or loaded robots), as ``urdftool diff`` reports it.
+
+    Both files are read with the same xacro arguments and packages. Links and joints are matched
+    by name, then by position in the tree (``link_renames``, ``joint_renames``); each
+    :class:`~urdftool.pipeline.diff.Change` says what moved and by how much (link poses at the zero
+    configuration in mm and degrees, masses in %). With *findings*, the rules run on both sides
+    and findings that appeared or disappeared are changes too. Raises :class:`LoadError` when a
+    side cannot be read into a robot.
+    """
+    options = _options(xacro_args, packages, package_paths)
+    if isinstance(old, Robot) and isinstance(new, Robot):
+        selection = options.selection()
+        return compare(old, new, run_rules(old, selection) if findings else [],
+                       run_rules(new, selection) if findings else [])
+    if isinstance(old, Robot) or isinstance(new, Robot):
+        raise TypeError("diff: pass two paths or two robots")
+    try:
+        return diff_files(os.fspath(old), os.fspath(new), options, model, findings)
+    except DiffError as exc:
+        raise LoadError(str(exc), exc.diagnostics) from exc
+    except InputError as exc:
+        raise _input_error(old if not os.path.exists(new) else new, exc) from exc
+    except NoSuchModel as exc:
+        raise LoadError(str(exc)) from exc

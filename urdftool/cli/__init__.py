@@ -18,6 +18,7 @@ from urdftool.version import __version__
 COMMANDS: dict[str, str] = {
     "check": "urdftool.cli.check:check_command",
     "convert": "urdftool.cli.convert:convert_command",
+    "diff": "urdftool.cli.diff:diff_command",
     "graph": "urdftool.cli.graph:graph_command",
     "info": "urdftool.cli.info:info_command",
     "lsp": "urdftool.cli.lsp:lsp_command",

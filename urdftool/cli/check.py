@@ -19,6 +19,7 @@ from urdftool.cli.common import (
     model_options,
     selection_options,
 )
+from urdftool.cli.fix import fix_options, run_fixes
 from urdftool.cli.output import emit_report, exit_code, output_options
 from urdftool.diagnostics import FileReport, Report
 from urdftool.export.write import OutputError
@@ -64,6 +65,7 @@ PROGRESS_FROM = 4
               help="Record every finding in this baseline file (exit 0) and report nothing.")
 @click.option("--show-settings", is_flag=True,
               help="Print the settings each file is checked with, and where each came from.")
+@fix_options  # --fix, --unsafe-fixes, --diff, --fix-only (urdftool/cli/fix.py)
 def check_command(
     paths: Sequence[str],
     xacro_args: Sequence[str],
@@ -88,6 +90,10 @@ def check_command(
     baseline_file: str | None = None,
     write_baseline: str | None = None,
     show_settings: bool = False,
+    fix: bool = False,
+    unsafe_fixes: bool = False,
+    show_diff: bool = False,
+    fix_only: bool = False,
 ) -> None:
     """Load each model (files, or directories searched recursively) and report diagnostics.
 
@@ -123,7 +129,12 @@ def check_command(
         groups = group_by_settings(files, overrides)
     except SettingsError as exc:
         raise InputProblem(str(exc)) from exc
-    report = _check_groups(groups, files, options, jobs, quiet)
+    if fix or fix_only or show_diff:
+        report = run_fixes([(_group_options(settings, options), group) for settings, group in groups],
+                           unsafe=unsafe_fixes, write=not show_diff, fix_only=fix_only,
+                           jobs=jobs or default_jobs())
+    else:
+        report = _check_groups(groups, files, options, jobs, quiet)
     if model_name is not None:
         report = Report(tuple(f for f in report.files if f.robot == model_name))
         if not report.files:
@@ -155,6 +166,14 @@ def _split(values: Sequence[str]) -> list[str]:
     return [part.strip() for value in values for part in value.split(",") if part.strip()]
 
 
+def _group_options(settings: Settings, options: CheckOptions) -> CheckOptions:
+    return dataclasses.replace(
+        options, select=settings.select, ignore=settings.ignore, xacro_args=dict(settings.xacro_args),
+        packages=dict(settings.packages), package_paths=settings.package_paths,
+        severity=dict(settings.severity),
+    )
+
+
 def _check_groups(groups: list[tuple[Settings, list[str]]], files: list[str], options: CheckOptions,
                   jobs: int, quiet: bool) -> Report:
     """Check each group of files with the options its settings give; reports in input order."""
@@ -174,11 +193,7 @@ def _check_groups(groups: list[tuple[Settings, list[str]]], files: list[str], op
     order = {path: index for index, path in enumerate(files)}
     reports: list[FileReport] = []
     for settings, group in groups:
-        group_options = dataclasses.replace(
-            options, select=settings.select, ignore=settings.ignore, xacro_args=dict(settings.xacro_args),
-            packages=dict(settings.packages), package_paths=settings.package_paths,
-            severity=dict(settings.severity),
-        )
+        group_options = _group_options(settings, options)
         try:
             group_options.selection()
             result = check_files(group, group_options, jobs=workers, progress=progress)

@@ -90,7 +90,8 @@ class UrdfReader:
         self.vendor[tag, reader] = (first, count + 1, [*seen, *(n for n in names if n not in seen)])
 
     def _report_vendor(self) -> None:
-        for (tag, reader), (span, count, names) in self.vendor.items():
+        for (tag, reader), (span, count, seen) in sorted(self.vendor.items()):
+            names = sorted(seen)  # the same message however the attributes are ordered
             times = f" on {count} elements" if count > 1 else ""
             key = f"<{tag} {' '.join(names)}>" if tag.isidentifier() else f"{tag}{''.join(names)}"
             self._report(VendorExtension.diagnostic(

@@ -18,7 +18,7 @@ from urdftool.facts.simulation import Simulator
 from urdftool.model import KinematicTree, Robot
 from urdftool.parse import Loaded, read
 from urdftool.parse.packages import PackageResolver
-from urdftool.pipeline import suppress
+from urdftool.pipeline import fixes, suppress
 from urdftool.rules import Selection
 from urdftool.rules.registry import model_rules
 from urdftool.safe_files import file_limits
@@ -137,6 +137,7 @@ def _settled(report: FileReport, loaded: Loaded, options: CheckOptions, selectio
         diagnostics = suppress.apply(diagnostics, loaded.files or [loaded.path], selection)
     if options.severity:
         diagnostics = [_with_severity(d, options.severity) for d in diagnostics]
+    diagnostics = fixes.attach(diagnostics)
     return FileReport(report.path, report.format, report.robot,
                       tuple(sorted(diagnostics, key=Diagnostic.sort_key)))
 
