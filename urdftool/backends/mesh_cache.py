@@ -12,6 +12,10 @@ The trimesh version is part of the folder name, so a trimesh upgrade (which may
 read a file differently) starts a fresh cache. ``URDFTOOL_NO_CACHE=1`` turns
 the cache off. A cache that cannot be read or written is ignored: it makes
 checks faster, never different, and never makes them fail.
+
+Exports keep their mesh conversions there too (``converted/<kind>/``, by the
+source's content hash): a second ``urdftool convert`` of a robot with COLLADA
+meshes reads the converted bytes instead of converting again.
 """
 
 from __future__ import annotations
@@ -82,6 +86,42 @@ def put(key: str, value: dict[str, Any]) -> None:
         try:
             with os.fdopen(fd, "w", encoding="utf-8") as handle:
                 json.dump(value, handle, separators=(",", ":"), sort_keys=True)
+            os.replace(tmp, target)
+        except BaseException:
+            with contextlib.suppress(OSError):
+                os.unlink(tmp)
+            raise
+    except OSError:
+        return
+
+
+def _blob_entry(root: Path, kind: str, key: str) -> Path:
+    return root / "converted" / kind / key[:2] / key
+
+
+def get_blob(kind: str, key: str) -> bytes | None:
+    """A stored conversion of a mesh (*kind* names the conversion, *key* the source content hash)."""
+    root = cache_root()
+    if root is None:
+        return None
+    try:
+        return _blob_entry(root, kind, key).read_bytes()
+    except OSError:
+        return None
+
+
+def put_blob(kind: str, key: str, data: bytes) -> None:
+    """Store a conversion's bytes (same guarantees as :func:`put`: atomic, failures ignored)."""
+    root = cache_root()
+    if root is None:
+        return
+    target = _blob_entry(root, kind, key)
+    try:
+        target.parent.mkdir(parents=True, exist_ok=True)
+        fd, tmp = tempfile.mkstemp(prefix=".blob.", suffix=".tmp", dir=target.parent)
+        try:
+            with os.fdopen(fd, "wb") as handle:
+                handle.write(data)
             os.replace(tmp, target)
         except BaseException:
             with contextlib.suppress(OSError):

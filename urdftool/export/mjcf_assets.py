@@ -22,6 +22,7 @@ from pathlib import Path
 
 import numpy as np
 
+from urdftool.backends import mesh_cache
 from urdftool.backends.meshes import MeshError, load_trimesh
 from urdftool.export.assets import (
     MeshUnavailable,
@@ -79,8 +80,15 @@ def wavefront_obj(vertices: np.ndarray, faces: np.ndarray) -> bytes:
 
 @functools.lru_cache(maxsize=128)
 def _convert_cached(content: str, path: str) -> tuple[bytes, str]:
-    """:func:`convert` once per file content in a process (robots share meshes)."""
-    return convert(path)
+    """:func:`convert` once per file content: in memory for this process (robots share meshes)
+    and on disk across runs (the mesh cache, keyed by the source's content hash)."""
+    for suffix in (".stl", ".obj"):
+        stored = mesh_cache.get_blob(f"mjcf{suffix}", content)
+        if stored is not None:
+            return stored, suffix
+    data, suffix = convert(path)
+    mesh_cache.put_blob(f"mjcf{suffix}", content, data)
+    return data, suffix
 
 
 def convert(path: str) -> tuple[bytes, str]:
