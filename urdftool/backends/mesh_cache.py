@@ -77,15 +77,19 @@ def put(key: str, value: dict[str, Any]) -> None:
     No fsync: a cache entry lost in a crash is simply computed again.
     """
     root = cache_root()
-    if root is None:
-        return
-    target = _entry(root, key)
+    if root is not None:
+        text = json.dumps(value, separators=(",", ":"), sort_keys=True)
+        _store(_entry(root, key), text.encode("utf-8"))
+
+
+def _store(target: Path, data: bytes) -> None:
+    """Write *data* to *target* through a temporary file and a rename; an error is ignored."""
     try:
         target.parent.mkdir(parents=True, exist_ok=True)
-        fd, tmp = tempfile.mkstemp(prefix=f".{key[:8]}.", suffix=".tmp", dir=target.parent)
+        fd, tmp = tempfile.mkstemp(prefix=".entry.", suffix=".tmp", dir=target.parent)
         try:
-            with os.fdopen(fd, "w", encoding="utf-8") as handle:
-                json.dump(value, handle, separators=(",", ":"), sort_keys=True)
+            with os.fdopen(fd, "wb") as handle:
+                handle.write(data)
             os.replace(tmp, target)
         except BaseException:
             with contextlib.suppress(OSError):
@@ -113,19 +117,5 @@ def get_blob(kind: str, key: str) -> bytes | None:
 def put_blob(kind: str, key: str, data: bytes) -> None:
     """Store a conversion's bytes (same guarantees as :func:`put`: atomic, failures ignored)."""
     root = cache_root()
-    if root is None:
-        return
-    target = _blob_entry(root, kind, key)
-    try:
-        target.parent.mkdir(parents=True, exist_ok=True)
-        fd, tmp = tempfile.mkstemp(prefix=".blob.", suffix=".tmp", dir=target.parent)
-        try:
-            with os.fdopen(fd, "wb") as handle:
-                handle.write(data)
-            os.replace(tmp, target)
-        except BaseException:
-            with contextlib.suppress(OSError):
-                os.unlink(tmp)
-            raise
-    except OSError:
-        return
+    if root is not None:
+        _store(_blob_entry(root, kind, key), data)
