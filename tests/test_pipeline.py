@@ -77,3 +77,17 @@ def test_the_pybullet_export_of_a_mobile_robot_is_free_and_keeps_its_mass(tmp_pa
     assert base_mass > 0
     assert total == pytest.approx(robot.total_mass, rel=1e-9)
     assert ERD is not None
+
+
+def test_the_reader_records_each_mesh_resolution_and_the_facts_reuse_it() -> None:
+    from urdftool.facts.context import CheckContext
+    from urdftool.facts.meshes import lookup, mesh_uses
+    from urdftool.model import KinematicTree
+
+    robot = urdftool.load(FIXTURES / "rules" / "M002" / "bad.urdf")
+    ctx = CheckContext(robot, KinematicTree.of(robot))
+    uses = mesh_uses(ctx)
+    assert uses and all(use.mesh.resolution is not None for use in uses)
+    for use in uses:
+        assert lookup(ctx, use) is use.mesh.resolution  # read from the model, not resolved again
+        assert use.mesh.resolution.tried or use.mesh.resolution.path

@@ -17,8 +17,8 @@ from dataclasses import dataclass
 from urdftool.backends.mesh_formats import ENGINE_NAMES, MeshFormat, engines_refusing, sniff
 from urdftool.backends.meshes import MeshError, MeshFacts, MeshInfo, load_many, mesh_info, scaled_info
 from urdftool.facts.context import CheckContext
-from urdftool.model import Link, Mesh, Pose
-from urdftool.parse.packages import Lookup, PackageResolver
+from urdftool.model import Link, Mesh, Pose, Resolution
+from urdftool.parse.packages import PackageResolver
 from urdftool.safe_files import describe_path, read_head
 from urdftool.source import Span
 
@@ -100,13 +100,16 @@ def resolver(ctx: CheckContext) -> PackageResolver:
     return made
 
 
-def lookup(ctx: CheckContext, use: MeshUse) -> Lookup:
-    """Resolve *use*'s URI again to learn where the resolver looked (memoised per URI and file)."""
+def lookup(ctx: CheckContext, use: MeshUse) -> Resolution:
+    """How *use*'s URI was resolved: the reader's record on the mesh. Only a robot built in code
+    (no record) is resolved here, once per URI and file, with the run's resolver."""
+    if use.mesh.resolution is not None:
+        return use.mesh.resolution
     base = use.location.path if use.location else ctx.robot.path
     key = ("mesh-lookup", use.mesh.filename, base)
     if key not in ctx.cache:
-        ctx.cache[key] = resolver(ctx).resolve_uri(use.mesh.filename, base)
-    found: Lookup = ctx.cache[key]
+        ctx.cache[key] = resolver(ctx).resolve_uri(use.mesh.filename, base).recorded()
+    found: Resolution = ctx.cache[key]
     return found
 
 

@@ -1,6 +1,16 @@
 """The typed robot model: frozen dataclasses and the kinematic-tree view."""
 
-from urdftool.model.geometry import Box, Capsule, Cylinder, Ellipsoid, Geometry, Mesh, Plane, Sphere
+from urdftool.model.geometry import (
+    Box,
+    Capsule,
+    Cylinder,
+    Ellipsoid,
+    Geometry,
+    Mesh,
+    Plane,
+    Resolution,
+    Sphere,
+)
 from urdftool.model.pose import IDENTITY, Pose
 from urdftool.model.robot import (
     Calibration,
@@ -44,6 +54,7 @@ __all__ = [
     "Mimic",
     "Plane",
     "Pose",
+    "Resolution",
     "Robot",
     "SafetyController",
     "Sphere",

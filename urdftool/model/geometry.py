@@ -74,18 +74,35 @@ class Plane:
 
 
 @dataclass(frozen=True)
+class Resolution:
+    """How a reader resolved one URI: the file it led to (``None`` when none), every place it
+    looked, and the package or model it went through."""
+
+    path: str | None
+    tried: tuple[str, ...] = ()
+    package: str | None = None
+    #: the package itself was not found (as opposed to a missing file inside it)
+    package_missing: bool = False
+    #: for a URI inside a package or model that was found: that package's folder
+    package_dir: str | None = None
+
+
+@dataclass(frozen=True)
 class Mesh:
     """A mesh file.
 
     ``filename`` is the URI as written (``package://pkg/meshes/x.stl``);
     ``resolved`` the absolute path it resolved to, or ``None`` when it did not.
-    ``scale`` multiplies the file's vertex coordinates.
+    ``scale`` multiplies the file's vertex coordinates. ``resolution`` records
+    how the reader resolved the URI (where it looked), so later stages never
+    resolve it again.
     """
 
     filename: str
     resolved: str | None = None
     scale: Vec3 = (1.0, 1.0, 1.0)
     span: Span | None = field(default=None, compare=False)
+    resolution: Resolution | None = field(default=None, compare=False)
 
     kind = "mesh"
 

@@ -29,6 +29,8 @@ from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from urdftool.model import Resolution
+
 _NAME = re.compile(rb"<name>\s*([^<\s]+)\s*</name>")
 _SKIP_DIRS = {
     ".git", ".hg", ".svn", "node_modules", "__pycache__", ".venv", "venv", "build", "install", "log",
@@ -87,7 +89,7 @@ def _env_paths(name: str, environ: Mapping[str, str]) -> list[Path]:
 
 @dataclass
 class Lookup:
-    """The result of resolving one URI or package name."""
+    """The result of resolving one URI or package name (:meth:`recorded` is what the model keeps)."""
 
     path: str | None
     tried: list[str] = field(default_factory=list)
@@ -96,6 +98,10 @@ class Lookup:
     package_missing: bool = False
     #: for a URI inside a package or model that was found: that package's folder
     package_dir: str | None = None
+
+    def recorded(self) -> Resolution:
+        """This lookup as the model records it on a mesh (immutable)."""
+        return Resolution(self.path, tuple(self.tried), self.package, self.package_missing, self.package_dir)
 
 
 @dataclass

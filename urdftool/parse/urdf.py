@@ -408,7 +408,7 @@ class UrdfReader:
             return None
         scale = v.vector(shape, "scale", where) or (1.0, 1.0, 1.0)
         lookup = self.resolver.resolve_uri(filename, span.path if span else self.path)
-        return Mesh(filename, lookup.path, (scale[0], scale[1], scale[2]), span)
+        return Mesh(filename, lookup.path, (scale[0], scale[1], scale[2]), span, lookup.recorded())
 
     def _material(self, element: etree._Element, where: str) -> Material:
         name = element.get("name")

@@ -10,7 +10,7 @@ Thresholds and their calibration on the corpora are in ``docs/meshes.md``.
 from __future__ import annotations
 
 import os
-from collections.abc import Iterator
+from collections.abc import Iterator, Sequence
 from typing import TYPE_CHECKING
 
 if TYPE_CHECKING:
@@ -34,7 +34,7 @@ def _fmt(value: float) -> str:
     return f"{value:.3g}"
 
 
-def _tried(tried: list[str], limit: int = 6) -> str:
+def _tried(tried: Sequence[str], limit: int = 6) -> str:
     unique = list(dict.fromkeys(tried))
     shown = "; ".join(unique[:limit])
     return shown + (f"; and {len(unique) - limit} more" if len(unique) > limit else "")
