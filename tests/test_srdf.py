@@ -10,9 +10,9 @@ from pathlib import Path
 import pytest
 
 from tests.conftest import ERD
+from urdftool.parse.srdf import read_srdf
 from urdftool.pipeline.check import CheckOptions, check_file
 from urdftool.pipeline.srdf import find_srdf
-from urdftool.parse.srdf import read_srdf
 
 ROBOTS = Path(ERD) if ERD is not None else None
 
@@ -142,5 +142,6 @@ def test_xacro_srdf_is_expanded_and_located(tmp_path: Path) -> None:
         '  <xacro:arm_group tip="hnad"/>\n'
         "</robot>\n"
     )
-    found = [d for r in check_file(str(tmp_path / "arm.urdf"), OPTIONS) for d in r.diagnostics if d.code == "P002"]
+    reports = check_file(str(tmp_path / "arm.urdf"), OPTIONS)
+    found = [d for r in reports for d in r.diagnostics if d.code == "P002"]
     assert [(Path(d.location.path).name, d.location.line) for d in found] == [("arm.srdf.xacro", 4)]

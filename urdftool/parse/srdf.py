@@ -188,7 +188,7 @@ class _Reader:
                 )
             )
             return None
-        return value.strip()
+        return str(value).strip()
 
     def named(self, element: etree._Element, name: str, where: str) -> Named | None:
         value = self.attr(element, name, where)
@@ -249,7 +249,8 @@ class _Reader:
     def unknown(self, element: etree._Element, where: str, known: frozenset[str]) -> None:
         self.diagnostics.append(
             UnknownElement.diagnostic(
-                f"<{element.tag}> is not an SRDF element; MoveIt ignores it" + did_you_mean(str(element.tag), known),
+                f"<{element.tag}> is not an SRDF element; MoveIt ignores it"
+                + did_you_mean(str(element.tag), known),
                 self.span(element),
                 element=f"{where}/{element.tag}",
             )
@@ -319,8 +320,8 @@ class _Reader:
         group = self.named(element, "group", where)
         if name is None or link is None or group is None:
             return None
-        parent_group = element.get("parent_group")
-        parent = Named(parent_group.strip(), self.span(element)) if parent_group and parent_group.strip() else None
+        parent_group = (element.get("parent_group") or "").strip()
+        parent = Named(parent_group, self.span(element)) if parent_group else None
         return EndEffector(name, link, group, parent, self.span(element))
 
     def virtual_joint(self, element: etree._Element) -> VirtualJoint | None:

@@ -15,10 +15,10 @@ from urdftool.diagnostics import Diagnostic, FileReport, Report, Severity
 from urdftool.facts.context import CheckContext
 from urdftool.facts.simulation import OPTION as SIM_OPTION
 from urdftool.facts.simulation import Simulator
+from urdftool.facts.srdf import OPTION as SRDF_OPTION
 from urdftool.model import KinematicTree, Robot
 from urdftool.parse import Loaded, read
 from urdftool.parse.packages import PackageResolver
-from urdftool.facts.srdf import OPTION as SRDF_OPTION
 from urdftool.pipeline import srdf, suppress
 from urdftool.rules import Selection
 from urdftool.rules.registry import model_rules

@@ -23,7 +23,8 @@ from urdftool.parse.srdf import Named
 
 #: Values within this of a limit are inside it (SRDFs round to 6 digits).
 _TOLERANCE = 1e-6
-_ACTIVE = (JointType.REVOLUTE, JointType.PRISMATIC, JointType.CONTINUOUS, JointType.PLANAR, JointType.FLOATING)
+_ACTIVE = (JointType.REVOLUTE, JointType.PRISMATIC, JointType.CONTINUOUS, JointType.PLANAR,
+           JointType.FLOATING)
 
 
 class _Srdf(Rule):

@@ -132,7 +132,8 @@ class SrdfVirtualJointInvalid(_Srdf):
                 )
             if virtual.parent_frame in links:
                 yield self.diagnostic(
-                    f"virtual joint '{virtual.name}' hangs the robot from its own link '{virtual.parent_frame}'",
+                    f"virtual joint '{virtual.name}' hangs the robot from its own link "
+                    f"'{virtual.parent_frame}'",
                     virtual.span, element=where,
                     help="name a frame outside the robot (\"world\", \"odom\") as parent_frame",
                     data={"parent_frame": virtual.parent_frame},
