@@ -41,6 +41,7 @@ class Family(enum.Enum):
     DYNAMICS = ("D", "dynamics")
     RUNTIME = ("R", "runtime")
     CONVERSION = ("C", "conversion")
+    SRDF = ("P", "MoveIt SRDF (planning groups, states, collision matrix)")
 
     @property
     def letter(self) -> str:

@@ -66,6 +66,9 @@ PROGRESS_FROM = 4
 @click.option("--show-settings", is_flag=True,
               help="Print the settings each file is checked with, and where each came from.")
 @fix_options  # --fix, --unsafe-fixes, --diff, --fix-only (urdftool/cli/fix.py)
+@click.option("--srdf", "srdf_file", type=click.Path(dir_okay=False),
+              help="Check the models against this MoveIt SRDF (else one beside the model is used).")
+@click.option("--no-srdf", is_flag=True, help="Do not look for an SRDF beside the model.")
 def check_command(
     paths: Sequence[str],
     xacro_args: Sequence[str],
@@ -94,6 +97,8 @@ def check_command(
     unsafe_fixes: bool = False,
     show_diff: bool = False,
     fix_only: bool = False,
+    srdf_file: str | None = None,
+    no_srdf: bool = False,
 ) -> None:
     """Load each model (files, or directories searched recursively) and report diagnostics.
 
@@ -104,7 +109,10 @@ def check_command(
     simulation = rule_options_for(SimOptions(engine_names(engine))) if sim else {}
     options = build_options(xacro_args, packages, package_paths, select, ignore, dynamics=not no_dynamics,
                             **simulation)
-    options = dataclasses.replace(options, suppressions=not no_suppressions)
+    options = dataclasses.replace(options, suppressions=not no_suppressions, srdf=srdf_file,
+                                  discover_srdf=not no_srdf)
+    if srdf_file is not None and not os.path.isfile(srdf_file):
+        raise InputProblem(f"{srdf_file}: no such file")
     for path in paths:
         if not os.path.exists(path):
             raise InputProblem(f"{path}: no such file or directory")

@@ -6,12 +6,16 @@ import dataclasses
 import os
 from collections.abc import Mapping
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
 
 from urdftool.diagnostics import Diagnostic
 from urdftool.model import Robot
 from urdftool.parse.packages import PackageResolver
 from urdftool.safe_files import UnsafeFile, check_regular, read_head
 from urdftool.source import SourceIndex
+
+if TYPE_CHECKING:  # the SRDF reader brings lxml, which ``import urdftool`` does not load
+    from urdftool.parse.srdf import Srdf
 
 #: suffix -> format, longest first
 SUFFIXES: tuple[tuple[str, str], ...] = (
@@ -37,6 +41,8 @@ class Loaded:
     diagnostics: list[Diagnostic] = field(default_factory=list)
     #: every file read to build it (the xacro includes), the input first
     files: list[str] = field(default_factory=list)
+    #: the MoveIt SRDF read beside it (``check --srdf``, or found next to the model)
+    srdf: Srdf | None = None
 
 
 def detect_format(path: str) -> str | None:

@@ -15,10 +15,11 @@ from urdftool.diagnostics import Diagnostic, FileReport, Report, Severity
 from urdftool.facts.context import CheckContext
 from urdftool.facts.simulation import OPTION as SIM_OPTION
 from urdftool.facts.simulation import Simulator
+from urdftool.facts.srdf import OPTION as SRDF_OPTION
 from urdftool.model import KinematicTree, Robot
 from urdftool.parse import Loaded, read
 from urdftool.parse.packages import PackageResolver
-from urdftool.pipeline import fixes, suppress
+from urdftool.pipeline import fixes, srdf, suppress
 from urdftool.rules import Selection
 from urdftool.rules.registry import model_rules
 from urdftool.safe_files import file_limits
@@ -41,6 +42,10 @@ class CheckOptions:
     suppressions: bool = True
     #: rule code or name -> severity it is reported at (the configuration's ``severity`` table)
     severity: Mapping[str, Severity] = field(default_factory=dict)
+    #: the MoveIt SRDF to check every model against (``--srdf``); else one is looked for beside it
+    srdf: str | None = None
+    #: look for an SRDF beside each model when none is given
+    discover_srdf: bool = True
 
     def selection(self) -> Selection:
         return Selection.of(self.select, self.ignore)
@@ -98,6 +103,8 @@ def report_for(loaded: Loaded, selection: Selection, options: Mapping[str, Any] 
     if loaded.robot is None:
         diags = [d for d in loaded.diagnostics if selection.enabled_code(d.code)]
         return FileReport(loaded.path, loaded.format, None, tuple(sorted(diags, key=Diagnostic.sort_key)))
+    if loaded.srdf is not None:
+        options = {**(options or {}), SRDF_OPTION: loaded.srdf}
     return FileReport(
         loaded.path, loaded.format, loaded.robot.name, tuple(run_rules(loaded.robot, selection, options))
     )
@@ -124,7 +131,8 @@ def check_file(path: str, options: CheckOptions) -> list[FileReport]:
     selection = options.selection()
     resolver = options.resolver()
     with file_limits(options.file_limits), _collector_paused():
-        models = read(path, options.xacro_args, resolver)
+        models = [srdf.attach(m, options.srdf, resolver, options.discover_srdf)
+                  for m in read(path, options.xacro_args, resolver)]
         # Rules that re-resolve URIs (to say where a mesh was looked for) use the same resolver.
         rule_options = {**options.rule_options, "resolver": resolver}
         return [_settled(report_for(m, selection, rule_options), m, options, selection) for m in models]

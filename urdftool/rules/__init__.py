@@ -18,6 +18,8 @@ from urdftool.rules import (  # noqa: F401  (importing registers the rules)
     mesh_contents,
     meshes,
     runtime,
+    srdf,
+    srdf_parts,
     syntax,
 )
 from urdftool.rules.registry import REGISTRY, Family, Rule, all_rules, lookup

@@ -1,0 +1,361 @@
+"""Reading MoveIt's SRDF (Semantic Robot Description Format) with positions.
+
+An SRDF names parts of a robot that the URDF describes: planning groups, named
+states, end effectors, virtual and passive joints, and the link pairs whose
+collisions are never checked. It is read here into plain dataclasses whose
+every name carries the :class:`~urdftool.source.Span` where it was written, so
+the rules in :mod:`urdftool.rules.srdf` can check it against the robot and
+locate each finding in the ``.srdf`` (or the ``.srdf.xacro`` it came from).
+
+The reader uses the same safe XML reader as the URDF reader; a ``.xacro`` SRDF
+goes through the same xacro expansion. Reading never raises on content: what
+cannot be read becomes a diagnostic of a reader rule (``xml-syntax``,
+``not-a-robot``, ``missing-attribute``, ``invalid-number``, ``unknown-element``).
+"""
+
+from __future__ import annotations
+
+import os
+from dataclasses import dataclass, field
+
+from lxml import etree
+
+from urdftool.catalogue.suggest import did_you_mean
+from urdftool.catalogue.syntax import InvalidNumber, MissingAttribute, NotARobot, UnknownElement
+from urdftool.diagnostics import Diagnostic
+from urdftool.parse.packages import PackageResolver
+from urdftool.parse.values import parse_number
+from urdftool.parse.xacro import expand
+from urdftool.parse.xmlio import read_file, span_of
+from urdftool.source import Span
+
+#: Top-level elements of the SRDF specification (srdfdom).
+SRDF_ELEMENTS = frozenset(
+    {"group", "group_state", "end_effector", "virtual_joint", "passive_joint",
+     "disable_collisions", "enable_collisions", "disable_default_collisions", "link_sphere_approximation",
+     "joint_property"}
+)
+#: Extensions other readers define and srdfdom ignores: Pinocchio's rotor parameters,
+#: HPP's grippers, handles and contacts, and example-robot-data's per-robot notes.
+#: Skipped without a finding.
+EXTENSION_ELEMENTS = frozenset({"rotor_params", "specificities", "gripper", "handle", "contact"})
+#: Children a ``<group>`` may have.
+GROUP_CHILDREN = frozenset({"link", "joint", "chain", "group"})
+#: Reasons MoveIt Setup Assistant writes on ``<disable_collisions>``.
+KNOWN_REASONS = frozenset({"Adjacent", "Default", "Always", "Never", "User"})
+VIRTUAL_JOINT_TYPES = frozenset({"fixed", "floating", "planar"})
+
+
+@dataclass(frozen=True)
+class Named:
+    """A name as written, and where."""
+
+    name: str
+    span: Span | None = None
+
+
+@dataclass(frozen=True)
+class Chain:
+    base: Named
+    tip: Named
+    span: Span | None = None
+
+
+@dataclass(frozen=True)
+class Group:
+    name: str
+    links: tuple[Named, ...] = ()
+    joints: tuple[Named, ...] = ()
+    chains: tuple[Chain, ...] = ()
+    subgroups: tuple[Named, ...] = ()
+    span: Span | None = None
+
+
+@dataclass(frozen=True)
+class JointValue:
+    """One ``<joint name value>`` of a group state; ``values`` is empty when none could be read."""
+
+    name: str
+    values: tuple[float, ...]
+    span: Span | None = None
+
+
+@dataclass(frozen=True)
+class GroupState:
+    name: str
+    #: ``None`` when not written: Pinocchio reads such a state, MoveIt skips it
+    group: Named | None
+    joints: tuple[JointValue, ...] = ()
+    span: Span | None = None
+
+
+@dataclass(frozen=True)
+class EndEffector:
+    name: str
+    parent_link: Named
+    group: Named
+    parent_group: Named | None = None
+    span: Span | None = None
+
+
+@dataclass(frozen=True)
+class VirtualJoint:
+    name: str
+    type: str
+    parent_frame: str
+    child_link: Named
+    span: Span | None = None
+
+
+@dataclass(frozen=True)
+class CollisionPair:
+    """A ``<disable_collisions>`` (or ``<enable_collisions>``) entry."""
+
+    link1: Named
+    link2: Named
+    reason: str | None
+    span: Span | None = None
+    enable: bool = False
+
+
+@dataclass
+class Srdf:
+    """One SRDF file, read; ``diagnostics`` are the reader's findings."""
+
+    path: str
+    robot_name: str | None = None
+    groups: list[Group] = field(default_factory=list)
+    group_states: list[GroupState] = field(default_factory=list)
+    end_effectors: list[EndEffector] = field(default_factory=list)
+    virtual_joints: list[VirtualJoint] = field(default_factory=list)
+    passive_joints: list[Named] = field(default_factory=list)
+    collisions: list[CollisionPair] = field(default_factory=list)
+    #: every ``<disable_default_collisions link>``
+    default_disabled: list[Named] = field(default_factory=list)
+    diagnostics: list[Diagnostic] = field(default_factory=list)
+    span: Span | None = None
+    #: every file read (the xacro includes), the SRDF first
+    files: list[str] = field(default_factory=list)
+
+    def group(self, name: str) -> Group | None:
+        return next((g for g in self.groups if g.name == name), None)
+
+
+def is_srdf_xacro(path: str) -> bool:
+    return path.lower().endswith(".xacro")
+
+
+def read_srdf(path: str, resolver: PackageResolver | None = None) -> Srdf:
+    """Read the SRDF at *path* (expanding it first when it is a ``.xacro``).
+
+    Raises :class:`OSError` only when the file cannot be opened.
+    """
+    path = os.fspath(path)
+    if is_srdf_xacro(path):
+        result = expand(path, resolver or PackageResolver.create())
+        found = [d for d in result.diagnostics if d.name != "macros-only"]
+        if result.document is None:
+            return Srdf(path, diagnostics=found, span=Span(path, 1, 1), files=result.files or [path])
+        srdf = _Reader(path).read(result.document.root)
+        srdf.diagnostics[:0] = found
+        srdf.files = result.files or [path]
+        return srdf
+    document, problems = read_file(path)
+    if document is None:
+        return Srdf(path, diagnostics=problems, span=Span(path, 1, 1), files=[path])
+    srdf = _Reader(path).read(document.root)
+    srdf.diagnostics[:0] = problems
+    srdf.files = [path]
+    return srdf
+
+
+class _Reader:
+    def __init__(self, path: str) -> None:
+        self.path = path
+        self.diagnostics: list[Diagnostic] = []
+
+    def span(self, element: etree._Element) -> Span:
+        return span_of(element) or Span(self.path)
+
+    def attr(self, element: etree._Element, name: str, where: str) -> str | None:
+        value = element.get(name)
+        if value is None or not value.strip():
+            self.diagnostics.append(
+                MissingAttribute.diagnostic(
+                    f"<{element.tag}> in {where} has no '{name}' attribute; MoveIt skips the element",
+                    self.span(element),
+                    element=f"{where}/{element.tag}",
+                )
+            )
+            return None
+        return str(value).strip()
+
+    def named(self, element: etree._Element, name: str, where: str) -> Named | None:
+        value = self.attr(element, name, where)
+        return None if value is None else Named(value, self.span(element))
+
+    def read(self, root: etree._Element) -> Srdf:
+        srdf = Srdf(self.path, span=self.span(root))
+        if root.tag != "robot":
+            self.diagnostics.append(
+                NotARobot.diagnostic(
+                    f"the SRDF's root element is <{root.tag}>, not <robot>", self.span(root),
+                    element=str(root.tag),
+                )
+            )
+            srdf.diagnostics = self.diagnostics
+            return srdf
+        srdf.robot_name = root.get("name")
+        for element in root:
+            if not isinstance(element.tag, str):
+                continue
+            tag = element.tag
+            where = f"robot[{srdf.robot_name or ''}]"
+            if tag == "group":
+                group = self.group(element)
+                if group is not None:
+                    srdf.groups.append(group)
+            elif tag == "group_state":
+                state = self.group_state(element)
+                if state is not None:
+                    srdf.group_states.append(state)
+            elif tag == "end_effector":
+                effector = self.end_effector(element)
+                if effector is not None:
+                    srdf.end_effectors.append(effector)
+            elif tag == "virtual_joint":
+                virtual = self.virtual_joint(element)
+                if virtual is not None:
+                    srdf.virtual_joints.append(virtual)
+            elif tag == "passive_joint":
+                passive = self.named(element, "name", where)
+                if passive is not None:
+                    srdf.passive_joints.append(passive)
+            elif tag in ("disable_collisions", "enable_collisions"):
+                pair = self.collision_pair(element)
+                if pair is not None:
+                    srdf.collisions.append(pair)
+            elif tag == "disable_default_collisions":
+                link = self.named(element, "link", where)
+                if link is not None:
+                    srdf.default_disabled.append(link)
+            elif tag in SRDF_ELEMENTS or tag in EXTENSION_ELEMENTS:
+                continue
+            else:
+                self.unknown(element, where, SRDF_ELEMENTS)
+        srdf.diagnostics = self.diagnostics
+        return srdf
+
+    def unknown(self, element: etree._Element, where: str, known: frozenset[str]) -> None:
+        self.diagnostics.append(
+            UnknownElement.diagnostic(
+                f"<{element.tag}> is not an SRDF element; MoveIt ignores it"
+                + did_you_mean(str(element.tag), known),
+                self.span(element),
+                element=f"{where}/{element.tag}",
+            )
+        )
+
+    def group(self, element: etree._Element) -> Group | None:
+        name = self.attr(element, "name", "robot")
+        if name is None:
+            return None
+        where = f"group[{name}]"
+        links: list[Named] = []
+        joints: list[Named] = []
+        chains: list[Chain] = []
+        subgroups: list[Named] = []
+        for child in element:
+            if not isinstance(child.tag, str):
+                continue
+            if child.tag == "chain":
+                base = self.named(child, "base_link", where)
+                tip = self.named(child, "tip_link", where)
+                if base and tip:
+                    chains.append(Chain(base, tip, self.span(child)))
+                continue
+            if child.tag not in GROUP_CHILDREN:
+                self.unknown(child, where, GROUP_CHILDREN)
+                continue
+            ref = self.named(child, "name", where)
+            if ref is not None:
+                {"link": links, "joint": joints, "group": subgroups}[child.tag].append(ref)
+        return Group(name, tuple(links), tuple(joints), tuple(chains), tuple(subgroups), self.span(element))
+
+    def group_state(self, element: etree._Element) -> GroupState | None:
+        name = self.attr(element, "name", "robot")
+        written = (element.get("group") or "").strip()
+        group = Named(written, self.span(element)) if written else None
+        if name is None:
+            return None
+        values: list[JointValue] = []
+        for child in element:
+            if not isinstance(child.tag, str):
+                continue
+            if child.tag != "joint":
+                self.unknown(child, f"group_state[{name}]", frozenset({"joint"}))
+                continue
+            joint = self.attr(child, "name", f"group_state[{name}]")
+            raw = self.attr(child, "value", f"group_state[{name}]")
+            if joint is None or raw is None:
+                continue
+            numbers = [parse_number(token) for token in raw.split()]
+            if any(n is None for n in numbers) or not numbers:
+                self.diagnostics.append(
+                    InvalidNumber.diagnostic(
+                        f"group state '{name}': joint '{joint}' has value \"{raw}\", not a number",
+                        self.span(child),
+                        element=f"group_state[{name}]/joint[{joint}]",
+                    )
+                )
+                values.append(JointValue(joint, (), self.span(child)))
+                continue
+            values.append(JointValue(joint, tuple(n for n in numbers if n is not None), self.span(child)))
+        return GroupState(name, group, tuple(values), self.span(element))
+
+    def end_effector(self, element: etree._Element) -> EndEffector | None:
+        name = self.attr(element, "name", "robot")
+        where = f"end_effector[{name or ''}]"
+        link = self.named(element, "parent_link", where)
+        group = self.named(element, "group", where)
+        if name is None or link is None or group is None:
+            return None
+        parent_group = (element.get("parent_group") or "").strip()
+        parent = Named(parent_group, self.span(element)) if parent_group else None
+        return EndEffector(name, link, group, parent, self.span(element))
+
+    def virtual_joint(self, element: etree._Element) -> VirtualJoint | None:
+        name = self.attr(element, "name", "robot")
+        where = f"virtual_joint[{name or ''}]"
+        kind = self.attr(element, "type", where)
+        parent = self.attr(element, "parent_frame", where)
+        child = self.named(element, "child_link", where)
+        if name is None or kind is None or parent is None or child is None:
+            return None
+        return VirtualJoint(name, kind, parent, child, self.span(element))
+
+    def collision_pair(self, element: etree._Element) -> CollisionPair | None:
+        where = str(element.tag)
+        link1 = self.named(element, "link1", where)
+        link2 = self.named(element, "link2", where)
+        if link1 is None or link2 is None:
+            return None
+        return CollisionPair(link1, link2, element.get("reason"), self.span(element),
+                             enable=element.tag == "enable_collisions")
+
+
+__all__ = [
+    "KNOWN_REASONS",
+    "VIRTUAL_JOINT_TYPES",
+    "Chain",
+    "CollisionPair",
+    "EndEffector",
+    "Group",
+    "GroupState",
+    "JointValue",
+    "Named",
+    "Srdf",
+    "VirtualJoint",
+    "is_srdf_xacro",
+    "read_srdf",
+]
