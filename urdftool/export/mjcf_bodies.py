@@ -191,6 +191,8 @@ class BodyWriter:
             self.result.joints.append(MjJoint(joint.name, "ball", joint.name, (1.0, 0.0, 0.0, 0.0)))
         elif kind is JointType.PLANAR:
             self._planar(body, joint)
+        elif kind in (JointType.UNIVERSAL, JointType.REVOLUTE2) and joint.axis2 is not None:
+            self._two_hinges(body, joint)
         else:
             self._unsupported(joint, f"{kind.value} joints are not exported")
 
@@ -209,6 +211,26 @@ class BodyWriter:
         if joint.mimic is not None:
             home = 0.0  # followers take their value from the leader in the keyframe
         self.result.joints.append(MjJoint(joint.name, mj_kind, joint.name, (home,), bounds))
+
+    def _two_hinges(self, body: etree._Element, joint: Joint) -> None:
+        """A universal (or revolute2) joint as two hinges in one body: MuJoCo turns the second
+        hinge's axis with the first, as the joint's second axis turns with the child."""
+        assert joint.axis2 is not None
+        for suffix, axis, limit in (("1", joint.axis, joint.limit), ("2", joint.axis2, joint.limit2)):
+            name = f"{joint.name}_{suffix}"
+            single = Joint(name, JointType.REVOLUTE, joint.parent, joint.child, axis=axis, limit=limit)
+            bounds = joint_range(single)
+            attrs = {"name": name, "type": "hinge", "axis": vec(unit_axis(single)), **self._dynamics(joint)}
+            if bounds is not None:
+                attrs["range"] = vec(bounds)
+            etree.SubElement(body, "joint", attrs)
+            self.result.joints.append(MjJoint(name, "hinge", joint.name, (clamp(0.0, bounds),), bounds))
+        self.result.diagnostics.append(ConversionDropped.diagnostic(
+            f"joint '{joint.name}' ({joint.type.value}) is written as two hinges, "
+            f"'{joint.name}_1' and '{joint.name}_2'",
+            joint.span, element=f"joint[{joint.name}]", severity=Severity.INFO,
+            data={"reason": "two hinges", "joints": [f"{joint.name}_1", f"{joint.name}_2"]},
+        ))
 
     def _planar(self, body: etree._Element, joint: Joint) -> None:
         axis = unit_axis(joint)

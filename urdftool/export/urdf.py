@@ -18,6 +18,7 @@ urdftool's position stamps.
 from __future__ import annotations
 
 import copy
+import dataclasses
 from collections.abc import Iterable
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -29,6 +30,7 @@ from urdftool.diagnostics import Diagnostic, Severity
 from urdftool.export import ExportOptions, ExportResult
 from urdftool.export.numbers import num, vec
 from urdftool.model import (
+    IDENTITY,
     Box,
     Collision,
     Cylinder,
@@ -379,10 +381,43 @@ def robot_element(robot: Robot, flavor: UrdfFlavor = URDF) -> tuple[etree._Eleme
     return writer.build(), writer.diagnostics
 
 
+def split_two_axis_joints(robot: Robot) -> tuple[Robot, list[Diagnostic]]:
+    """*robot* with each universal or revolute2 joint written as URDF can hold it: a revolute
+    joint about the first axis to a massless link ``<joint>_cross``, then a revolute joint
+    about the second axis (which turns with the first) to the child. Each is reported."""
+    links, joints, notes = list(robot.links), [], []
+    names = {link.name for link in robot.links}
+    for joint in robot.joints:
+        if joint.type not in (JointType.UNIVERSAL, JointType.REVOLUTE2) or joint.axis2 is None:
+            joints.append(joint)
+            continue
+        cross = f"{joint.name}_cross"
+        while cross in names:
+            cross += "_"
+        names.add(cross)
+        links.append(Link(cross, span=joint.span))
+        first = dataclasses.replace(joint, name=f"{joint.name}_1", type=JointType.REVOLUTE, child=cross,
+                                    axis2=None, limit2=None)
+        second = dataclasses.replace(joint, name=f"{joint.name}_2", type=JointType.REVOLUTE, parent=cross,
+                                     origin=IDENTITY, axis=joint.axis2, limit=joint.limit2, axis2=None,
+                                     limit2=None)
+        joints += [first, second]
+        notes.append(ConversionDropped.diagnostic(
+            f"joint '{joint.name}' ({joint.type.value}) is written as revolute joints '{joint.name}_1' and "
+            f"'{joint.name}_2' with a massless link '{cross}' between them",
+            joint.span, element=f"joint[{joint.name}]", severity=Severity.INFO,
+            data={"reason": "two revolute joints", "link": cross},
+        ))
+    if not notes:
+        return robot, []
+    return dataclasses.replace(robot, links=tuple(links), joints=tuple(joints)), notes
+
+
 def export(robot: Robot, out: Path, options: ExportOptions) -> ExportResult:
     """URDF text for *robot* as ``{out.name: bytes}``; refused (no files) when URDF cannot hold it."""
+    robot, split = split_two_axis_joints(robot)
     refused = refusals(robot)
     if refused:
         return ExportResult({}, refused)
     root, dropped = robot_element(robot)
-    return ExportResult({out.name: to_bytes(root)}, dropped)
+    return ExportResult({out.name: to_bytes(root)}, split + dropped)

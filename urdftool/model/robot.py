@@ -205,6 +205,10 @@ class Joint:
     calibration: Calibration | None = None
     span: Span | None = field(default=None, compare=False)
     axis_span: Span | None = field(default=None, compare=False)
+    #: universal and revolute2 joints: the second axis (in the joint frame at q = 0; it turns
+    #: with the first) and its limit
+    axis2: Vec3 | None = None
+    limit2: Limit | None = None
     #: child elements kept as written (namespaced or SDF-only elements)
     extensions: tuple[Extension, ...] = field(default=(), compare=False)
 

@@ -247,6 +247,14 @@ def joint_motion(joint: Joint, q: Mapping[str, float | Sequence[float]], robot: 
         return homogeneous(axis_angle_matrix(tuple(unit), float(value)), (0.0, 0.0, 0.0))  # type: ignore[arg-type]
     if joint.type is JointType.PRISMATIC:
         return homogeneous(np.eye(3), unit * float(value))  # type: ignore[arg-type]
+    if joint.type in (JointType.UNIVERSAL, JointType.REVOLUTE2) and joint.axis2 is not None:
+        pair = isinstance(value, Sequence) and len(value) == 2
+        first, second = (value[0], value[1]) if pair else (0.0, 0.0)  # type: ignore[index]
+        axis2 = np.asarray(joint.axis2, dtype=float)
+        axis2 = axis2 / (float(np.linalg.norm(axis2)) or 1.0)
+        turn_first = axis_angle_matrix(tuple(unit), float(first))
+        rotation = turn_first @ axis_angle_matrix(tuple(axis2), float(second))
+        return homogeneous(rotation, (0.0, 0.0, 0.0))
     if joint.type is JointType.FLOATING and isinstance(value, Sequence) and len(value) == 7:
         x, y, z, qw, qx, qy, qz = (float(v) for v in value)
         return homogeneous(quaternion_to_matrix((qw, qx, qy, qz)), (x, y, z))

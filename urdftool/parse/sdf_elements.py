@@ -10,6 +10,7 @@ diagonal; a joint limit of ±1e16 means "no limit", an effort or velocity of
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass
 
 from lxml import etree
@@ -232,6 +233,10 @@ class JointDetails:
     limit: Limit | None
     dynamics: Dynamics | None
     axis_span: object | None
+    #: the second axis of a universal or revolute2 joint, as written, with its frame and limit
+    axis2: tuple[float, float, float] | None = None
+    axis2_frame: str = "joint"
+    limit2: Limit | None = None
 
 
 def joint_type(values: SdfValues, element: etree._Element, where: str) -> JointType:
@@ -274,9 +279,24 @@ def joint_details(
     limit, dynamics = _limit(values, axis_el, here), _dynamics(values, axis_el, here)
     if jtype is JointType.REVOLUTE and _unbounded(limit):
         jtype = JointType.CONTINUOUS
-    return JointDetails(
+    details = JointDetails(
         jtype, axis, frame, limit, dynamics, span_of(axis_el) if axis_el is not None else None
     )
+    if jtype in (JointType.UNIVERSAL, JointType.REVOLUTE2):
+        axis2_el = values.child(element, "axis2")
+        here2 = f"{where}/axis2"
+        xyz2_el = values.child(axis2_el, "xyz")
+        xyz2 = values.text_numbers(xyz2_el, f"{here2}/xyz", (3,)) if xyz2_el is not None else None
+        frame2 = "model" if version < (1, 5) else "joint"
+        if axis2_el is not None and values.child(axis2_el, "use_parent_model_frame") is not None:
+            frame2 = "model" if values.text_bool(axis2_el, "use_parent_model_frame", here2) else "joint"
+        if xyz2_el is not None and xyz2_el.get("expressed_in"):
+            frame2 = xyz2_el.get("expressed_in") or "joint"
+        details = dataclasses.replace(
+            details, axis2=(xyz2[0], xyz2[1], xyz2[2]) if xyz2 else (0.0, 1.0, 0.0), axis2_frame=frame2,
+            limit2=_limit(values, axis2_el, here2),
+        )
+    return details
 
 
 def _unbounded(limit: Limit | None) -> bool:

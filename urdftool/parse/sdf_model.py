@@ -264,6 +264,8 @@ class SdfModelReader:
         parent, child = self._end_link(raw.parent), self._end_link(raw.child)
         joint_frame = self.graph.pose_in_model(raw.key or raw.name)
         axis = self._axis_in_model(details.axis, details.axis_frame, joint_frame, raw, where)
+        axis2 = (self._axis_in_model(details.axis2, details.axis2_frame, joint_frame, raw, where)
+                 if details.axis2 is not None else None)
         return Joint(
             name=raw.name, type=details.type, parent=parent, child=child,
             # provisional: the joint frame in the model frame and the axis in the
@@ -271,8 +273,10 @@ class SdfModelReader:
             origin=Pose.from_matrix(joint_frame), axis=axis,
             limit=details.limit, dynamics=details.dynamics, span=span_of(raw.element),
             axis_span=details.axis_span,  # type: ignore[arg-type]
+            axis2=axis2, limit2=details.limit2,
             extensions=tuple(_extension(c) for c in raw.element
-                             if isinstance(c.tag, str) and c.tag not in _JOINT_PARTS),
+                             if isinstance(c.tag, str) and c.tag not in _JOINT_PARTS
+                             and not (c.tag == "axis2" and axis2 is not None)),
         )
 
     def _end_link(self, ref: str) -> str:
@@ -319,14 +323,17 @@ class SdfModelReader:
             return dataclasses.replace(joint, origin=Pose())
         origin = np.linalg.inv(frames[joint.parent]) @ frames[joint.child]
         axis = frames[joint.child][:3, :3].T @ np.asarray(joint.axis)
-        return dataclasses.replace(joint, origin=Pose.from_matrix(origin), axis=_vec(axis))
+        turn = frames[joint.child][:3, :3].T
+        axis2 = _vec(turn @ np.asarray(joint.axis2)) if joint.axis2 is not None else None
+        return dataclasses.replace(joint, origin=Pose.from_matrix(origin), axis=_vec(axis), axis2=axis2)
 
     def _closure(self, joint: Joint, frames: dict[str, Matrix]) -> LoopClosure:
         joint_frame = joint.origin.matrix
         parent_anchor = Pose.from_matrix(np.linalg.inv(frames[joint.parent]) @ joint_frame)
         child_anchor = Pose.from_matrix(np.linalg.inv(frames[joint.child]) @ joint_frame)
         axis = joint_frame[:3, :3].T @ np.asarray(joint.axis)
-        placed = dataclasses.replace(joint, origin=parent_anchor, axis=_vec(axis))
+        axis2 = _vec(joint_frame[:3, :3].T @ np.asarray(joint.axis2)) if joint.axis2 is not None else None
+        placed = dataclasses.replace(joint, origin=parent_anchor, axis=_vec(axis), axis2=axis2)
         return LoopClosure(placed, parent_anchor, child_anchor)
 
     def _link(self, raw: _RawLink, frame: Matrix, offset: np.ndarray | None) -> Link:
