@@ -224,7 +224,7 @@ class WheelAxisNotLateral(IntentRule):
                 f"joint '{joint.name}': wheel '{joint.child}' turns about "
                 f"({', '.join(fmt(float(v)) for v in axis / np.linalg.norm(axis))}) in the base frame, "
                 f"{fmt(math.degrees(error))}° from ±y (REP 103: x forward, y left, z up)",
-                joint.axis_span or joint.span,
+                joint.span,
                 element=where_joint(joint, "axis"),
                 help="a forward-driving wheel turns about the base's y axis",
                 data={"axis_in_base": [float(v) for v in axis], "error_deg": math.degrees(error)},

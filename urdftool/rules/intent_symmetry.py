@@ -313,7 +313,7 @@ class MirroredJointMismatch(IntentRule):
                 return None
             diag = self.diagnostic(
                 f"joint '{jb.name}' does not mirror '{ja.name}': " + "; ".join(problems),
-                (jb.limit.span if jb.limit and "limits" in problems[0] else None) or jb.span,
+                jb.span,
                 element=where_joint(jb),
                 help="mirrored joints share type and limits (negated and swapped when mirrored)",
                 data={"joint": jb.name, "other": ja.name, "problems": problems},

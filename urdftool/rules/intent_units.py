@@ -107,10 +107,10 @@ def _range(lower: float | None, upper: float | None) -> str:
     return f"{fmt(lower or 0.0)} .. {fmt(upper or 0.0)}"
 
 
-def _slip(value: float, reference: float) -> tuple[str, float] | None:
-    """The unit (``mm`` or ``cm``) that makes *value* (m) fit *reference* (m), if one does."""
+def _slip(value: float, reference: float, fit: float = 2.0) -> tuple[str, float] | None:
+    """The unit (``cm`` or ``mm``) that brings *value* (m) within *fit* times *reference* (m)."""
     for unit, factor in (("cm", 100.0), ("mm", 1000.0)):
-        if value / factor <= 2.0 * reference:
+        if value / factor <= fit * reference:
             return unit, factor
     return None
 
@@ -184,7 +184,7 @@ class LengthLooksLikeMillimetres(IntentRule):
     Reports a joint `<origin>` offset or a primitive shape (box, cylinder,
     sphere…) longer than 2 m (option `length_min`) and more than 20 times
     that median (option `length_factor`) when, read as centimetres or
-    millimetres, it fits within twice the median. At least three other
+    millimetres, it fits within five times the median. At least three other
     offsets are needed to have a scale.
 
     ## Why it matters
@@ -269,7 +269,7 @@ class LengthLooksLikeMillimetres(IntentRule):
 def _judge(length: float, scale: float, factor: float, minimum: float) -> tuple[str, float] | None:
     if not math.isfinite(length) or length <= max(minimum, factor * scale):
         return None
-    return _slip(length, scale)
+    return _slip(length, scale, 5.0)
 
 
 @register
