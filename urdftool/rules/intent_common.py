@@ -18,7 +18,7 @@ else:
 
 from urdftool.catalogue.registry import Family, Rule
 from urdftool.facts.context import CheckContext
-from urdftool.model import Joint, Link
+from urdftool.model import Collision, Joint, Link, Visual
 from urdftool.model.geometry import Box, Capsule, Cylinder, Ellipsoid, Geometry, Sphere
 from urdftool.model.pose import Matrix
 
@@ -58,6 +58,11 @@ def option(ctx: CheckContext, name: str) -> float:
     if isinstance(given, Mapping) and name in given:
         return float(given[name])
     return DEFAULTS[name]
+
+
+def written(value: float) -> str:
+    """A number as its author wrote it (up to six significant digits, no exponent for 1200)."""
+    return f"{value:.6g}"
 
 
 def where_joint(joint: Joint, *parts: str) -> str:
@@ -108,11 +113,12 @@ def robot_extent(ctx: CheckContext) -> float:
         origin = pose[:3, 3]
         points.append(origin)
         link = ctx.robot.link(name)
-        for element in (*link.collisions, *link.visuals) if link else ():
+        elements: list[Collision | Visual] = [*link.collisions, *link.visuals] if link else []
+        for element in elements:
             dims = shape_dims(element.geometry)
             if dims is None or max(dims) > limit:
                 continue
-            centre = pose[:3, :3] @ np.asarray(element.origin.xyz, dtype=float) + origin
+            centre = pose[:3, :3] @ np.array(element.origin.xyz) + origin
             half = max(dims) / 2
             points.extend((centre - half, centre + half))
     if not points:

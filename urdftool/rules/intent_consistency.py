@@ -42,9 +42,9 @@ DISTINCT_MOMENT = 0.10
 
 def _slip_factor(a: tuple[float, ...], b: tuple[float, ...], tol: float) -> int | None:
     """The power of ten (±1..3) by which every size of *b* differs from *a*, or ``None``."""
-    if len(a) != len(b) or any(x <= 0 or y <= 0 for x, y in zip(a, b)):
+    if len(a) != len(b) or any(x <= 0 or y <= 0 for x, y in zip(a, b, strict=False)):
         return None
-    ratios = [y / x for x, y in zip(sorted(a), sorted(b))]
+    ratios = [y / x for x, y in zip(sorted(a), sorted(b), strict=False)]
     for k in (1, 2, 3, -1, -2, -3):
         if all(abs(r / 10.0**k - 1.0) <= tol for r in ratios):
             return k
@@ -79,7 +79,9 @@ class CollisionVisualScaleSlip(IntentRule):
 
     ## Example
     ```xml
-    <visual><geometry><mesh filename="package://arm/meshes/link.stl" scale="0.001 0.001 0.001"/></geometry></visual>
+    <visual><geometry>
+      <mesh filename="package://arm/meshes/link.stl" scale="0.001 0.001 0.001"/>
+    </geometry></visual>
     <collision><geometry><mesh filename="package://arm/meshes/link.stl"/></geometry></collision>
     ```
 
@@ -126,7 +128,7 @@ class CollisionVisualScaleSlip(IntentRule):
 
 def _equal(a: tuple[float, ...], b: tuple[float, ...], tol: float) -> bool:
     return len(a) == len(b) and all(
-        abs(x - y) <= tol * max(abs(x), abs(y)) for x, y in zip(sorted(a), sorted(b))
+        abs(x - y) <= tol * max(abs(x), abs(y)) for x, y in zip(sorted(a), sorted(b), strict=False)
     )
 
 
@@ -288,7 +290,8 @@ class MimicBeyondFollowerLimits(IntentRule):
                 f"{fmt(lower)} .. {fmt(upper)}",
                 location=own.span or joint.span,
                 element=where_joint(joint, "limit"),
-                help="widen the follower's limits to the mimicked range, or fix the multiplier's sign or the offset",
+                help="widen the follower's limits to the mimicked range, "
+                "or fix the multiplier's sign or the offset",
                 data={"driven": [lo, hi], "limits": [lower, upper], "leader": leader.name},
                 related=_related(leader.limit.span or leader.span, f"the limits of leader '{leader.name}'"),
             )

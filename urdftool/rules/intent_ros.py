@@ -94,7 +94,8 @@ class OpticalFrameRotation(IntentRule):
             yield self.diagnostic(
                 f"joint '{joint.name}': optical frame '{joint.child}' is rotated "
                 f"rpy=\"{_rpy_text(joint.origin.rpy)}\" from '{joint.parent}', "
-                f"{fmt(math.degrees(error))}° from the optical transform (REP 103: z forward, x right, y down)",
+                f"{fmt(math.degrees(error))}° from the optical transform "
+                "(REP 103: z forward, x right, y down)",
                 joint.span,
                 element=where_joint(joint, "origin"),
                 help='the optical frame of a camera body frame is rpy="-1.5708 0 -1.5708"',

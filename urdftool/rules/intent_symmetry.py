@@ -140,7 +140,7 @@ def _close(a: float, b: float, ctx: CheckContext) -> bool:
 
 
 def _abs_match(a: Sequence[float], b: Sequence[float], ctx: CheckContext) -> bool:
-    return all(_close(abs(x), abs(y), ctx) for x, y in zip(a, b))
+    return all(_close(abs(x), abs(y), ctx) for x, y in zip(a, b, strict=False))
 
 
 def _with_other(diag: Diagnostic, span: Span | None, label: str) -> Diagnostic:
@@ -149,7 +149,7 @@ def _with_other(diag: Diagnostic, span: Span | None, label: str) -> Diagnostic:
     return dataclasses.replace(diag, related=(*diag.related, Related(span, label)))
 
 
-def _vec(values: Sequence[float]) -> str:
+def _vec(values: Sequence[float] | np.ndarray) -> str:
     return " ".join(fmt(float(v)) for v in values)
 
 
@@ -219,7 +219,8 @@ class MirroredPoseMismatch(IntentRule):
             if pa is None or pb is None:
                 return None
             wa, wb = pa[:3, 3], pb[:3, 3]
-            mirrored_world = all(_close(float(x), float(y), ctx) for x, y in zip(wa, wb * [1, -1, 1]))
+            flipped = wb * [1, -1, 1]
+            mirrored_world = all(_close(float(x), float(y), ctx) for x, y in zip(wa, flipped, strict=False))
             written = _abs_match(ja.origin.xyz, jb.origin.xyz, ctx)
             lateral = option(ctx, "mirror_length_tolerance")
             # prismatic fingers start at one point and slide apart: coinciding is their design
@@ -227,7 +228,7 @@ class MirroredPoseMismatch(IntentRule):
                 JointType.PRISMATIC not in (ja.type, jb.type)
                 and abs(float(wa[1])) > 10 * lateral
                 and float(wa[1]) * float(wb[1]) > 0
-                and all(_close(float(x), float(y), ctx) for x, y in zip(wa, wb))
+                and all(_close(float(x), float(y), ctx) for x, y in zip(wa, wb, strict=False))
             )
             if same_side:
                 message = (
@@ -323,7 +324,7 @@ class MirroredJointMismatch(IntentRule):
     @staticmethod
     def _axes_mirror(ja: Joint, jb: Joint, poses: dict[str, np.ndarray], ctx: CheckContext) -> bool:
         tol = 0.02
-        if all(abs(abs(x) - abs(y)) <= tol for x, y in zip(_unit(ja.axis), _unit(jb.axis))):
+        if all(abs(abs(x) - abs(y)) <= tol for x, y in zip(_unit(ja.axis), _unit(jb.axis), strict=False)):
             return True
         fa, fb = poses.get(ja.parent), poses.get(jb.parent)
         if fa is None or fb is None:
@@ -446,7 +447,7 @@ class MirroredGeometryMismatch(IntentRule):
         if True:
             if len(la.collisions) != len(lb.collisions):
                 return None
-            for ca, cb in zip(la.collisions, lb.collisions):
+            for ca, cb in zip(la.collisions, lb.collisions, strict=False):
                 problem = _geometry_problem(ca.geometry, cb.geometry, ctx)
                 if problem is None:
                     continue
@@ -476,6 +477,6 @@ def _geometry_problem(a: object, b: object, ctx: CheckContext) -> str | None:
     kind_a, kind_b = getattr(a, "kind", ""), getattr(b, "kind", "")
     if kind_a != kind_b:
         return f"{kind_b} differs from the {kind_a}"
-    if all(_close(x, y, ctx) for x, y in zip(sorted(da), sorted(db))):
+    if all(_close(x, y, ctx) for x, y in zip(sorted(da), sorted(db), strict=False)):
         return None
     return f"{kind_b} of {_vec(db)} m differs from the {kind_a} of {_vec(da)} m"

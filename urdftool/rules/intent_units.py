@@ -25,6 +25,7 @@ from urdftool.rules.intent_common import (
     shape_dims,
     where_joint,
     where_link,
+    written,
 )
 
 #: The densest element (osmium) and the lightest structural solid (foam), kg/m³.
@@ -77,18 +78,18 @@ class LimitsLookLikeDegrees(IntentRule):
             if joint.type is not JointType.REVOLUTE or limit is None:
                 continue
             values = [v for v in (limit.lower, limit.upper) if v is not None]
-            written = [v for v in values if v != 0]
-            if not written or max(abs(v) for v in written) <= 2 * math.pi * turns:
+            nonzero = [v for v in values if v != 0]
+            if not nonzero or max(abs(v) for v in nonzero) <= 2 * math.pi * turns:
                 continue
-            if not all(abs(v) <= DEGREES_MAX and _multiple(v, step) for v in written):
+            if not all(abs(v) <= DEGREES_MAX and _multiple(v, step) for v in nonzero):
                 continue
-            readings = ", ".join(f"{fmt(v)} → {math.radians(v):.4f} rad" for v in values)
+            readings = ", ".join(f"{written(v)} → {math.radians(v):.4f} rad" for v in values)
             yield self.diagnostic(
                 f"joint '{joint.name}': limits {_range(limit.lower, limit.upper)} look like degrees: "
                 f"{readings}",
                 limit.span or joint.span,
                 element=where_joint(joint, "limit"),
-                help=f"as radians this joint turns over {fmt(max(abs(v) for v in written) / (2 * math.pi))} "
+                help=f"as radians this joint turns over {fmt(max(abs(v) for v in nonzero) / (2 * math.pi))} "
                 "turns; write radians (xacro: ${radians(…)})",
                 data={
                     "lower": limit.lower,
@@ -104,7 +105,7 @@ def _multiple(value: float, step: float) -> bool:
 
 
 def _range(lower: float | None, upper: float | None) -> str:
-    return f"{fmt(lower or 0.0)} .. {fmt(upper or 0.0)}"
+    return f"{written(lower or 0.0)} .. {written(upper or 0.0)}"
 
 
 def _slip(value: float, reference: float, fit: float = 2.0) -> tuple[str, float] | None:
@@ -162,7 +163,7 @@ class TravelLooksLikeMillimetres(IntentRule):
             unit, scale = slip
             yield self.diagnostic(
                 f"joint '{joint.name}': a travel of {fmt(travel)} m on a robot {fmt(extent)} m across "
-                f"looks like {_unit_name(unit)}: {fmt(travel)} → {fmt(travel / scale)} m",
+                f"looks like {_unit_name(unit)}: {written(travel)} → {written(travel / scale)} m",
                 limit.span or joint.span,
                 element=where_joint(joint, "limit"),
                 help=f'write metres: lower="{fmt((limit.lower or 0) / scale)}" '
@@ -233,7 +234,7 @@ class LengthLooksLikeMillimetres(IntentRule):
                         yield self.diagnostic(
                             f"{kind} {label}: {fmt(max(dims))} m across on a robot whose joints are "
                             f"{fmt(scale)} m apart looks like {_unit_name(found[0])}: "
-                            f"{fmt(max(dims))} → {fmt(max(dims) / found[1])} m",
+                            f"{written(max(dims))} → {written(max(dims) / found[1])} m",
                             span,
                             element=where_link(link, kind, "geometry"),
                             help="write metres",
@@ -258,7 +259,8 @@ class LengthLooksLikeMillimetres(IntentRule):
         unit, div = found
         return self.diagnostic(
             f"joint '{name}': an {what} of {fmt(length)} m on a robot whose joints are "
-            f"{fmt(scale)} m apart looks like {_unit_name(unit)}: {fmt(length)} → {fmt(length / div)} m",
+            f"{fmt(scale)} m apart looks like {_unit_name(unit)}: "
+            f"{written(length)} → {written(length / div)} m",
             joint.span,
             element=where_joint(joint, "origin"),
             help=f'write metres: xyz="{" ".join(fmt(v / div) for v in joint.origin.xyz)}"',
@@ -325,9 +327,10 @@ class MassLooksLikeGrams(IntentRule):
             if not low <= value / 1000.0 <= high:
                 continue
             yield self.diagnostic(
-                f"link '{link.name}': {fmt(inertial.mass)} kg in its {fmt(solid.volume)} m³ {source} "
+                f"link '{link.name}': {written(inertial.mass)} kg in its {fmt(solid.volume)} m³ {source} "
                 f"geometry is {fmt(value)} kg/m³; it looks like grams: "
-                f"{fmt(inertial.mass)} → {fmt(inertial.mass / 1000.0)} kg ({fmt(value / 1000.0)} kg/m³)",
+                f"{written(inertial.mass)} → {written(inertial.mass / 1000.0)} kg "
+                f"({fmt(value / 1000.0)} kg/m³)",
                 inertial.mass_span or inertial.span or link.span,
                 element=where_link(link, "inertial", "mass"),
                 help="write kilograms, and divide the inertia by 1000 as well",
