@@ -33,17 +33,17 @@ INTENT = tuple(r.code for r in all_rules() if r.code.startswith("N"))
 
 #: corpus file -> sorted (code, line) of every intent warning, each reviewed in docs/intent.md
 REVIEWED: dict[str, list[tuple[str, int]]] = {
-    "alex_description/urdf/alex_nub_hands.urdf": [("N202", 621), ("N202", 629), ("N202", 637), ("N202", 645)],
+    "alex_description/urdf/alex_nub_hands.urdf": [("N202", 626), ("N202", 634), ("N202", 642), ("N202", 650)],
     "alex_description/urdf/alex_psyonic_hands.urdf": [
-        ("N202", 621), ("N202", 629), ("N202", 637), ("N202", 645), ("N203", 1341)],
+        ("N202", 626), ("N202", 634), ("N202", 642), ("N202", 650), ("N203", 1341)],
     "alex_description/urdf/alex_sake_hands.urdf": [
-        ("N202", 621), ("N202", 629), ("N202", 637), ("N202", 645)],
+        ("N202", 626), ("N202", 634), ("N202", 642), ("N202", 650)],
     "alexander_description/urdf/alexander_v1.lowerBodyOnly.urdf": [
         ("N104", 308), ("N104", 314), ("N104", 332), ("N104", 338)],
     "human_description/robots/human.urdf": [
-        ("N201", 359), ("N202", 453), ("N202", 491), ("N202", 499), ("N202", 556)],
+        ("N201", 359), ("N202", 458), ("N202", 496), ("N202", 504), ("N202", 561)],
     "pr2_description/urdf/pr2.urdf": [("N303", 1851), ("N303", 2715)],
-    "biped/biped2d_pybullet.urdf": [("N202", 142), ("N204", 191)],
+    "biped/biped2d_pybullet.urdf": [("N202", 146), ("N204", 191)],
     "husky/husky.urdf": [("N302", 115), ("N302", 166), ("N302", 217), ("N302", 268)],
     "r2d2.urdf": [("N103", 96), ("N103", 123), ("N103", 201), ("N103", 228)],
     "racecar/racecar.urdf": [("N202", 174)],
@@ -141,3 +141,29 @@ def test_intent_rules_report_the_unit_they_suspect() -> None:
     [grams] = _intent(str(FIXTURES / "rules" / "N004" / "bad.urdf"))
     assert "1200 → 1.2 kg" in grams.message
     assert Path(grams.location.path).name == "bad.urdf"
+
+
+def test_provenance_of_a_property_and_a_macro_argument() -> None:
+    path = FIXTURES / "intent" / "provenance" / "robot.urdf.xacro"
+    found = {d.code: d for d in _intent(str(path))}
+    assert set(found) == {"N001", "N202"}
+    neck = found["N001"]
+    assert Path(neck.location.path).name == "robot.urdf.xacro" and neck.location.line == 12
+    [prop] = [r for r in neck.related if "property" in r.label]
+    assert "`neck_max`" in prop.label
+    assert (Path(prop.span.path).name, prop.span.line) == ("robot.urdf.xacro", 5)
+    knee = found["N202"]
+    assert (Path(knee.location.path).name, knee.location.line) == ("legs.xacro", 8)
+    [call] = [r for r in knee.related if "macro" in r.label]
+    assert '`upper="0.24"`' in call.label
+    assert (Path(call.span.path).name, call.span.line) == ("robot.urdf.xacro", 18)
+
+
+def test_text_output_prints_origins_as_notes() -> None:
+    from urdftool.render.text import render_diagnostic
+    from urdftool.source import SourceIndex
+
+    path = FIXTURES / "intent" / "provenance" / "robot.urdf.xacro"
+    [neck] = [d for d in _intent(str(path)) if d.code == "N001"]
+    text = render_diagnostic(neck, SourceIndex(), excerpt=False)
+    assert "note: the value comes from property `neck_max` at" in text

@@ -45,6 +45,7 @@ from urdftool.rules.intent_common import (
 from urdftool.source import Span
 
 _T = TypeVar("_T")
+_LIMIT_WORDS = ("limits", "effort", "veloci")
 _SENSOR = re.compile(r"imu|camera|stereo|sensor|fsr|optical|laser|lidar|sonar|kinect", re.IGNORECASE)
 _TOKENS = re.compile(r"([_\-.]+)")
 _WORDS = {
@@ -314,7 +315,8 @@ class MirroredJointMismatch(IntentRule):
                 return None
             diag = self.diagnostic(
                 f"joint '{jb.name}' does not mirror '{ja.name}': " + "; ".join(problems),
-                jb.span,
+                # only the <limit> disagrees: point there (and at where its numbers were written)
+                (jb.limit.span if jb.limit and problems[0][:6] in _LIMIT_WORDS else None) or jb.span,
                 element=where_joint(jb),
                 help="mirrored joints share type and limits (negated and swapped when mirrored)",
                 data={"joint": jb.name, "other": ja.name, "problems": problems},
