@@ -17,7 +17,7 @@ import pytest
 
 from tests.conftest import FIXTURES
 from urdftool.pipeline.check import CheckOptions, check_file
-from urdftool.rules import all_rules
+from urdftool.rules import all_rules, lookup
 
 RULES_DIR = FIXTURES / "rules"
 _EXPECT = re.compile(r"<!--\s*expect:\s*([A-Z0-9, ]+?)\s*-->")
@@ -57,7 +57,10 @@ def expected_marks(path: Path, code: str) -> tuple[set[int], bool]:
 
 
 def findings(path: Path, code: str) -> list:
-    options = CheckOptions(package_paths=(str(path.parent),))
+    rule = lookup(code)
+    # a rule that is off by default (an optional convention) runs when named
+    select = None if rule is None or rule.default_enabled else (code,)
+    options = CheckOptions(package_paths=(str(path.parent),), select=select)
     model = path.with_suffix(".urdf") if path.suffix == ".srdf" else path
     return [d for r in check_file(str(model), options) for d in r.diagnostics if d.code == code]
 

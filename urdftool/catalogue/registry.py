@@ -42,6 +42,7 @@ class Family(enum.Enum):
     RUNTIME = ("R", "runtime")
     CONVERSION = ("C", "conversion")
     SRDF = ("P", "MoveIt SRDF (planning groups, states, collision matrix)")
+    INTENT = ("N", "intent: units, conventions, symmetry, self-consistency")
 
     @property
     def letter(self) -> str:
@@ -78,6 +79,9 @@ class Rule:
     since: ClassVar[str] = "0.1.0"
     #: "reader" rules are emitted while reading a file; "model" rules run on a robot
     kind: ClassVar[str] = "reader"
+    #: ``False`` for rules that enforce an optional convention: they run only when
+    #: selected by their exact code or name (``--select N103``, ``extend-select``)
+    default_enabled: ClassVar[bool] = True
 
     def check(self, ctx: Any) -> Iterable[Diagnostic]:
         """Yield this rule's findings on ``ctx.robot`` (model rules override this)."""

@@ -20,6 +20,7 @@ from urdftool.model import KinematicTree, Robot
 from urdftool.parse import Loaded, read
 from urdftool.parse.packages import PackageResolver
 from urdftool.pipeline import fixes, srdf, suppress
+from urdftool.pipeline.provenance import trace
 from urdftool.rules import Selection
 from urdftool.rules.registry import model_rules
 from urdftool.safe_files import file_limits
@@ -74,7 +75,7 @@ def run_rules(
                     data={"rule": rule.code},
                 )
             )
-    return sorted(_unique(found), key=Diagnostic.sort_key)
+    return sorted(trace(_unique(found), robot), key=Diagnostic.sort_key)
 
 
 def _simulator(options: Mapping[str, Any]) -> Simulator | None:

@@ -19,6 +19,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+from urdftool.catalogue.registry import Family
 from urdftool.catalogue.suggest import did_you_mean
 from urdftool.diagnostics import Severity
 
@@ -231,7 +232,9 @@ def resolve(path: str | os.PathLike[str], overrides: Overrides | None = None) ->
     if select is not None and (extend or given.extend_select):
         select = (*select, *extend, *given.extend_select)
     elif extend or given.extend_select:
-        select = None  # everything is on already; extend-select adds to the default set
+        # the default set (every family) plus what is named: rules that are off by default
+        # (optional conventions) come on only when named exactly
+        select = (*(f.letter for f in Family), *extend, *given.extend_select)
     ignore = tuple(from_file("ignore") or ())
     for pattern, codes in (from_file("per-file-ignores") or {}).items():
         if _matches(relative, pattern):

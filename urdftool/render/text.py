@@ -1,4 +1,5 @@
-"""Compiler-style text: ``path:line:col: severity[CODE name] message``, an excerpt, ``help:``."""
+"""Compiler-style text: ``path:line:col: severity[CODE name] message``, an excerpt, ``note:``
+for each related location, ``help:``."""
 
 from __future__ import annotations
 
@@ -35,6 +36,8 @@ def render_diagnostic(d: Diagnostic, sources: SourceIndex, colour: bool = False,
         text = sources.line_text(d.location)
         if text is not None:
             lines.extend(_excerpt(text, d.location.line, d.location.column))
+    for related in d.related:
+        lines.append(f"  note: {related.label} at {display_path(str(related.span))}")
     if d.help:
         lines.append(f"  help: {d.help}")
     return "\n".join(lines)

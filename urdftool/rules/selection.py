@@ -5,6 +5,9 @@ name (``invalid-number``). The decision for a rule is taken by the most specific
 selector that matches it: a name or full code beats a longer prefix, which beats
 a shorter one. At equal specificity ``ignore`` wins. With no ``select``, every
 rule is selected at the lowest specificity.
+
+A rule whose ``default_enabled`` is false (an optional convention) is on only
+when a selector names it exactly, by code or name; prefixes leave it off.
 """
 
 from __future__ import annotations
@@ -59,6 +62,8 @@ class Selection:
             if spec is not None and (best_select is None or spec > best_select):
                 best_select = spec
         if best_select is None:
+            return False
+        if not rule.default_enabled and best_select < EXACT:
             return False
         best_ignore = max(
             (spec for s in self.ignore if (spec := _specificity(s, rule)) is not None),

@@ -1,0 +1,484 @@
+"""Symmetry (N2xx): left/right pairs that should mirror and do not.
+
+Pairs are found by name: one token swapped between ``left``/``right``
+(``left_knee``, ``arm_left_2_joint``, ``panda_leftfinger``), ``l``/``r``
+(``l_elbow``, ``hip_r``) or the side letter of a leg code (``FL``/``FR``,
+``RL``/``RR``, ``LF``/``RF``, ``LH``/``RH``). A pair's two members are judged
+against each other two ways, and a rule fires only when both disagree:
+
+* *as written*: the absolute values of the components (a mirror flips signs
+  only), in each member's own parent frame;
+* *in the robot*: mirrored through the root link's x-z plane at home (REP 103:
+  x forward, y left), for poses and axes.
+
+Every finding names the other member and carries its location as a related
+span.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import re
+from collections.abc import Callable, Iterator, Sequence
+from typing import TYPE_CHECKING, TypeVar
+
+if TYPE_CHECKING:
+    import numpy as np
+else:
+    from urdftool.lazy import numpy as np
+
+from urdftool.catalogue.registry import register
+from urdftool.diagnostics import Diagnostic, Related, Severity
+from urdftool.facts.context import CheckContext
+from urdftool.model import Joint, JointType, Link
+from urdftool.model.geometry import Mesh
+from urdftool.physics.describe import fmt
+from urdftool.rules.intent_common import (
+    IntentRule,
+    home_poses,
+    option,
+    shape_dims,
+    where_joint,
+    where_link,
+)
+from urdftool.source import Span
+
+_T = TypeVar("_T")
+_LIMIT_WORDS = ("limits", "effort", "veloci")
+_SENSOR = re.compile(r"imu|camera|stereo|sensor|fsr|optical|laser|lidar|sonar|kinect", re.IGNORECASE)
+_TOKENS = re.compile(r"([_\-.]+)")
+_WORDS = {
+    "left": "right",
+    "right": "left",
+    "Left": "Right",
+    "Right": "Left",
+    "LEFT": "RIGHT",
+    "RIGHT": "LEFT",
+}
+_LETTERS = {"l": "r", "r": "l", "L": "R", "R": "L"}
+
+
+def mirror_names(name: str) -> list[str]:
+    """Names that *name* would have on the other side: every side marker swapped, then one at a time."""
+    parts = _TOKENS.split(name)
+    out: list[str] = []
+    every = [(_swap_token(p) or [p])[0] if i % 2 == 0 else p for i, p in enumerate(parts)]
+    if every != parts:
+        out.append("".join(every))
+    for i in range(0, len(parts), 2):
+        for swapped in _swap_token(parts[i]):
+            out.append("".join((*parts[:i], swapped, *parts[i + 1 :])))
+    return out
+
+
+_WORD_LETTER = re.compile(r"^(.*)(left|right|Left|Right)([LR])$")
+
+
+def _swap_token(token: str) -> list[str]:
+    out = []
+    both = _WORD_LETTER.match(token)  # minitaur's ``leftL``: the leg's side and the motor's
+    if both:
+        out.append(both[1] + _WORDS[both[2]] + _LETTERS[both[3]])
+    for word, other in _WORDS.items():
+        if word in token:
+            out.append(token.replace(word, other))
+    if token in _LETTERS:
+        out.append(_LETTERS[token])
+    if len(token) == 2:
+        a, b = token[0], token[1]
+        if a.upper() in "FHBMR" and b in _LETTERS:
+            out.append(a + _LETTERS[b])
+        elif a in _LETTERS and b.upper() in "FHBM":
+            out.append(_LETTERS[a] + b)
+    return out
+
+
+def pairs(names: Sequence[str]) -> list[tuple[str, str]]:
+    """Every pair of *names* that may be each other's mirror, each pair once, in file order.
+
+    A name can have more than one candidate (``r_gripper_l_finger`` against
+    ``l_gripper_r_finger`` and ``r_gripper_r_finger``); :func:`settled` keeps
+    the candidate that mirrors.
+    """
+    known = set(names)
+    seen: set[frozenset[str]] = set()
+    out: list[tuple[str, str]] = []
+    for name in names:
+        for other in mirror_names(name):
+            key = frozenset((name, other))
+            if other in known and other != name and key not in seen:
+                seen.add(key)
+                out.append((name, other))
+    return out
+
+
+def settled(
+    candidates: Sequence[tuple[_T, _T]],
+    name: Callable[[_T], str],
+    judge: Callable[[_T, _T], Diagnostic | None],
+) -> Iterator[Diagnostic]:
+    """The findings of *judge* on pairs whose members have no candidate that mirrors them.
+
+    Each member is reported once, with its first disagreeing candidate.
+    """
+    results = [(a, b, judge(a, b)) for a, b in candidates]
+    clean = {name(m) for a, b, d in results if d is None for m in (a, b)}
+    reported: set[str] = set()
+    for a, b, diag in results:
+        names = {name(a), name(b)}
+        if diag is None or names & clean or names & reported:
+            continue
+        reported |= names
+        yield diag
+
+
+def _close(a: float, b: float, ctx: CheckContext) -> bool:
+    tol = option(ctx, "mirror_length_tolerance") + option(ctx, "mirror_relative_tolerance") * max(
+        abs(a), abs(b)
+    )
+    return abs(a - b) <= tol
+
+
+def _abs_match(a: Sequence[float], b: Sequence[float], ctx: CheckContext) -> bool:
+    return all(_close(abs(x), abs(y), ctx) for x, y in zip(a, b, strict=False))
+
+
+def _with_other(diag: Diagnostic, span: Span | None, label: str) -> Diagnostic:
+    if span is None:
+        return diag
+    return dataclasses.replace(diag, related=(*diag.related, Related(span, label)))
+
+
+def _vec(values: Sequence[float] | np.ndarray) -> str:
+    return " ".join(fmt(float(v)) for v in values)
+
+
+def _mount(ctx: CheckContext, joint: Joint) -> bool:
+    """Whether the joint places a sensor or a bare frame: placed where the hardware fits, not mirrored."""
+    if _SENSOR.search(joint.name) or _SENSOR.search(joint.child):
+        return True
+    link = ctx.robot.link(joint.child)
+    return link is not None and link.inertial is None and not link.visuals and not link.collisions
+
+
+def _joint_pairs(ctx: CheckContext) -> list[tuple[Joint, Joint]]:
+    out = []
+    for a, b in pairs([j.name for j in ctx.robot.joints]):
+        ja, jb = ctx.robot.joint(a), ctx.robot.joint(b)
+        if ja is not None and jb is not None:
+            out.append((ja, jb))
+    return out
+
+
+@register
+class MirroredPoseMismatch(IntentRule):
+    """A left/right pair of joints is not placed as mirror images.
+
+    ## What it does
+    For each pair of joints named as each other's mirror (see
+    docs/intent.md), compares their `<origin>` offsets. It reports when the
+    absolute values of the offsets differ by more than 2 mm + 5 % (options
+    `mirror_length_tolerance`, `mirror_relative_tolerance`) **and** the
+    child frames, at home, are not mirror images through the root's x-z
+    plane either; or when both children sit on the same side of that plane
+    at the same place (a part copied and not mirrored; prismatic joints,
+    whose fingers start together, excepted). Sensor mounts (names with
+    `imu`, `camera`, `stereo`, `sensor`, `fsr`, `optical`, `laser`,
+    `lidar`…) and bare frames (no mass, no shape) are not compared for
+    offsets: sensors sit where the hardware fits, a stereo pair's right
+    camera is offset from its left one by design.
+
+    ## Why it matters
+    A copied leg or arm whose offset was edited on one side only walks
+    crooked, and a part copied without flipping the sign of y sits inside
+    its twin. Both look fine in a file and cost hours on the real robot.
+
+    ## Example
+    ```xml
+    <joint name="left_hip" type="revolute"><origin xyz="0 0.12 0"/>…</joint>
+    <joint name="right_hip" type="revolute"><origin xyz="0 -0.21 0"/>…</joint>
+    ```
+
+    ## Fix
+    Make the offsets mirror (`0 -0.12 0`). A robot that is really
+    asymmetric: silence the joint with
+    `<!-- urdftool: ignore[mirrored-pose-mismatch] -->`.
+    """
+
+    code = "N201"
+    name = "mirrored-pose-mismatch"
+    severity = Severity.WARNING
+
+    def check(self, ctx: CheckContext) -> Iterator[Diagnostic]:
+        yield from settled(_joint_pairs(ctx), lambda j: j.name, lambda a, b: self._judge(ctx, a, b))
+
+    def _judge(self, ctx: CheckContext, ja: Joint, jb: Joint) -> Diagnostic | None:
+        poses = home_poses(ctx)
+        if True:
+            pa, pb = poses.get(ja.child), poses.get(jb.child)
+            if pa is None or pb is None:
+                return None
+            wa, wb = pa[:3, 3], pb[:3, 3]
+            flipped = wb * [1, -1, 1]
+            mirrored_world = all(_close(float(x), float(y), ctx) for x, y in zip(wa, flipped, strict=False))
+            written = _abs_match(ja.origin.xyz, jb.origin.xyz, ctx)
+            lateral = option(ctx, "mirror_length_tolerance")
+            # prismatic fingers start at one point and slide apart: coinciding is their design
+            same_side = (
+                JointType.PRISMATIC not in (ja.type, jb.type)
+                and abs(float(wa[1])) > 10 * lateral
+                and float(wa[1]) * float(wb[1]) > 0
+                and all(_close(float(x), float(y), ctx) for x, y in zip(wa, wb, strict=False))
+            )
+            if same_side:
+                message = (
+                    f"joints '{ja.name}' and '{jb.name}' put their children at the same place, "
+                    f"{_vec(wa)} m, on the same side (y {fmt(float(wa[1]))} m): copied, not mirrored"
+                )
+            elif not written and not mirrored_world and not (_mount(ctx, ja) or _mount(ctx, jb)):
+                message = (
+                    f"joint '{jb.name}' at xyz=\"{_vec(jb.origin.xyz)}\" does not mirror "
+                    f"'{ja.name}' at xyz=\"{_vec(ja.origin.xyz)}\""
+                )
+            else:
+                return None
+            diag = self.diagnostic(
+                message,
+                jb.span,
+                element=where_joint(jb, "origin"),
+                help="mirrored parts have offsets equal up to sign",
+                data={
+                    "joint": jb.name,
+                    "other": ja.name,
+                    "xyz": list(jb.origin.xyz),
+                    "other_xyz": list(ja.origin.xyz),
+                    "same_side": same_side,
+                },
+            )
+            return _with_other(diag, ja.span, f"the mirrored joint '{ja.name}'")
+
+
+@register
+class MirroredJointMismatch(IntentRule):
+    """A left/right pair of joints differs in type, axis or limits.
+
+    ## What it does
+    For each mirrored pair of joints, reports a different joint type; an
+    axis whose components differ in absolute value as written **and** in
+    the robot at home; or limits that are neither equal nor mirrored
+    (`[l, u]` against `[-u, -l]`), or different `effort`/`velocity`, beyond
+    5 % (option `mirror_relative_tolerance`) plus 0.01.
+
+    ## Why it matters
+    A limit edited on one side only lets one knee bend backwards; a
+    mistyped axis turns one wheel or finger the wrong way. Controllers tuned
+    on one side misbehave on the other.
+
+    ## Example
+    ```xml
+    <joint name="l_knee" type="revolute"><limit lower="0" upper="2.4" …/></joint>
+    <joint name="r_knee" type="revolute"><limit lower="0" upper="0.24" …/></joint>
+    ```
+
+    ## Fix
+    Copy the limits across (negated and swapped when the axis is mirrored).
+    Silence with `<!-- urdftool: ignore[mirrored-joint-mismatch] -->`.
+    """
+
+    code = "N202"
+    name = "mirrored-joint-mismatch"
+    severity = Severity.WARNING
+
+    def check(self, ctx: CheckContext) -> Iterator[Diagnostic]:
+        yield from settled(_joint_pairs(ctx), lambda j: j.name, lambda a, b: self._judge(ctx, a, b))
+
+    def _judge(self, ctx: CheckContext, ja: Joint, jb: Joint) -> Diagnostic | None:
+        poses = home_poses(ctx)
+        rel = option(ctx, "mirror_relative_tolerance")
+        if True:
+            problems = []
+            if ja.type is not jb.type:
+                problems.append(f"type {jb.type.value} against {ja.type.value}")
+            elif ja.type.is_moving and not self._axes_mirror(ja, jb, poses, ctx):
+                problems.append(f"axis {_vec(jb.axis)} against {_vec(ja.axis)}")
+            la, lb = ja.limit, jb.limit
+            if la is not None and lb is not None and ja.type is jb.type:
+                a = (la.lower or 0.0, la.upper or 0.0)
+                b = (lb.lower or 0.0, lb.upper or 0.0)
+                if not (_near_pair(a, b, rel) or _near_pair(a, (-b[1], -b[0]), rel)):
+                    problems.append(f"limits {fmt(b[0])} .. {fmt(b[1])} against {fmt(a[0])} .. {fmt(a[1])}")
+                for label, x, y in (("effort", la.effort, lb.effort), ("velocity", la.velocity, lb.velocity)):
+                    if x is not None and y is not None and not _near(x, y, rel):
+                        problems.append(f"{label} {fmt(y)} against {fmt(x)}")
+            if not problems:
+                return None
+            diag = self.diagnostic(
+                f"joint '{jb.name}' does not mirror '{ja.name}': " + "; ".join(problems),
+                # only the <limit> disagrees: point there (and at where its numbers were written)
+                (jb.limit.span if jb.limit and problems[0][:6] in _LIMIT_WORDS else None) or jb.span,
+                element=where_joint(jb),
+                help="mirrored joints share type and limits (negated and swapped when mirrored)",
+                data={"joint": jb.name, "other": ja.name, "problems": problems},
+            )
+            return _with_other(diag, ja.span, f"the mirrored joint '{ja.name}'")
+
+    @staticmethod
+    def _axes_mirror(ja: Joint, jb: Joint, poses: dict[str, np.ndarray], ctx: CheckContext) -> bool:
+        tol = 0.02
+        if all(abs(abs(x) - abs(y)) <= tol for x, y in zip(_unit(ja.axis), _unit(jb.axis), strict=False)):
+            return True
+        fa, fb = poses.get(ja.parent), poses.get(jb.parent)
+        if fa is None or fb is None:
+            return True
+        wa = fa[:3, :3] @ ja.origin.rotation @ _unit(ja.axis)
+        wb = fb[:3, :3] @ jb.origin.rotation @ _unit(jb.axis)
+        return bool(np.all(np.abs(np.abs(wa) - np.abs(wb)) <= tol))
+
+
+def _unit(axis: Sequence[float]) -> np.ndarray:
+    v = np.asarray(axis, dtype=float)
+    n = float(np.linalg.norm(v))
+    return v / n if n > 0 else v
+
+
+def _near(a: float, b: float, rel: float) -> bool:
+    return abs(a - b) <= 0.01 + rel * max(abs(a), abs(b))
+
+
+def _near_pair(a: tuple[float, float], b: tuple[float, float], rel: float) -> bool:
+    return _near(a[0], b[0], rel) and _near(a[1], b[1], rel)
+
+
+def _link_pairs(ctx: CheckContext) -> list[tuple[Link, Link]]:
+    out = []
+    for a, b in pairs([link.name for link in ctx.robot.links]):
+        la, lb = ctx.robot.link(a), ctx.robot.link(b)
+        if la is not None and lb is not None:
+            out.append((la, lb))
+    return out
+
+
+@register
+class MirroredMassMismatch(IntentRule):
+    """A left/right pair of links differs in mass.
+
+    ## What it does
+    For each pair of links named as each other's mirror, reports masses
+    that differ by more than 10 % of the larger (option
+    `mirror_mass_tolerance`) and by more than 10 g.
+
+    ## Why it matters
+    Mirrored parts weigh the same. A mass typed on one side only (or one
+    left at a placeholder) shifts the centre of mass sideways: a biped
+    leans, a quadruped's gait controller fights a phantom load.
+
+    ## Example
+    ```xml
+    <link name="FL_calf"><inertial><mass value="0.2"/>…</inertial></link>
+    <link name="FR_calf"><inertial><mass value="2.0"/>…</inertial></link>
+    ```
+
+    ## Fix
+    Copy the inertial across (mirroring the off-diagonal products and the
+    centre of mass). Silence with
+    `<!-- urdftool: ignore[mirrored-mass-mismatch] -->`.
+    """
+
+    code = "N203"
+    name = "mirrored-mass-mismatch"
+    severity = Severity.WARNING
+
+    def check(self, ctx: CheckContext) -> Iterator[Diagnostic]:
+        yield from settled(_link_pairs(ctx), lambda k: k.name, lambda a, b: self._judge(ctx, a, b))
+
+    def _judge(self, ctx: CheckContext, la: Link, lb: Link) -> Diagnostic | None:
+        tolerance = option(ctx, "mirror_mass_tolerance")
+        if True:
+            if la.inertial is None or lb.inertial is None:
+                return None
+            ma, mb = la.inertial.mass, lb.inertial.mass
+            if not (math.isfinite(ma) and math.isfinite(mb)):
+                return None
+            if abs(ma - mb) <= max(0.01, tolerance * max(ma, mb)):
+                return None
+            diag = self.diagnostic(
+                f"link '{lb.name}' weighs {fmt(mb)} kg, its mirror '{la.name}' {fmt(ma)} kg",
+                lb.inertial.mass_span or lb.inertial.span or lb.span,
+                element=where_link(lb, "inertial", "mass"),
+                help="mirrored parts weigh the same",
+                data={"link": lb.name, "other": la.name, "mass": mb, "other_mass": ma},
+            )
+            return _with_other(diag, la.inertial.mass_span or la.span, f"the mirrored link '{la.name}'")
+
+
+@register
+class MirroredGeometryMismatch(IntentRule):
+    """A left/right pair of links has collision shapes of different size.
+
+    ## What it does
+    For each pair of links named as each other's mirror with the same number
+    of collision elements, compares them in order: the same primitive kind
+    with sizes (sorted, so a rotated copy matches) equal within 2 mm + 5 %,
+    and meshes with the same absolute `scale`.
+
+    ## Why it matters
+    A collision shape resized on one side only makes one foot touch the
+    ground early or one finger miss the object; a mesh scaled on one side
+    only is a thousand times too big or small there.
+
+    ## Example
+    ```xml
+    <link name="left_foot"><collision><geometry><box size="0.2 0.1 0.05"/></geometry></collision></link>
+    <link name="right_foot"><collision><geometry><box size="0.2 0.1 0.5"/></geometry></collision></link>
+    ```
+
+    ## Fix
+    Give both the same shape. Silence with
+    `<!-- urdftool: ignore[mirrored-geometry-mismatch] -->`.
+    """
+
+    code = "N204"
+    name = "mirrored-geometry-mismatch"
+    severity = Severity.WARNING
+
+    def check(self, ctx: CheckContext) -> Iterator[Diagnostic]:
+        yield from settled(_link_pairs(ctx), lambda k: k.name, lambda a, b: self._judge(ctx, a, b))
+
+    def _judge(self, ctx: CheckContext, la: Link, lb: Link) -> Diagnostic | None:
+        if True:
+            if len(la.collisions) != len(lb.collisions):
+                return None
+            for ca, cb in zip(la.collisions, lb.collisions, strict=False):
+                problem = _geometry_problem(ca.geometry, cb.geometry, ctx)
+                if problem is None:
+                    continue
+                diag = self.diagnostic(
+                    f"link '{lb.name}' collision {problem} of its mirror '{la.name}'",
+                    getattr(cb.geometry, "span", None) or cb.span or lb.span,
+                    element=where_link(lb, "collision", "geometry"),
+                    help="mirrored parts have the same shape",
+                    data={"link": lb.name, "other": la.name},
+                )
+                return _with_other(
+                    diag,
+                    getattr(ca.geometry, "span", None) or ca.span or la.span,
+                    f"the mirrored link '{la.name}'",
+                )
+            return None
+
+
+def _geometry_problem(a: object, b: object, ctx: CheckContext) -> str | None:
+    if isinstance(a, Mesh) and isinstance(b, Mesh):
+        if _abs_match(a.scale, b.scale, ctx):
+            return None
+        return f"mesh scale {_vec(b.scale)} differs from the scale {_vec(a.scale)}"
+    da, db = shape_dims(a), shape_dims(b)  # type: ignore[arg-type]
+    if da is None or db is None:
+        return None
+    kind_a, kind_b = getattr(a, "kind", ""), getattr(b, "kind", "")
+    if kind_a != kind_b:
+        return f"{kind_b} differs from the {kind_a}"
+    if all(_close(x, y, ctx) for x, y in zip(sorted(da), sorted(db), strict=False)):
+        return None
+    return f"{kind_b} of {_vec(db)} m differs from the {kind_a} of {_vec(da)} m"
