@@ -40,8 +40,11 @@ def test_controllers_yaml_is_read_from_plugin_parameters(tmp_path: Path) -> None
     root = tmp_path / "pkgs"
     shutil.copytree(PACKAGES, root)
     yaml_file = root / ARM_YAML
-    yaml_file.write_text(yaml_file.read_text().replace("      - joint2\n    interface_name", "      - joint3\n"
-                                                        "    interface_name"))
+    yaml_file.write_text(
+        yaml_file.read_text().replace(
+            "      - joint2\n    interface_name", "      - joint3\n    interface_name"
+        )
+    )
     found = _check(root, ARM)
     assert [d.code for d in found] == ["G201"]
 
@@ -53,38 +56,88 @@ EDITS = [
     (ARM_YAML, "    joint: finger_left_joint", "    joint: finger_left", "G201", ARM_YAML),
     (DIFFBOT_YAML, '["right_wheel_joint"]', '["right_wheel"]', "G201", DIFFBOT_YAML),
     (ARM, '<joint name="joint2">\n      <command', '<joint name="joint_2">\n      <command', "G002", ARM),
-    (DIFFBOT_MACRO, '<joint name="${prefix}left_wheel_joint">', '<joint name="${prefix}left_wheel">', "G002",
-     DIFFBOT_MACRO),
-    (ARM, '<joint name="finger_left_joint">\n      <command', '<joint name="joint1">\n      <command', "G104", ARM),
-    (ARM, "<param name=\"mimic\">finger_left_joint</param>", "<param name=\"mimic\">finger_lft_joint</param>",
-     "G105", ARM),
+    (
+        DIFFBOT_MACRO,
+        '<joint name="${prefix}left_wheel_joint">',
+        '<joint name="${prefix}left_wheel">',
+        "G002",
+        DIFFBOT_MACRO,
+    ),
+    (
+        ARM,
+        '<joint name="finger_left_joint">\n      <command',
+        '<joint name="joint1">\n      <command',
+        "G104",
+        ARM,
+    ),
+    (
+        ARM,
+        '<param name="mimic">finger_left_joint</param>',
+        '<param name="mimic">finger_lft_joint</param>',
+        "G105",
+        ARM,
+    ),
     # interface names
-    (ARM, '<joint name="joint2">\n      <command_interface name="position">',
-     '<joint name="joint2">\n      <command_interface name="postion">', "G102", ARM),
-    (DIFFBOT_MACRO, '<state_interface name="velocity"/>\n      </joint>\n      <joint',
-     '<state_interface name="velocty"/>\n      </joint>\n      <joint', "G102", DIFFBOT_MACRO),
+    (
+        ARM,
+        '<joint name="joint2">\n      <command_interface name="position">',
+        '<joint name="joint2">\n      <command_interface name="postion">',
+        "G102",
+        ARM,
+    ),
+    (
+        DIFFBOT_MACRO,
+        '<state_interface name="velocity"/>\n      </joint>\n      <joint',
+        '<state_interface name="velocty"/>\n      </joint>\n      <joint',
+        "G102",
+        DIFFBOT_MACRO,
+    ),
     (ARM_YAML, "    interface_name: position", "    interface_name: velocity", "G202", ARM_YAML),
     (ARM_YAML, "      - position\n      - velocity", "      - position\n      - effort", "G202", ARM_YAML),
-    (ARM_YAML, "type: joint_trajectory_controller/JointTrajectoryController",
-     "type: joint_trajectory_controller/JointTrajectoryControler", "G203", ARM_YAML),
+    (
+        ARM_YAML,
+        "type: joint_trajectory_controller/JointTrajectoryController",
+        "type: joint_trajectory_controller/JointTrajectoryControler",
+        "G203",
+        ARM_YAML,
+    ),
     # limits and geometry
-    (ARM, '<param name="max">${upper}</param>\n      </command_interface>\n      <state_interface name="position">\n'
-     '        <param name="initial_value">0.0</param>',
-     '<param name="max">3.14</param>\n      </command_interface>\n      <state_interface name="position">\n'
-     '        <param name="initial_value">0.0</param>', "G103", ARM),
+    (
+        ARM,
+        '<param name="max">${upper}</param>\n      </command_interface>\n'
+        '      <state_interface name="position">\n        <param name="initial_value">0.0</param>',
+        '<param name="max">3.14</param>\n      </command_interface>\n'
+        '      <state_interface name="position">\n        <param name="initial_value">0.0</param>',
+        "G103",
+        ARM,
+    ),
     (ARM, '<param name="initial_value">0.5</param>', '<param name="initial_value">2.5</param>', "G103", ARM),
-    (DIFFBOT_MACRO, '<param name="max">10</param>\n        </command_interface>\n        <state_interface '
-     'name="position"/>\n        <state_interface name="velocity"/>\n      </joint>\n      <joint',
-     '<param name="max">20</param>\n        </command_interface>\n        <state_interface '
-     'name="position"/>\n        <state_interface name="velocity"/>\n      </joint>\n      <joint', "G103",
-     DIFFBOT_MACRO),
+    (
+        DIFFBOT_MACRO,
+        '<param name="max">10</param>\n        </command_interface>\n        <state_interface '
+        'name="position"/>\n        <state_interface name="velocity"/>\n      </joint>\n      <joint',
+        '<param name="max">20</param>\n        </command_interface>\n        <state_interface '
+        'name="position"/>\n        <state_interface name="velocity"/>\n      </joint>\n      <joint',
+        "G103",
+        DIFFBOT_MACRO,
+    ),
     (DIFFBOT_YAML, "wheel_separation: 0.40", "wheel_separation: 0.50", "G004", DIFFBOT_YAML),
     (DIFFBOT_YAML, "wheel_radius: 0.1", "wheel_radius: 0.15", "G004", DIFFBOT_YAML),
     # file references and the YAML itself
-    (ARM, "package://arm_control/config/arm_controllers.yaml", "package://arm_control/config/arm_controller.yaml",
-     "G106", ARM),
-    (DIFFBOT, "$(find diffbot_control)/config/diffbot_controllers.yaml",
-     "$(find diffbot_control)/config/controllers.yaml", "G106", DIFFBOT),
+    (
+        ARM,
+        "package://arm_control/config/arm_controllers.yaml",
+        "package://arm_control/config/arm_controller.yaml",
+        "G106",
+        ARM,
+    ),
+    (
+        DIFFBOT,
+        "$(find diffbot_control)/config/diffbot_controllers.yaml",
+        "$(find diffbot_control)/config/controllers.yaml",
+        "G106",
+        DIFFBOT,
+    ),
     (ARM_YAML, "    joint: finger_left_joint", "    joint: [finger_left_joint", "G200", ARM_YAML),
     (DIFFBOT_MACRO, "<plugin>gz_ros2_control/GazeboSimSystem</plugin>", "", "G101", DIFFBOT_MACRO),
 ]
@@ -94,10 +147,12 @@ def _model_of(edited: str) -> str:
     return ARM if edited.startswith("arm_control") else DIFFBOT
 
 
-@pytest.mark.parametrize("edited,old,new,code,reported", EDITS,
-                         ids=[f"{e[3]}-{i}" for i, e in enumerate(EDITS)])
-def test_single_edit_is_found_at_its_line(tmp_path: Path, edited: str, old: str, new: str, code: str,
-                                          reported: str) -> None:
+@pytest.mark.parametrize(
+    "edited,old,new,code,reported", EDITS, ids=[f"{e[3]}-{i}" for i, e in enumerate(EDITS)]
+)
+def test_single_edit_is_found_at_its_line(
+    tmp_path: Path, edited: str, old: str, new: str, code: str, reported: str
+) -> None:
     root = tmp_path / "pkgs"
     shutil.copytree(PACKAGES, root)
     target = root / edited
@@ -135,8 +190,10 @@ def test_located_loader_records_lines_and_columns() -> None:
 
 def test_namespaced_node_names(tmp_path: Path) -> None:
     path = tmp_path / "c.yaml"
-    path.write_text("/**/controller_manager:\n  ros__parameters:\n    arm:\n      type: x/Y\n"
-                    "/robot/arm:\n  ros__parameters:\n    joints: [a]\n")
+    path.write_text(
+        "/**/controller_manager:\n  ros__parameters:\n    arm:\n      type: x/Y\n"
+        "/robot/arm:\n  ros__parameters:\n    joints: [a]\n"
+    )
     config = read_controllers(str(path))
     assert [(c.name, c.type.text() if c.type else None) for c in config.controllers] == [("arm", "x/Y")]
     assert config.controllers[0].param("joints") is not None
@@ -144,8 +201,10 @@ def test_namespaced_node_names(tmp_path: Path) -> None:
 
 def test_controllers_option_checks_every_model(tmp_path: Path) -> None:
     path = tmp_path / "c.yaml"
-    path.write_text("controller_manager:\n  ros__parameters:\n    arm:\n"
-                    "      type: position_controllers/JointGroupPositionController\n"
-                    "arm:\n  ros__parameters:\n    joints: [joint1, wrist]\n")
+    path.write_text(
+        "controller_manager:\n  ros__parameters:\n    arm:\n"
+        "      type: position_controllers/JointGroupPositionController\n"
+        "arm:\n  ros__parameters:\n    joints: [joint1, wrist]\n"
+    )
     found = _check(PACKAGES, ARM, controllers=str(path))
     assert [(d.code, d.location.line) for d in found if d.location] == [("G201", 7)]

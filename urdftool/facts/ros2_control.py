@@ -22,16 +22,36 @@ from urdftool.parse.controllers import Controllers
 #: Key of the run's options that holds the :class:`Controllers`.
 OPTION = "controllers"
 
-#: The interface names hardware_interface defines (``hardware_interface/types/hardware_interface_type_values.hpp``).
+#: The interface names hardware_interface defines
+#: (``hardware_interface/types/hardware_interface_type_values.hpp``).
 STANDARD_INTERFACES = frozenset({"position", "velocity", "effort", "acceleration"})
 #: Further interface names that ros2_control's own components and broadcasters export
 #: (IMU and force/torque semantic components, GPIO and mock hardware conventions).
 KNOWN_INTERFACES = STANDARD_INTERFACES | frozenset(
-    {"force.x", "force.y", "force.z", "torque.x", "torque.y", "torque.z",
-     "orientation.x", "orientation.y", "orientation.z", "orientation.w",
-     "angular_velocity.x", "angular_velocity.y", "angular_velocity.z",
-     "linear_acceleration.x", "linear_acceleration.y", "linear_acceleration.z",
-     "jerk", "current", "temperature", "voltage", "mechanical_power", "torque_current"}
+    {
+        "force.x",
+        "force.y",
+        "force.z",
+        "torque.x",
+        "torque.y",
+        "torque.z",
+        "orientation.x",
+        "orientation.y",
+        "orientation.z",
+        "orientation.w",
+        "angular_velocity.x",
+        "angular_velocity.y",
+        "angular_velocity.z",
+        "linear_acceleration.x",
+        "linear_acceleration.y",
+        "linear_acceleration.z",
+        "jerk",
+        "current",
+        "temperature",
+        "voltage",
+        "mechanical_power",
+        "torque_current",
+    }
 )
 #: Interfaces the Gazebo ros2_control systems (gazebo_ros2_control's GazeboSystem,
 #: gz_ros2_control's GazeboSimSystem / IgnitionSystem) bind to a simulated joint;
@@ -100,8 +120,9 @@ def _params(element: Any) -> dict[str, Any]:
 
 
 def _interfaces(element: Any, tag: str) -> tuple[Interface, ...]:
-    return tuple(Interface(child.get("name") or "", child, _params(child))
-                 for child in element if child.tag == tag)
+    return tuple(
+        Interface(child.get("name") or "", child, _params(child)) for child in element if child.tag == tag
+    )
 
 
 def read_block(element: Any) -> Block:
@@ -113,20 +134,31 @@ def read_block(element: Any) -> Block:
         plugin = _text(found) if found is not None and _text(found) else None
         hardware_params = _params(hardware)
     components = tuple(
-        Component(child.tag, child.get("name") or "", child, _interfaces(child, "command_interface"),
-                  _interfaces(child, "state_interface"), _params(child))
-        for child in element if child.tag in ("joint", "sensor", "gpio")
+        Component(
+            child.tag,
+            child.get("name") or "",
+            child,
+            _interfaces(child, "command_interface"),
+            _interfaces(child, "state_interface"),
+            _params(child),
+        )
+        for child in element
+        if child.tag in ("joint", "sensor", "gpio")
     )
-    return Block(element.get("name") or "unnamed", element.get("type"), element, plugin, components,
-                 hardware_params)
+    return Block(
+        element.get("name") or "unnamed", element.get("type"), element, plugin, components, hardware_params
+    )
 
 
 def blocks(ctx: CheckContext) -> list[Block]:
     """The robot's top-level ``<ros2_control>`` blocks, read once per model."""
     key = ("ros2_control-blocks",)
     if key not in ctx.cache:
-        ctx.cache[key] = [read_block(e.element) for e in ctx.robot.extensions
-                          if e.tag == "ros2_control" and e.element is not None]
+        ctx.cache[key] = [
+            read_block(e.element)
+            for e in ctx.robot.extensions
+            if e.tag == "ros2_control" and e.element is not None
+        ]
     return ctx.cache[key]  # type: ignore[no-any-return]
 
 

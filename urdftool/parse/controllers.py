@@ -27,7 +27,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Any
 
-import yaml
+import yaml  # type: ignore[import-untyped]  # no stubs in the runtime environment
 
 from urdftool.catalogue.ros2_control import ControllersYamlInvalid
 from urdftool.diagnostics import Diagnostic
@@ -94,7 +94,7 @@ class ControllerConfig:
         return next((c for c in self.controllers if c.name == name), None)
 
 
-class LocatedLoader(yaml.SafeLoader):
+class LocatedLoader(yaml.SafeLoader):  # type: ignore[misc]
     """PyYAML's safe loader building :class:`Value` trees that record each node's start mark."""
 
     path = ""
@@ -138,13 +138,17 @@ def read_controllers(path: str) -> ControllerConfig:
         mark = getattr(exc, "problem_mark", None) or getattr(exc, "context_mark", None)
         span = Span(path, mark.line + 1, mark.column + 1) if mark is not None else Span(path)
         problem = getattr(exc, "problem", None) or str(exc)
-        config.diagnostics.append(ControllersYamlInvalid.diagnostic(f"the controllers YAML does not parse: {problem}",
-                                                                    span))
+        config.diagnostics.append(
+            ControllersYamlInvalid.diagnostic(f"the controllers YAML does not parse: {problem}", span)
+        )
         return config
     if document is None or not isinstance(document.value, dict):
-        config.diagnostics.append(ControllersYamlInvalid.diagnostic(
-            "the controllers YAML is not a mapping of node names to parameters",
-            document.span if document else Span(path)))
+        config.diagnostics.append(
+            ControllersYamlInvalid.diagnostic(
+                "the controllers YAML is not a mapping of node names to parameters",
+                document.span if document else Span(path),
+            )
+        )
         return config
     nodes: dict[str, dict[str, Value]] = {}
     for key, node in document.value.items():

@@ -13,9 +13,9 @@ from typing import Any
 from urdftool.catalogue.syntax import InternalError
 from urdftool.diagnostics import Diagnostic, FileReport, Report, Severity
 from urdftool.facts.context import CheckContext
+from urdftool.facts.ros2_control import OPTION as CONTROLLERS_OPTION
 from urdftool.facts.simulation import OPTION as SIM_OPTION
 from urdftool.facts.simulation import Simulator
-from urdftool.facts.ros2_control import OPTION as CONTROLLERS_OPTION
 from urdftool.facts.srdf import OPTION as SRDF_OPTION
 from urdftool.model import KinematicTree, Robot
 from urdftool.parse import Loaded, read

@@ -39,7 +39,9 @@ def parameter_elements(robot: Robot) -> Iterator[Any]:
                 yield from (child for child in plugin if child.tag == "parameters")
 
 
-def _resolve(text: str, model_path: str, resolver: PackageResolver) -> tuple[str | None, tuple[str, ...], bool]:
+def _resolve(
+    text: str, model_path: str, resolver: PackageResolver
+) -> tuple[str | None, tuple[str, ...], bool]:
     """(readable path or None, places looked, whether a miss is certain).
 
     A relative path is read by Gazebo from its working directory, which a static
@@ -81,9 +83,12 @@ def attach(loaded: Loaded, controllers_path: str | None, resolver: PackageResolv
         return loaded
     extra = [d for config in found.configs for d in config.diagnostics]
     robot = dataclasses.replace(loaded.robot, diagnostics=(*loaded.robot.diagnostics, *extra))
-    return dataclasses.replace(loaded, robot=robot, diagnostics=[*loaded.diagnostics, *extra],
-                               controllers=found)
+    return dataclasses.replace(
+        loaded, robot=robot, diagnostics=[*loaded.diagnostics, *extra], controllers=found
+    )
 
 
 def _unreadable(path: str, exc: OSError) -> Diagnostic:
-    return ControllersYamlInvalid.diagnostic(f"cannot read the controllers YAML: {exc.strerror or exc}", Span(path))
+    return ControllersYamlInvalid.diagnostic(
+        f"cannot read the controllers YAML: {exc.strerror or exc}", Span(path)
+    )

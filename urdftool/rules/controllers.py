@@ -52,8 +52,15 @@ KNOWN_TYPES = frozenset(
     }
 )
 #: Parameters that list joints, per convention of ros2_controllers.
-JOINT_LIST_PARAMS = ("joints", "left_wheel_names", "right_wheel_names", "rear_wheels_names",
-                     "front_wheels_names", "traction_joints_names", "steering_joints_names")
+JOINT_LIST_PARAMS = (
+    "joints",
+    "left_wheel_names",
+    "right_wheel_names",
+    "rear_wheels_names",
+    "front_wheels_names",
+    "traction_joints_names",
+    "steering_joints_names",
+)
 #: Parameters naming one joint.
 JOINT_PARAMS = ("joint",)
 #: Command interface a controller type implies for its joints (``None``: read from the parameters).
@@ -135,15 +142,24 @@ class ControllerJointUnknown(_Controllers):
                 if name in known or "$" in name:
                     continue
                 if name in urdf:
-                    message = (f"controller '{controller.name}' names joint '{name}', which no "
-                               "ros2_control block declares")
-                    fix = f"add <joint name=\"{name}\"> with its interfaces to the ros2_control block"
+                    message = (
+                        f"controller '{controller.name}' names joint '{name}', which no "
+                        "ros2_control block declares"
+                    )
+                    fix = f'add <joint name="{name}"> with its interfaces to the ros2_control block'
                 else:
-                    message = (f"controller '{controller.name}' names joint '{name}', which the robot "
-                               "does not have" + did_you_mean(name, known))
+                    message = (
+                        f"controller '{controller.name}' names joint '{name}', which the robot "
+                        "does not have" + did_you_mean(name, known)
+                    )
                     fix = "use the joint's exact name"
-                yield self.diagnostic(message, value.span, element=f"{controller.name}/joints[{name}]",
-                                      help=fix, data={"controller": controller.name, "joint": name})
+                yield self.diagnostic(
+                    message,
+                    value.span,
+                    element=f"{controller.name}/joints[{name}]",
+                    help=fix,
+                    data={"controller": controller.name, "joint": name},
+                )
 
 
 @register
@@ -200,11 +216,17 @@ class ControllerInterfaceUnknown(_Controllers):
                         f"controller '{controller.name}' claims {kind} interface '{joint}/{interface}', but "
                         f"joint '{joint}' exports {kind} interfaces: {offered}"
                         + (f"; did you mean '{suggestion}'?" if suggestion else ""),
-                        where.span, element=f"{controller.name}/{kind}_interfaces[{interface}]",
-                        help=f"claim one of {offered}, or add <{kind}_interface name=\"{interface}\"/> "
+                        where.span,
+                        element=f"{controller.name}/{kind}_interfaces[{interface}]",
+                        help=f'claim one of {offered}, or add <{kind}_interface name="{interface}"/> '
                         f"to joint '{joint}' in the ros2_control block",
-                        data={"controller": controller.name, "joint": joint, "interface": interface,
-                              "kind": kind})
+                        data={
+                            "controller": controller.name,
+                            "joint": joint,
+                            "interface": interface,
+                            "kind": kind,
+                        },
+                    )
 
     @staticmethod
     def _claims(controller: Controller) -> Iterator[tuple[str, str, Value]]:
@@ -261,11 +283,18 @@ class ControllerTypeUnknown(_Controllers):
             if suggestion is not None:
                 yield self.diagnostic(
                     f"controller '{controller.name}' has type '{declared}'; did you mean '{suggestion}'?",
-                    controller.type.span, severity=Severity.WARNING, element=f"{controller.name}/type",
-                    help=f"write type: {suggestion}", data={"type": declared, "suggestion": suggestion})
+                    controller.type.span,
+                    severity=Severity.WARNING,
+                    element=f"{controller.name}/type",
+                    help=f"write type: {suggestion}",
+                    data={"type": declared, "suggestion": suggestion},
+                )
             else:
                 yield self.diagnostic(
                     f"controller '{controller.name}' has type '{declared}', which is not one of "
-                    "ros2_controllers'; its package must be installed", controller.type.span,
-                    element=f"{controller.name}/type", help="nothing to do if the package provides it",
-                    data={"type": declared})
+                    "ros2_controllers'; its package must be installed",
+                    controller.type.span,
+                    element=f"{controller.name}/type",
+                    help="nothing to do if the package provides it",
+                    data={"type": declared},
+                )

@@ -317,8 +317,9 @@ class DriveGeometryMismatch(_Gazebo):
             for key, measured in checks:
                 value = controller.param(key)
                 declared = value.number() if value is not None else None
-                if value is None or declared is None or measured is None or not drive.differs(declared, measured):
+                if declared is None or measured is None or not drive.differs(declared, measured):
                     continue
+                assert value is not None  # a number was read from it
                 yield self.diagnostic(
                     f"{label} declares {key} {_fmt(declared)} m, but the wheels measure {_fmt(measured)} m",
                     value.span, element=f"{controller.name}/{key}", help=f"write {key}: {measured:.4g}",

@@ -72,23 +72,32 @@ class HardwareMissing(_Ros2Control):
             if block.type is not None and block.type.lower() not in BLOCK_TYPES:
                 yield self.diagnostic(
                     f"ros2_control '{block.name}' has type '{block.type}'; the resource manager knows "
-                    "system, actuator and sensor", span_of(block.element), element=where,
-                    help='write type="system" (or actuator, sensor)', data={"type": block.type})
+                    "system, actuator and sensor",
+                    span_of(block.element),
+                    element=where,
+                    help='write type="system" (or actuator, sensor)',
+                    data={"type": block.type},
+                )
             if block.plugin is None:
                 yield self.diagnostic(
-                    f"ros2_control '{block.name}' names no hardware plugin", span_of(block.element),
+                    f"ros2_control '{block.name}' names no hardware plugin",
+                    span_of(block.element),
                     element=where,
                     help="add <hardware><plugin>…</plugin></hardware>: the driver's class, "
                     "mock_components/GenericSystem, or gz_ros2_control/GazeboSimSystem",
-                    data={"block": block.name})
+                    data={"block": block.name},
+                )
         for extension in ctx.robot.extensions:
             if extension.tag != "gazebo" or extension.element is None:
                 continue
             for nested in extension.element.iter("ros2_control"):
                 yield self.diagnostic(
                     f"ros2_control '{nested.get('name') or 'unnamed'}' is inside <gazebo>; the "
-                    "controller manager reads only top-level <ros2_control> blocks", span_of(nested),
-                    element="gazebo/ros2_control", help="move the block to the top level of <robot>")
+                    "controller manager reads only top-level <ros2_control> blocks",
+                    span_of(nested),
+                    element="gazebo/ros2_control",
+                    help="move the block to the top level of <robot>",
+                )
 
 
 @register
@@ -140,15 +149,22 @@ class InterfaceUnknown(_Ros2Control):
         if match is not None:
             yield self.diagnostic(
                 f"joint '{joint}' in ros2_control '{block.name}': {kind} interface '{name}' is not a "
-                f"standard interface; did you mean '{match}'?", span_of(interface.element),
-                element=where, help=f'write <{kind}_interface name="{match}"/>',
-                data={"interface": name, "suggestion": match})
+                f"standard interface; did you mean '{match}'?",
+                span_of(interface.element),
+                element=where,
+                help=f'write <{kind}_interface name="{match}"/>',
+                data={"interface": name, "suggestion": match},
+            )
         elif block.simulated and kind == "command":
             yield self.diagnostic(
                 f"joint '{joint}' in ros2_control '{block.name}': the simulator's hardware "
                 f"({block.plugin}) binds only position, velocity and effort commands; '{name}' does "
-                "nothing", span_of(interface.element), element=where,
-                help="command position, velocity or effort in simulation", data={"interface": name})
+                "nothing",
+                span_of(interface.element),
+                element=where,
+                help="command position, velocity or effort in simulation",
+                data={"interface": name},
+            )
 
 
 @register
@@ -195,7 +211,9 @@ class LimitsMismatch(_Ros2Control):
                 for interface in (*component.command, *component.state):
                     yield from self._interface(block, component.name, joint.type, joint.limit, interface)
 
-    def _number(self, interface: rc.Interface, param: str, joint: str) -> tuple[float | None, Diagnostic | None]:
+    def _number(
+        self, interface: rc.Interface, param: str, joint: str
+    ) -> tuple[float | None, Diagnostic | None]:
         text = interface.param_text(param)
         if text is None or not text or "$" in text:
             return None, None
@@ -204,11 +222,14 @@ class LimitsMismatch(_Ros2Control):
         except ValueError:
             return None, self.diagnostic(
                 f"joint '{joint}': {interface.name} {param} '{text}' is not a number",
-                span_of(interface.params[param]), element=f"joint[{joint}]/{interface.name}/{param}",
-                help="write a number")
+                span_of(interface.params[param]),
+                element=f"joint[{joint}]/{interface.name}/{param}",
+                help="write a number",
+            )
 
-    def _interface(self, block: rc.Block, joint: str, jtype: JointType, limit: object,
-                   interface: rc.Interface) -> Iterator[Diagnostic]:
+    def _interface(
+        self, block: rc.Block, joint: str, jtype: JointType, limit: object, interface: rc.Interface
+    ) -> Iterator[Diagnostic]:
         values: dict[str, float] = {}
         for param in ("min", "max", "initial_value"):
             value, problem = self._number(interface, param, joint)
@@ -218,33 +239,48 @@ class LimitsMismatch(_Ros2Control):
                 values[param] = value
         bounds = _bounds(interface.name, jtype, limit)
         if "min" in values and "max" in values and values["min"] > values["max"]:
-            yield self._finding(joint, interface, "min", f"min {_fmt(values['min'])} is above max "
-                                f"{_fmt(values['max'])}", "swap them")
+            yield self._finding(
+                joint,
+                interface,
+                "min",
+                f"min {_fmt(values['min'])} is above max {_fmt(values['max'])}",
+                "swap them",
+            )
         if bounds is not None:
             low, high, what = bounds
             for param in ("min", "max"):
                 value = values.get(param)
                 if value is not None and _outside(value, low, high):
                     yield self._finding(
-                        joint, interface, param,
+                        joint,
+                        interface,
+                        param,
                         f"{interface.name} {param} {_fmt(value)} is outside the URDF {what} "
                         f"[{_fmt(low)}, {_fmt(high)}]",
                         f"write the URDF limit ({_fmt(low if param == 'min' else high)}), or change the "
-                        "<limit>")
+                        "<limit>",
+                    )
         position = _bounds("position", jtype, limit)
         value = values.get("initial_value")
         if interface.name == "position" and position is not None and value is not None:
             low, high, what = position
             if _outside(value, low, high):
                 yield self._finding(
-                    joint, interface, "initial_value",
+                    joint,
+                    interface,
+                    "initial_value",
                     f"initial position {_fmt(value)} is outside the URDF {what} [{_fmt(low)}, {_fmt(high)}]",
-                    "start the joint inside its limits")
+                    "start the joint inside its limits",
+                )
 
     def _finding(self, joint: str, interface: rc.Interface, param: str, what: str, fix: str) -> Diagnostic:
-        return self.diagnostic(f"joint '{joint}': {what}", span_of(interface.params[param]),
-                               element=f"joint[{joint}]/{interface.name}/{param}", help=fix,
-                               data={"joint": joint, "interface": interface.name, "param": param})
+        return self.diagnostic(
+            f"joint '{joint}': {what}",
+            span_of(interface.params[param]),
+            element=f"joint[{joint}]/{interface.name}/{param}",
+            help=fix,
+            data={"joint": joint, "interface": interface.name, "param": param},
+        )
 
 
 def _bounds(interface: str, jtype: JointType, limit: object) -> tuple[float, float, str] | None:
@@ -302,12 +338,18 @@ class JointDuplicated(_Ros2Control):
                 earlier, original = first.setdefault(component.name, (block, component))
                 if original is component:
                     continue
-                where = "again in the same block" if earlier is block else f"also in ros2_control '{earlier.name}'"
+                where = (
+                    "again in the same block"
+                    if earlier is block
+                    else f"also in ros2_control '{earlier.name}'"
+                )
                 yield self.diagnostic(
                     f"joint '{component.name}' in ros2_control '{block.name}' is declared {where}",
-                    span_of(component.element), element=f"ros2_control[{block.name}]/joint[{component.name}]",
+                    span_of(component.element),
+                    element=f"ros2_control[{block.name}]/joint[{component.name}]",
                     help="declare each joint in one ros2_control block only",
-                    data={"joint": component.name, "blocks": [earlier.name, block.name]})
+                    data={"joint": component.name, "blocks": [earlier.name, block.name]},
+                )
 
 
 @register
@@ -352,8 +394,11 @@ class MimicInconsistent(_Ros2Control):
                 if flag == "true" and joint.mimic is None:
                     yield self.diagnostic(
                         f"joint '{component.name}' is marked mimic=\"true\" in ros2_control '{block.name}', "
-                        "but the URDF joint has no <mimic>", span_of(component.element), element=where,
-                        help="add <mimic joint=\"…\"/> to the URDF joint, or drop mimic=\"true\"")
+                        "but the URDF joint has no <mimic>",
+                        span_of(component.element),
+                        element=where,
+                        help='add <mimic joint="…"/> to the URDF joint, or drop mimic="true"',
+                    )
                 param = component.params.get("mimic")
                 target = (param.text or "").strip() if param is not None else ""
                 if not target or "$" in target:
@@ -361,14 +406,22 @@ class MimicInconsistent(_Ros2Control):
                 if target not in joints:
                     yield self.diagnostic(
                         f"joint '{component.name}': mimic parameter names joint '{target}', which the "
-                        "robot does not have", span_of(param), element=f"{where}/param[mimic]",
-                        help="name the joint it follows", data={"joint": component.name, "mimic": target})
+                        "robot does not have",
+                        span_of(param),
+                        element=f"{where}/param[mimic]",
+                        help="name the joint it follows",
+                        data={"joint": component.name, "mimic": target},
+                    )
                 elif joint.mimic is not None and joint.mimic.joint != target:
                     yield self.diagnostic(
                         f"joint '{component.name}': mimic parameter says '{target}', the URDF <mimic> says "
-                        f"'{joint.mimic.joint}'", span_of(param), severity=Severity.WARNING,
-                        element=f"{where}/param[mimic]", help=f"write '{joint.mimic.joint}'",
-                        data={"joint": component.name, "mimic": target, "urdf": joint.mimic.joint})
+                        f"'{joint.mimic.joint}'",
+                        span_of(param),
+                        severity=Severity.WARNING,
+                        element=f"{where}/param[mimic]",
+                        help=f"write '{joint.mimic.joint}'",
+                        data={"joint": component.name, "mimic": target, "urdf": joint.mimic.joint},
+                    )
 
 
 @register
@@ -407,6 +460,9 @@ class ParametersMissing(_Ros2Control):
             return
         for text, span, tried in found.missing:
             yield self.diagnostic(
-                f"ros2_control plugin parameters '{text}' name no file", span,
-                element="plugin/parameters", help="name an existing controllers YAML; looked in: "
-                + ", ".join(tried[:3]), data={"parameters": text, "tried": list(tried)})
+                f"ros2_control plugin parameters '{text}' name no file",
+                span,
+                element="plugin/parameters",
+                help="name an existing controllers YAML; looked in: " + ", ".join(tried[:3]),
+                data={"parameters": text, "tried": list(tried)},
+            )
