@@ -126,6 +126,8 @@ class ControllerJointUnknown(_Controllers):
 
     ## Fix
     Use the joint names of the `<ros2_control>` block, or declare the joint there.
+    (Chained controllers' reference interfaces, `pid_controller/left_wheel_joint`,
+    name another controller of the file and are not reported.)
     """
 
     code = "G201"
@@ -136,11 +138,12 @@ class ControllerJointUnknown(_Controllers):
         declared = set(rc.exported(ctx))
         urdf = {joint.name for joint in ctx.robot.joints}
         known = declared or urdf
+        names = {controller.name for controller in _all(ctx)}
         for controller in _all(ctx):
             for value in joint_values(controller):
                 name = value.text() or ""
-                if name in known or "$" in name:
-                    continue
+                if name in known or "$" in name or name.split("/")[0] in names:
+                    continue  # a chained controller's reference interface: CONTROLLER/NAME
                 if name in urdf:
                     message = (
                         f"controller '{controller.name}' names joint '{name}', which no "

@@ -303,11 +303,14 @@ def _outside(value: float, low: float, high: float) -> bool:
 
 @register
 class JointDuplicated(_Ros2Control):
-    """The same joint is declared twice in ros2_control blocks.
+    """The same joint interface is exported twice by ros2_control blocks.
 
     ## What it does
-    Reports a joint named by two `<joint>` elements, in one `<ros2_control>`
-    block or in two hardware blocks.
+    Reports a joint declared by two `<joint>` elements, in one `<ros2_control>`
+    block or in two hardware blocks, that export the same command or state
+    interface. A joint split between blocks (an actuator block commanding it,
+    a sensor block reading its position, as in modular hardware) is not
+    reported.
 
     ## Why it matters
     Each block exports `JOINT/INTERFACE` names into one resource manager; the
@@ -322,7 +325,7 @@ class JointDuplicated(_Ros2Control):
     ```
 
     ## Fix
-    Declare each joint in one block only.
+    Export each interface of a joint from one block only.
     """
 
     code = "G104"
@@ -330,25 +333,39 @@ class JointDuplicated(_Ros2Control):
     severity = Severity.ERROR
 
     def check(self, ctx: CheckContext) -> Iterator[Diagnostic]:
-        first: dict[str, tuple[rc.Block, rc.Component]] = {}
+        # (joint, "command"|"state", interface) -> the block and component that export it first
+        first: dict[tuple[str, str, str], tuple[rc.Block, rc.Component]] = {}
         for block in rc.blocks(ctx):
             for component in block.joints():
                 if not component.name or "$" in component.name:
                     continue
-                earlier, original = first.setdefault(component.name, (block, component))
-                if original is component:
+                clash: tuple[rc.Block, list[str]] | None = None
+                for kind, interfaces in (("command", component.command), ("state", component.state)):
+                    for interface in interfaces:
+                        key = (component.name, kind, interface.name)
+                        earlier, original = first.setdefault(key, (block, component))
+                        if original is not component:
+                            clash = clash or (earlier, [])
+                            clash[1].append(f"{kind} '{interface.name}'")
+                if clash is None:
                     continue
+                earlier = clash[0]
                 where = (
                     "again in the same block"
                     if earlier is block
                     else f"also in ros2_control '{earlier.name}'"
                 )
                 yield self.diagnostic(
-                    f"joint '{component.name}' in ros2_control '{block.name}' is declared {where}",
+                    f"joint '{component.name}' in ros2_control '{block.name}' is declared {where}, "
+                    f"with the same interfaces ({', '.join(clash[1])})",
                     span_of(component.element),
                     element=f"ros2_control[{block.name}]/joint[{component.name}]",
-                    help="declare each joint in one ros2_control block only",
-                    data={"joint": component.name, "blocks": [earlier.name, block.name]},
+                    help="export each interface of a joint from one hardware block only",
+                    data={
+                        "joint": component.name,
+                        "blocks": [earlier.name, block.name],
+                        "interfaces": clash[1],
+                    },
                 )
 
 
