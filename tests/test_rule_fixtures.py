@@ -33,13 +33,14 @@ SIM_ONLY = {"R001", "R002", "R003", "R004", "R005"}
 
 
 def fixture_files(kind: str) -> list[Path]:
-    """Fixtures of *kind*; an SRDF fixture (``bad.srdf``) stands for itself and the model of
-    its stem beside it (``bad.urdf``), which is checked with it and carries no marks."""
+    """Fixtures of *kind*; an SRDF or controllers YAML fixture (``bad.srdf``, ``bad.yaml``) stands
+    for itself and the model of its stem beside it (``bad.urdf``), which is checked with it and
+    carries no marks (the model's ros2_control plugin names the YAML in its ``<parameters>``)."""
     return sorted(
         p
         for p in RULES_DIR.glob(f"*/{kind}*.*")
         if not p.name.endswith((".stl", ".obj", ".dae")) and p.parent.name not in EXPORT_ONLY | SIM_ONLY
-        and not (p.suffix == ".urdf" and p.with_suffix(".srdf").exists())
+        and not (p.suffix == ".urdf" and (p.with_suffix(".srdf").exists() or p.with_suffix(".yaml").exists()))
     )
 
 
@@ -61,7 +62,7 @@ def findings(path: Path, code: str) -> list:
     # a rule that is off by default (an optional convention) runs when named
     select = None if rule is None or rule.default_enabled else (code,)
     options = CheckOptions(package_paths=(str(path.parent),), select=select)
-    model = path.with_suffix(".urdf") if path.suffix == ".srdf" else path
+    model = path.with_suffix(".urdf") if path.suffix in (".srdf", ".yaml") else path
     return [d for r in check_file(str(model), options) for d in r.diagnostics if d.code == code]
 
 

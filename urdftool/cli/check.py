@@ -69,6 +69,9 @@ PROGRESS_FROM = 4
 @click.option("--srdf", "srdf_file", type=click.Path(dir_okay=False),
               help="Check the models against this MoveIt SRDF (else one beside the model is used).")
 @click.option("--no-srdf", is_flag=True, help="Do not look for an SRDF beside the model.")
+@click.option("--controllers", "controllers_file", type=click.Path(dir_okay=False),
+              help="Check the models' ros2_control blocks against this controllers YAML "
+              "(else the file a Gazebo ros2_control plugin's <parameters> names).")
 def check_command(
     paths: Sequence[str],
     xacro_args: Sequence[str],
@@ -99,6 +102,7 @@ def check_command(
     fix_only: bool = False,
     srdf_file: str | None = None,
     no_srdf: bool = False,
+    controllers_file: str | None = None,
 ) -> None:
     """Load each model (files, or directories searched recursively) and report diagnostics.
 
@@ -110,7 +114,10 @@ def check_command(
     options = build_options(xacro_args, packages, package_paths, select, ignore, dynamics=not no_dynamics,
                             **simulation)
     options = dataclasses.replace(options, suppressions=not no_suppressions, srdf=srdf_file,
-                                  discover_srdf=not no_srdf)
+                                  discover_srdf=not no_srdf, controllers=controllers_file)
+    for given in (srdf_file, controllers_file):
+        if given is not None and not os.path.isfile(given):
+            raise InputProblem(f"{given}: no such file")
     if srdf_file is not None and not os.path.isfile(srdf_file):
         raise InputProblem(f"{srdf_file}: no such file")
     for path in paths:

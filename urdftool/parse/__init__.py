@@ -15,6 +15,7 @@ from urdftool.safe_files import UnsafeFile, check_regular, read_head
 from urdftool.source import SourceIndex
 
 if TYPE_CHECKING:  # the SRDF reader brings lxml, which ``import urdftool`` does not load
+    from urdftool.parse.controllers import Controllers
     from urdftool.parse.srdf import Srdf
 
 #: suffix -> format, longest first
@@ -43,6 +44,8 @@ class Loaded:
     files: list[str] = field(default_factory=list)
     #: the MoveIt SRDF read beside it (``check --srdf``, or found next to the model)
     srdf: Srdf | None = None
+    #: the controllers YAML read for it (``check --controllers``, or named by a ros2_control plugin)
+    controllers: Controllers | None = None
 
 
 def detect_format(path: str) -> str | None:

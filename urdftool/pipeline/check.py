@@ -13,13 +13,14 @@ from typing import Any
 from urdftool.catalogue.syntax import InternalError
 from urdftool.diagnostics import Diagnostic, FileReport, Report, Severity
 from urdftool.facts.context import CheckContext
+from urdftool.facts.ros2_control import OPTION as CONTROLLERS_OPTION
 from urdftool.facts.simulation import OPTION as SIM_OPTION
 from urdftool.facts.simulation import Simulator
 from urdftool.facts.srdf import OPTION as SRDF_OPTION
 from urdftool.model import KinematicTree, Robot
 from urdftool.parse import Loaded, read
 from urdftool.parse.packages import PackageResolver
-from urdftool.pipeline import fixes, srdf, suppress
+from urdftool.pipeline import controllers, fixes, srdf, suppress
 from urdftool.pipeline.provenance import trace
 from urdftool.rules import Selection
 from urdftool.rules.registry import model_rules
@@ -47,6 +48,9 @@ class CheckOptions:
     srdf: str | None = None
     #: look for an SRDF beside each model when none is given
     discover_srdf: bool = True
+    #: the ros2_control controllers YAML to check every model against (``--controllers``); else the
+    #: file a Gazebo ros2_control plugin's ``<parameters>`` names
+    controllers: str | None = None
 
     def selection(self) -> Selection:
         return Selection.of(self.select, self.ignore)
@@ -106,6 +110,8 @@ def report_for(loaded: Loaded, selection: Selection, options: Mapping[str, Any] 
         return FileReport(loaded.path, loaded.format, None, tuple(sorted(diags, key=Diagnostic.sort_key)))
     if loaded.srdf is not None:
         options = {**(options or {}), SRDF_OPTION: loaded.srdf}
+    if loaded.controllers is not None:
+        options = {**(options or {}), CONTROLLERS_OPTION: loaded.controllers}
     return FileReport(
         loaded.path, loaded.format, loaded.robot.name, tuple(run_rules(loaded.robot, selection, options))
     )
@@ -132,7 +138,8 @@ def check_file(path: str, options: CheckOptions) -> list[FileReport]:
     selection = options.selection()
     resolver = options.resolver()
     with file_limits(options.file_limits), _collector_paused():
-        models = [srdf.attach(m, options.srdf, resolver, options.discover_srdf)
+        models = [controllers.attach(srdf.attach(m, options.srdf, resolver, options.discover_srdf),
+                                     options.controllers, resolver)
                   for m in read(path, options.xacro_args, resolver)]
         # Rules that re-resolve URIs (to say where a mesh was looked for) use the same resolver.
         rule_options = {**options.rule_options, "resolver": resolver}

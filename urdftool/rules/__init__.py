@@ -6,9 +6,11 @@ defined there, so :func:`all_rules` and :func:`lookup` see the whole table.
 """
 
 from urdftool.catalogue import conversion, sdf, xacro  # noqa: F401  (register the definitions)
+from urdftool.catalogue import ros2_control as _reader_ros2_control  # noqa: F401
 from urdftool.catalogue import syntax as _reader_syntax  # noqa: F401
 from urdftool.facts.context import CheckContext
 from urdftool.rules import (  # noqa: F401  (importing registers the rules)
+    controllers,
     dynamics,
     gazebo,
     inertia,
@@ -21,6 +23,7 @@ from urdftool.rules import (  # noqa: F401  (importing registers the rules)
     loops,
     mesh_contents,
     meshes,
+    ros2_control,
     runtime,
     srdf,
     srdf_parts,

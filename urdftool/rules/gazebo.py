@@ -15,11 +15,14 @@ from typing import Any
 from urdftool.catalogue.registry import Family, Rule, register
 from urdftool.catalogue.suggest import did_you_mean
 from urdftool.diagnostics import Diagnostic, Severity
+from urdftool.facts import ros2_control as rc
 from urdftool.facts.context import CheckContext
 from urdftool.model import Extension, JointType, Link
+from urdftool.parse.controllers import Value
 from urdftool.parse.xmlio import span_of
 from urdftool.rules import gazebo_drive as drive
 from urdftool.rules import gazebo_plugins as gz
+from urdftool.source import Span
 
 #: Keys of ``<gazebo>`` blocks that sdformat's URDF converter reads (from text
 #: or from a ``value`` attribute); anything else is copied into the SDF as is.
@@ -276,6 +279,7 @@ class DriveGeometryMismatch(_Gazebo):
     severity = Severity.WARNING
 
     def check(self, ctx: CheckContext) -> Iterator[Diagnostic]:
+        yield from self._controllers(ctx)
         plugins = list(gz.drive_plugins(ctx.robot))
         if not plugins:
             return
@@ -290,6 +294,37 @@ class DriveGeometryMismatch(_Gazebo):
                 continue
             yield from self._separation(plugin, measured)
             yield from self._diameter(plugin, [w for pair in measured for w in pair])
+
+    def _controllers(self, ctx: CheckContext) -> Iterator[Diagnostic]:
+        """``diff_drive_controller`` entries of the controllers YAML, located in the YAML."""
+        found = rc.controllers(ctx)
+        drives = [c for config in (found.configs if found else []) for c in config.controllers
+                  if c.type is not None and c.type.text() == "diff_drive_controller/DiffDriveController"]
+        if not drives:
+            return
+        poses = ctx.tree.forward_kinematics()
+        for controller in drives:
+            names = [[v.text() or "" for v in (controller.param(key) or _EMPTY).items()]
+                     for key in ("left_wheel_names", "right_wheel_names")]
+            pairs = [(drive.measure_wheel(ctx, a, poses), drive.measure_wheel(ctx, b, poses))
+                     for a, b in zip(names[0], names[1], strict=False)]
+            wheels = [(a, b) for a, b in pairs if a is not None and b is not None]
+            if not wheels:
+                continue
+            label = f"diff_drive_controller '{controller.name}'"
+            checks = (("wheel_separation", sum(drive.separation(a, b) for a, b in wheels) / len(wheels)),
+                      ("wheel_radius", _mean([w.diameter / 2 for p in wheels for w in p if w.diameter])))
+            for key, measured in checks:
+                value = controller.param(key)
+                declared = value.number() if value is not None else None
+                if declared is None or measured is None or not drive.differs(declared, measured):
+                    continue
+                assert value is not None  # a number was read from it
+                yield self.diagnostic(
+                    f"{label} declares {key} {_fmt(declared)} m, but the wheels measure {_fmt(measured)} m",
+                    value.span, element=f"{controller.name}/{key}", help=f"write {key}: {measured:.4g}",
+                    data={"declared_m": declared, "measured_m": measured,
+                          "joints": [w.joint.name for p in wheels for w in p]})
 
     def _separation(
         self, plugin: gz.DrivePlugin, pairs: list[tuple[drive.Wheel, drive.Wheel]]
@@ -459,6 +494,13 @@ class SdfElementInUrdf(_Gazebo):
                 else f"remove it, or use the SDF element that replaced <{child.tag}>",
                 data={"key": child.tag, "value": value, "read_by_sdformat": known},
             )
+
+
+_EMPTY = Value([], Span(""))
+
+
+def _mean(values: list[float]) -> float | None:
+    return sum(values) / len(values) if values else None
 
 
 def _origin_text(values: list[str]) -> str:
