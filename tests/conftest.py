@@ -94,6 +94,8 @@ SLOW_MODULES = frozenset({
     "test_pybullet_corpus",
     "test_sim_corpus",
     "test_static_checks",
+    # the fuzz slice (2,000 cases) and the 5,000-link chains run in the whole suite
+    "test_fuzz",
 })
 
 

@@ -233,12 +233,14 @@ def deep_chain(request: pytest.FixtureRequest, tmp_path_factory: pytest.TempPath
     return path
 
 
+@pytest.mark.slow
 def test_deep_chain_checks(deep_chain: Path) -> None:
     result = _run("check", "--no-dynamics", "--format", "json", str(deep_chain))
     assert result.exit_code == 0, result.output[-2000:]
     assert '"S000"' not in result.output
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("suffix", [".xml", ".urdf", ".sdf", ".dot"])
 def test_deep_chain_converts(deep_chain: Path, tmp_path: Path, suffix: str) -> None:
     out = tmp_path / f"out{suffix}"

@@ -12,6 +12,7 @@ import importlib
 import click
 
 from urdftool.cli.suggest import unknown_command
+from urdftool.safe_files import DEFAULT_LIMITS, set_limits
 from urdftool.version import __version__
 
 #: command name -> "module:attribute" of its click command
@@ -58,12 +59,17 @@ class LazyGroup(click.Group):
     context_settings={"help_option_names": ["-h", "--help"], "max_content_width": 100},
 )
 @click.version_option(__version__, prog_name="urdftool")
-def main() -> None:
+@click.pass_context
+def main(ctx: click.Context) -> None:
     """Check, convert and draw robot descriptions (URDF, xacro, SDF).
 
     Exit codes: 0 nothing at error severity; 1 findings at failing severity (or a
     stale output with convert --check); 2 usage error or unreadable input.
     """
+    # --max-file-size sets the read caps for this invocation only: a program (or a test) that
+    # runs several commands in one process must not inherit the last one's caps.
+    set_limits(DEFAULT_LIMITS)
+    ctx.call_on_close(lambda: set_limits(DEFAULT_LIMITS))
 
 
 __all__ = ["COMMANDS", "main"]

@@ -9,6 +9,7 @@ where it was written; spans take no part in equality.
 from __future__ import annotations
 
 import enum
+import functools
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
@@ -269,16 +270,28 @@ class Robot:
     root_poses: Mapping[str, Pose] | None = field(default=None, compare=False)
 
     def link(self, name: str) -> Link | None:
-        for link in self.links:
-            if link.name == name:
-                return link
-        return None
+        """The first link of that name (as urdfdom keeps the first of a duplicate), in O(1)."""
+        return self._links_by_name.get(name)
 
     def joint(self, name: str) -> Joint | None:
+        """The first joint of that name, in O(1)."""
+        return self._joints_by_name.get(name)
+
+    # Lookups by name are asked once per joint by many rules: an index built on first use keeps
+    # them constant-time on models of thousands of links (the robot is frozen, so it never goes stale).
+    @functools.cached_property
+    def _links_by_name(self) -> dict[str, Link]:
+        index: dict[str, Link] = {}
+        for link in self.links:
+            index.setdefault(link.name, link)
+        return index
+
+    @functools.cached_property
+    def _joints_by_name(self) -> dict[str, Joint]:
+        index: dict[str, Joint] = {}
         for joint in self.joints:
-            if joint.name == name:
-                return joint
-        return None
+            index.setdefault(joint.name, joint)
+        return index
 
     @property
     def total_mass(self) -> float:

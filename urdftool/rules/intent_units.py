@@ -8,6 +8,7 @@ author slipped into, and says both readings. Thresholds are in
 
 from __future__ import annotations
 
+import bisect
 import math
 import statistics
 from collections.abc import Iterator
@@ -213,10 +214,13 @@ class LengthLooksLikeMillimetres(IntentRule):
         finite = [d for d in offsets.values() if math.isfinite(d) and d > 1e-6]
         if len(finite) < 4:
             return
+        ordered = sorted(finite)
         for joint in ctx.robot.joints:
             length = offsets[joint.name]
-            others = [d for n, d in offsets.items() if n != joint.name and math.isfinite(d) and d > 1e-6]
-            scale = statistics.median(others)
+            # the median of the other joints' offsets, without sorting again per joint (chains
+            # of thousands of joints)
+            counted = math.isfinite(length) and length > 1e-6
+            scale = _median_without(ordered, length) if counted else statistics.median(ordered)
             found = _judge(length, scale, factor, minimum)
             if found is not None:
                 yield self._report(joint.name, "origin offset", length, scale, found, joint, None)
@@ -342,3 +346,16 @@ class MassLooksLikeGrams(IntentRule):
                     "source": source,
                 },
             )
+
+
+def _median_without(ordered: list[float], value: float) -> float:
+    """The median of sorted *ordered* with one occurrence of *value* (which it holds) left out."""
+    index = bisect.bisect_left(ordered, value)
+
+    def at(k: int) -> float:
+        return ordered[k] if k < index else ordered[k + 1]
+
+    remaining = len(ordered) - 1
+    if remaining % 2:
+        return at(remaining // 2)
+    return (at(remaining // 2 - 1) + at(remaining // 2)) / 2.0

@@ -52,13 +52,14 @@ def gravity_loads(robot: Robot, tree: KinematicTree, floating: bool, base_reason
     leaders = {j.name: j for j in one_dof if j.mimic is None}
     best: dict[str, tuple[float, int]] = {}
     masses = {link.name: (link.inertial.mass if link.inertial else 0.0) for link in robot.links}
+    links = {link.name: link for link in robot.links}
     weight = np.array([0.0, 0.0, -GRAVITY])
     for row in range(len(drawn)):
         poses = tree.forward_kinematics(drawn.configuration(row))
         mass_below: dict[str, float] = {}
         moment_below: dict[str, np.ndarray] = {}
         for name in reversed(tree.order):  # leaves first
-            link = robot.link(name)
+            link = links.get(name)
             pose = poses.get(name)
             m = masses.get(name, 0.0)
             com = np.zeros(3)
@@ -87,6 +88,7 @@ def gravity_loads(robot: Robot, tree: KinematicTree, floating: bool, base_reason
         for name, load in torques.items():
             if abs(load) > best.get(name, (-1.0, 0))[0]:
                 best[name] = (abs(load), row)
-    out.gravity = [GravityLoad(leaders[name], value, drawn.configuration(row), row)
+    rows = {row: drawn.configuration(row) for row in {row for _, row in best.values()}}  # each built once
+    out.gravity = [GravityLoad(leaders[name], value, rows[row], row)
                    for name, (value, row) in best.items() if name in leaders]
     return out
