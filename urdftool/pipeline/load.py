@@ -2,7 +2,10 @@
 
 from __future__ import annotations
 
+import dataclasses
+
 from urdftool.parse import Loaded, read
+from urdftool.parse.srdf import home_from_srdf
 from urdftool.pipeline.check import CheckOptions
 
 
@@ -15,7 +18,19 @@ def load_models(path: str, options: CheckOptions) -> list[Loaded]:
 
     Raises :class:`~urdftool.parse.InputError` when the file cannot be read at all.
     """
-    return read(path, options.xacro_args, options.resolver())
+    return [with_home(loaded) for loaded in read(path, options.xacro_args, options.resolver())]
+
+
+def with_home(loaded: Loaded) -> Loaded:
+    """*loaded* with its robot's home configuration from an SRDF beside it, when it has none."""
+    robot = loaded.robot
+    if robot is None or robot.home is not None:
+        return loaded
+    found = home_from_srdf(loaded.path, robot.name, [j.name for j in robot.joints])
+    if found is None:
+        return loaded
+    _, state = found
+    return dataclasses.replace(loaded, robot=dataclasses.replace(robot, home=dict(state.values)))
 
 
 def load_one(path: str, options: CheckOptions, model: str | None = None) -> Loaded:
