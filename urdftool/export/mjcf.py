@@ -26,6 +26,7 @@ from urdftool.diagnostics import Diagnostic
 from urdftool.export import ExportOptions, ExportResult
 from urdftool.export.mjcf_assets import AssetPlan
 from urdftool.export.mjcf_bodies import BodyWriter, MjJoint
+from urdftool.export.mjcf_contacts import write_excludes
 from urdftool.export.mjcf_dropped import dropped_extensions
 from urdftool.export.mjcf_extras import (
     actuated_joints,
@@ -100,6 +101,7 @@ def build(
     write_equality(root, robot, bodies.joints, diagnostics)
     write_actuators(root, robot, tree, bodies.joints, inertia.inertials, options.actuators)
     write_keyframe(root, robot, bodies.joints)
+    write_excludes(root, worldbody, out_dir, assets.files)
     actuated = (
         [mj.name for mj, _, _ in actuated_joints(robot, bodies.joints)] if options.actuators != "none" else []
     )
