@@ -93,3 +93,55 @@ def test_panda_starts_without_self_penetration(tmp_path: Path) -> None:
                 for i in range(model.nexclude)}
     # the hand is welded to link8, fixed to link7: not MuJoCo parent and child, so excluded
     assert frozenset((link7, hand)) in excluded
+
+
+def hold(model: mujoco.MjModel, seconds: float) -> tuple[np.ndarray, np.ndarray]:
+    """Start at the home keyframe, command it, run; (home qpos, largest deviation per qpos)."""
+    data = start(model, 0)
+    home = data.qpos.copy()
+    for i in range(model.nu):
+        data.ctrl[i] = home[model.jnt_qposadr[model.actuator_trnid[i, 0]]]
+    worst = np.zeros_like(home)
+    for _ in range(int(seconds / model.opt.timestep)):
+        mujoco.mj_step(model, data)
+        worst = np.maximum(worst, np.abs(data.qpos - home))
+    assert np.all(np.isfinite(data.qpos))
+    return home, worst
+
+
+def test_panda_position_actuators_hold_the_home_pose(tmp_path: Path) -> None:
+    model = export_mjcf(PANDA, tmp_path, scene=True, actuators="position")
+    assert model.nu == 8
+    kp = {model.actuator(i).name: float(model.actuator_gainprm[i, 0]) for i in range(model.nu)}
+    assert 2000 < kp["panda_joint2"] < 10000  # Menagerie: 4500
+    _, worst = hold(model, 5.0)
+    assert worst.max() < 0.005
+
+
+def test_auto_actuators_follow_the_transmission(tmp_path: Path) -> None:
+    urdf = tmp_path / "r.urdf"
+    box = ('<inertial><mass value="1"/><inertia ixx="0.01" ixy="0" ixz="0" iyy="0.01" iyz="0" '
+           'izz="0.01"/></inertial>')
+    joints = "".join(
+        f'<link name="l{i}">{box}</link><joint name="j{i}" type="revolute"><parent link="l{i - 1}"/>'
+        f'<child link="l{i}"/><origin xyz="0 0 0.1"/><axis xyz="0 1 0"/>'
+        f'<limit effort="10" velocity="1" lower="-1" upper="1"/></joint>' for i in (1, 2, 3))
+    urdf.write_text(
+        f'<robot name="r"><link name="l0">{box}</link>{joints}'
+        '<transmission name="t1"><type>transmission_interface/SimpleTransmission</type>'
+        '<joint name="j1"><hardwareInterface>hardware_interface/EffortJointInterface</hardwareInterface>'
+        '</joint><actuator name="m1"><mechanicalReduction>50</mechanicalReduction>'
+        '<motorInertia>0.0001</motorInertia></actuator></transmission>'
+        '<ros2_control name="c" type="system"><joint name="j2"><command_interface name="velocity"/>'
+        '</joint></ros2_control></robot>')
+    loaded = load_one(str(urdf), CheckOptions())
+    assert loaded.robot is not None
+    conversion = convert_robot(loaded.robot, "mjcf", tmp_path / "r.xml", ExportOptions(actuators="auto"))
+    write_conversion(conversion)
+    model = mujoco.MjModel.from_xml_path(str(tmp_path / "r.xml"))
+    kinds = {model.actuator(i).name: (int(model.actuator_gaintype[i]), int(model.actuator_biastype[i]))
+             for i in range(model.nu)}
+    assert kinds["j1"] == (0, 0)  # motor
+    assert kinds["j2"][1] == 1 and model.actuator_biasprm[1, 1] == 0  # velocity: bias -kv qdot only
+    assert kinds["j3"][1] == 1 and model.actuator_biasprm[2, 1] < 0  # position servo
+    assert model.dof_armature[0] == pytest.approx(0.0001 * 50**2)

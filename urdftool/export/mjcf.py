@@ -9,7 +9,8 @@ behind the mapping are in ``docs/mjcf.md``; each part lives in its own module:
 * ``mjcf_bodies``: one body per link, joints by type, inertials;
 * ``mjcf_inertia``: validation and ``--repair-inertia``;
 * ``mjcf_geoms`` and ``mjcf_assets``: geoms, mesh assets and conversion;
-* ``mjcf_extras``: actuators, equality constraints, the home keyframe, the scene;
+* ``mjcf_actuators``: actuators and armature;
+* ``mjcf_extras``: equality constraints, the home keyframe, the scene;
 * ``mjcf_dropped``: the loss report (``conversion-dropped``);
 * ``mjcf_verify``: MuJoCo against Pinocchio.
 """
@@ -28,10 +29,9 @@ from urdftool.export.mjcf_assets import AssetPlan
 from urdftool.export.mjcf_bodies import BodyWriter, MjJoint
 from urdftool.export.mjcf_contacts import write_excludes
 from urdftool.export.mjcf_dropped import dropped_extensions
+from urdftool.export.mjcf_actuators import write_actuators, write_armature
 from urdftool.export.mjcf_extras import (
-    actuated_joints,
     loop_sites,
-    write_actuators,
     write_equality,
     write_keyframe,
     write_scene,
@@ -99,12 +99,11 @@ def build(
     if len(asset) == 0:
         root.remove(asset)
     write_equality(root, robot, bodies.joints, diagnostics)
-    write_actuators(root, robot, tree, bodies.joints, inertia.inertials, options.actuators)
+    armature = write_armature(worldbody, robot)
+    actuated = write_actuators(root, robot, tree, bodies.joints, inertia.inertials, options.actuators,
+                               armature, free_base=base.kind == "free")
     write_keyframe(root, robot, bodies.joints)
     write_excludes(root, worldbody, out_dir, assets.files)
-    actuated = (
-        [mj.name for mj, _, _ in actuated_joints(robot, bodies.joints)] if options.actuators != "none" else []
-    )
     diagnostics.extend(dropped_extensions(robot, actuated))
     etree.indent(root, space="  ")
     text = etree.tostring(root, encoding="unicode") + "\n"
