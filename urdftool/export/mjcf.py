@@ -25,11 +25,11 @@ from lxml import etree
 from urdftool.catalogue.syntax import EmptyRobot
 from urdftool.diagnostics import Diagnostic
 from urdftool.export import ExportOptions, ExportResult
+from urdftool.export.mjcf_actuators import write_actuators, write_armature
 from urdftool.export.mjcf_assets import AssetPlan
 from urdftool.export.mjcf_bodies import BodyWriter, MjJoint
 from urdftool.export.mjcf_contacts import write_excludes
 from urdftool.export.mjcf_dropped import dropped_extensions
-from urdftool.export.mjcf_actuators import write_actuators, write_armature
 from urdftool.export.mjcf_extras import (
     loop_sites,
     write_equality,

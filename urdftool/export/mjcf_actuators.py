@@ -196,7 +196,8 @@ def write_actuators(root: etree._Element, robot: Robot, tree: KinematicTree, joi
         if mode == "auto":
             declared = source.get(joint.name, Drive()).interface
             kind = declared or ("velocity" if _is_wheel(robot, joint.name, wheels) else "position")
-        inertia = max(MIN_INERTIA, moved_inertia(tree, inertials, joint, home) + armature.get(joint.name, 0.0))
+        reflected = moved_inertia(tree, inertials, joint, home) + armature.get(joint.name, 0.0)
+        inertia = max(MIN_INERTIA, reflected)
         force = vec((-effort, effort))
         names.append(mj.name)
         if kind == "motor":

@@ -81,7 +81,8 @@ def structural_pairs(worldbody: etree._Element) -> list[tuple[str, str]]:
     return pairs
 
 
-def touching_pairs(root: etree._Element, out_dir: Path | None, files: dict[str, bytes]) -> list[tuple[str, str]]:
+def touching_pairs(root: etree._Element, out_dir: Path | None,
+                   files: dict[str, bytes]) -> list[tuple[str, str]]:
     """Pairs of robot bodies whose collision geoms overlap at ``qpos0`` or at each keyframe,
     as MuJoCo computes them; none when MuJoCo is missing or cannot compile the model."""
     try:
@@ -110,11 +111,11 @@ def touching_pairs(root: etree._Element, out_dir: Path | None, files: dict[str, 
         return []
     data = mujoco.MjData(model)
     found: dict[frozenset[str], tuple[str, str]] = {}
-    for key in range(-1, model.nkey):
-        if key < 0:
+    for keyframe in range(-1, model.nkey):
+        if keyframe < 0:
             mujoco.mj_resetData(model, data)
         else:
-            mujoco.mj_resetDataKeyframe(model, data, key)
+            mujoco.mj_resetDataKeyframe(model, data, keyframe)
         mujoco.mj_forward(model, data)
         for contact in data.contact[:data.ncon]:
             if contact.dist >= 0:

@@ -17,10 +17,9 @@ from urdftool.catalogue.conversion import ConversionDropped
 from urdftool.diagnostics import Diagnostic, Severity
 from urdftool.export.mjcf_bodies import MjJoint, clamp, unit_axis
 from urdftool.export.mjcf_format import pose_attributes
-from urdftool.export.numbers import num, vec
+from urdftool.export.numbers import vec
 from urdftool.model import Inertial, Joint, JointType, KinematicTree, LoopClosure, Robot
 from urdftool.model.pose import Matrix
-
 
 
 def _effort(joint: Joint) -> float | None:

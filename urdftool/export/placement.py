@@ -53,10 +53,11 @@ def lowest_point(geometry: Geometry | None, pose: Matrix) -> float | None:
         return float(centre[2] - math.sqrt(float(np.sum((rot[2, :] * radii) ** 2))))
     if isinstance(geometry, (Cylinder, Capsule)):
         tilt = abs(float(rot[2, 2]))  # |cos| of the axis against the vertical
-        half = geometry.length / 2
+        half_length = geometry.length / 2
         if isinstance(geometry, Capsule):
-            return float(centre[2] - tilt * half - geometry.radius)
-        return float(centre[2] - tilt * half - geometry.radius * math.sqrt(max(0.0, 1 - tilt * tilt)))
+            return float(centre[2] - tilt * half_length - geometry.radius)
+        return float(centre[2] - tilt * half_length
+                     - geometry.radius * math.sqrt(max(0.0, 1 - tilt * tilt)))
     if isinstance(geometry, Mesh) and geometry.resolved:
         vertices = _hull_vertices(geometry.resolved)
         if vertices is None or len(vertices) == 0:
