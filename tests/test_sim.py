@@ -163,3 +163,14 @@ def test_api_on_a_loaded_robot() -> None:
     robot = load(ERD / "double_pendulum_description" / "urdf" / "double_pendulum.urdf")
     runs = summaries(simulate(robot, engine="mujoco", duration=0.5))
     assert runs["mujoco"]["ran"] and runs["mujoco"]["max_joint_speed"] > 0
+
+
+def test_unactuated_sag_is_expected_and_held_sag_fails() -> None:
+    # the 5 kg link on a 10 N·m shoulder (D003): without actuators it falls, which is expected
+    free = simulate(RULES / "D003" / "bad.urdf", engine="mujoco")
+    verdicts = [d for d in free.diagnostics if d.code == "R005"]
+    assert [d.data["verdict"] for d in verdicts] == ["passed"]
+    assert "expected without actuators: the arm sags" in verdicts[0].message
+    assert all(d.severity.value != "warning" for d in free.diagnostics if d.code in ("R003", "R004"))
+    result = CliRunner().invoke(main, ["sim", str(RULES / "D003" / "bad.urdf"), "--engine", "mujoco"])
+    assert result.exit_code == 0, result.output

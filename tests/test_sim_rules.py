@@ -42,10 +42,13 @@ def test_good_fixture_is_quiet(code: str) -> None:
     assert findings(path, code) == []
 
 
-def test_both_engines_see_the_overlap_and_the_drift() -> None:
-    for code in ("R002", "R003"):
-        engines = {d.data["engine"] for d in findings(RULES / code / "bad.urdf", code)}
-        assert engines == {"mujoco", "pybullet"}, code
+def test_both_engines_see_the_drift_and_pybullet_the_overlap() -> None:
+    engines = {d.data["engine"] for d in findings(RULES / "R003" / "bad.urdf", "R003")}
+    assert engines == {"mujoco", "pybullet"}
+    # the MJCF export excludes pairs overlapping at the start (docs/mjcf.md), so only PyBullet,
+    # which loads the source's collision pairs, still sees the overlap
+    engines = {d.data["engine"] for d in findings(RULES / "R002" / "bad.urdf", "R002")}
+    assert engines == {"pybullet"}
 
 
 def test_drift_data_has_base_speed_and_distance() -> None:

@@ -320,7 +320,7 @@ def to_mjcf(
     are written atomically, never over an input, and meshes are referenced
     relative to *out*; without it nothing is written and meshes MuJoCo reads
     are referenced by absolute path. Options as in ``urdftool convert``:
-    *floating_base* ``auto|free|fixed``, *actuators* ``none|motor|position``,
+    *floating_base* ``auto|free|fixed``, *actuators* ``none|position|velocity|motor|auto``,
     *repair_inertia*, *copy_assets*, *scene* (ground plane and light); see
     docs/mjcf.md. Raises :class:`ConversionRefused` with located diagnostics
     (e.g. physically invalid inertia without *repair_inertia*).

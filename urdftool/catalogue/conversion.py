@@ -44,7 +44,7 @@ class ConversionDropped(_Conversion):
     ## Fix
     Nothing to fix in the source when the loss is expected; add the MuJoCo
     equivalent (an `<actuator>`, a `<sensor>`) to the exported model or in a
-    file that includes it. Use `--actuators motor|position` to map
+    file that includes it. Use `--actuators auto` (or `position`, `velocity`, `motor`) to map
     transmissions to actuators.
     """
 

@@ -54,7 +54,8 @@ def _refuse_output(out: str, inputs: Sequence[str]) -> None:
     "--floating-base", type=click.Choice(["auto", "free", "fixed"]), default="auto", show_default=True
 )
 @click.option(
-    "--actuators", type=click.Choice(["none", "motor", "position"]), default="none", show_default=True
+    "--actuators", type=click.Choice(["none", "position", "velocity", "motor", "auto"]), default="none",
+    show_default=True, help="MJCF actuators; auto follows <transmission>/<ros2_control> (docs/mjcf.md)."
 )
 @click.option(
     "--repair-inertia", is_flag=True, help="Repair physically invalid inertia (each change is reported)."

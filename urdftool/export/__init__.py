@@ -53,7 +53,7 @@ class ExportOptions:
 
     #: "auto" | "free" | "fixed"
     floating_base: str = "auto"
-    #: "none" | "motor" | "position"
+    #: "none" | "position" | "velocity" | "motor" | "auto"
     actuators: str = "none"
     repair_inertia: bool = False
     copy_assets: bool = False

@@ -9,13 +9,15 @@ behind the mapping are in ``docs/mjcf.md``; each part lives in its own module:
 * ``mjcf_bodies``: one body per link, joints by type, inertials;
 * ``mjcf_inertia``: validation and ``--repair-inertia``;
 * ``mjcf_geoms`` and ``mjcf_assets``: geoms, mesh assets and conversion;
-* ``mjcf_extras``: actuators, equality constraints, the home keyframe, the scene;
+* ``mjcf_actuators``: actuators and armature;
+* ``mjcf_extras``: equality constraints, the home keyframe, the scene;
 * ``mjcf_dropped``: the loss report (``conversion-dropped``);
 * ``mjcf_verify``: MuJoCo against Pinocchio.
 """
 
 from __future__ import annotations
 
+import dataclasses
 from pathlib import Path
 
 from lxml import etree
@@ -23,13 +25,13 @@ from lxml import etree
 from urdftool.catalogue.syntax import EmptyRobot
 from urdftool.diagnostics import Diagnostic
 from urdftool.export import ExportOptions, ExportResult
+from urdftool.export.mjcf_actuators import write_actuators, write_armature
 from urdftool.export.mjcf_assets import AssetPlan
-from urdftool.export.mjcf_bodies import BodyWriter
+from urdftool.export.mjcf_bodies import BodyWriter, MjJoint
+from urdftool.export.mjcf_contacts import write_excludes
 from urdftool.export.mjcf_dropped import dropped_extensions
 from urdftool.export.mjcf_extras import (
-    actuated_joints,
     loop_sites,
-    write_actuators,
     write_equality,
     write_keyframe,
     write_scene,
@@ -42,7 +44,8 @@ from urdftool.export.mjcf_geoms import (
     GeomWriter,
 )
 from urdftool.export.mjcf_inertia import InertiaPlan
-from urdftool.export.numbers import vec
+from urdftool.export.numbers import num, vec
+from urdftool.export.placement import floor_lift
 from urdftool.model import KinematicTree, Robot
 from urdftool.model.pose import Matrix
 from urdftool.physics.mobility import BasePlan, decide_base
@@ -82,6 +85,8 @@ def build(
     worldbody = etree.SubElement(root, "worldbody")
     geoms = GeomWriter(robot, assets, diagnostics)
     bodies = BodyWriter(robot, tree, base, inertia.inertials, geoms, loop_sites(robot)).write(worldbody)
+    if options.scene and base.kind == "free":
+        place_on_floor(robot, tree, worldbody, bodies.joints)
     for mesh in assets.meshes:
         # Mesh inertia is never used (inertiafromgeom is off), but MuJoCo still computes it;
         # "shell" keeps flat visual meshes (zero volume) from failing the compile.
@@ -94,15 +99,36 @@ def build(
     if len(asset) == 0:
         root.remove(asset)
     write_equality(root, robot, bodies.joints, diagnostics)
-    write_actuators(root, robot, tree, bodies.joints, inertia.inertials, options.actuators)
+    armature = write_armature(worldbody, robot)
+    actuated = write_actuators(root, robot, tree, bodies.joints, inertia.inertials, options.actuators,
+                               armature, free_base=base.kind == "free")
     write_keyframe(root, robot, bodies.joints)
-    actuated = (
-        [mj.name for mj, _, _ in actuated_joints(robot, bodies.joints)] if options.actuators != "none" else []
-    )
+    write_excludes(root, worldbody, out_dir, assets.files)
     diagnostics.extend(dropped_extensions(robot, actuated))
     etree.indent(root, space="  ")
     text = etree.tostring(root, encoding="unicode") + "\n"
     return text, dict(sorted(assets.files.items())), sorted(diagnostics, key=Diagnostic.sort_key)
+
+
+def place_on_floor(robot: Robot, tree: KinematicTree, worldbody: etree._Element,
+                   joints: list[MjJoint]) -> None:
+    """Raise a free root so its lowest collision point is 1 mm above the floor: the body's
+    ``pos`` at the zero configuration (qpos0), the keyframe's at the home stance."""
+    free = next((i for i, mj in enumerate(joints) if mj.kind == "free" and not mj.source), None)
+    body = worldbody.find("body")
+    if free is None or body is None:
+        return
+    followers = {j.name for j in robot.joints if j.mimic is not None}
+    home = {mj.name: mj.home[0] for mj in joints
+            if mj.kind in ("hinge", "slide") and mj.name == mj.source and mj.name not in followers}
+    zero = floor_lift(robot, tree, {})
+    stance = floor_lift(robot, tree, home)
+    if zero:
+        body.set("pos", vec((0.0, 0.0, zero)))
+    x, y, _, *quat = joints[free].home
+    joints[free] = dataclasses.replace(joints[free], home=(x, y, stance, *quat))
+    body.addprevious(etree.Comment(f" placed on the floor: root at z = {num(zero)} m "
+                                   f"(zero pose), {num(stance)} m (home keyframe) "))
 
 
 def _structure(robot: Robot, tree: KinematicTree) -> list[Diagnostic]:

@@ -59,7 +59,7 @@ def _control(ext: Extension, actuated: set[str]) -> Iterator[Diagnostic]:
         return
     name = ext.attributes.get("name", "")
     where = f"{ext.tag}[{name}]" if name else ext.tag
-    reason = ("no actuator carries its joints (use --actuators motor|position)" if not actuated
+    reason = ("no actuator carries its joints (use --actuators auto)" if not actuated
               else f"joints without an actuator: {', '.join(missing) or '(none named)'}")
     yield _drop(f"{where}: {reason}", ext.element, where, reason, ext.span)
 

@@ -1,11 +1,8 @@
-"""Actuators, equality constraints (mimic joints, loop closures), the home keyframe, the scene.
+"""Equality constraints (mimic joints, loop closures), the home keyframe, the scene, and the
+joints that may carry actuators (written by :mod:`urdftool.export.mjcf_actuators`).
 
-Position actuators (``--actuators position``) get ``kp = effort / E`` with E =
-0.1 rad for hinges and 0.01 m for slides (the full effort at that error), and
-``kv = 2 sqrt(kp I)``, critical damping for I, the inertia (kg·m²) or mass (kg)
-the joint moves at the zero configuration. Motors take ``ctrl`` in N·m or N
-within ±effort. Joints without a positive effort get no actuator, nor do mimic
-followers (their equality drives them).
+Joints without a positive effort get no actuator, nor do mimic followers (their
+equality drives them).
 """
 
 from __future__ import annotations
@@ -20,12 +17,9 @@ from urdftool.catalogue.conversion import ConversionDropped
 from urdftool.diagnostics import Diagnostic, Severity
 from urdftool.export.mjcf_bodies import MjJoint, clamp, unit_axis
 from urdftool.export.mjcf_format import pose_attributes
-from urdftool.export.numbers import num, vec
+from urdftool.export.numbers import vec
 from urdftool.model import Inertial, Joint, JointType, KinematicTree, LoopClosure, Robot
 from urdftool.model.pose import Matrix
-
-#: Position error (rad, m) at which a position actuator applies the full effort.
-SATURATION_ERROR = {"hinge": 0.1, "slide": 0.01}
 
 
 def _effort(joint: Joint) -> float | None:
@@ -46,9 +40,11 @@ def actuated_joints(robot: Robot, joints: Sequence[MjJoint]) -> list[tuple[MjJoi
     return out
 
 
-def moved_inertia(tree: KinematicTree, inertials: Mapping[str, Inertial | None], joint: Joint) -> float:
-    """Inertia (kg·m²) about a hinge's axis, or mass (kg) along a slide, of everything it moves at q = 0."""
-    poses = tree.forward_kinematics()
+def moved_inertia(tree: KinematicTree, inertials: Mapping[str, Inertial | None], joint: Joint,
+                  q: Mapping[str, float] | None = None) -> float:
+    """Inertia (kg·m²) about a hinge's axis, or mass (kg) along a slide, of everything it moves
+    at the configuration *q* (zero by default)."""
+    poses = tree.forward_kinematics(dict(q or {}))
     frame = poses[joint.child]
     axis = frame[:3, :3] @ np.asarray(unit_axis(joint))
     anchor = frame[:3, 3]
@@ -67,28 +63,6 @@ def moved_inertia(tree: KinematicTree, inertials: Mapping[str, Inertial | None],
         total += float(axis @ (rot @ inertial.inertia_matrix @ rot.T) @ axis)
         total += inertial.mass * float(perpendicular @ perpendicular)
     return total
-
-
-def write_actuators(root: etree._Element, robot: Robot, tree: KinematicTree, joints: Sequence[MjJoint],
-                    inertials: Mapping[str, Inertial | None], mode: str) -> None:
-    if mode == "none":
-        return
-    actuated = actuated_joints(robot, joints)
-    if not actuated:
-        return
-    section = etree.SubElement(root, "actuator")
-    for mj, source, effort in actuated:
-        if mode == "motor":
-            etree.SubElement(section, "motor", {"name": mj.name, "joint": mj.name,
-                                                "ctrlrange": vec((-effort, effort))})
-            continue
-        kp = effort / SATURATION_ERROR[mj.kind]
-        kv = 2.0 * math.sqrt(kp * moved_inertia(tree, inertials, source))
-        attrs = {"name": mj.name, "joint": mj.name, "kp": num(kp), "kv": num(kv),
-                 "forcerange": vec((-effort, effort))}
-        if mj.range is not None:
-            attrs["ctrlrange"] = vec(mj.range)
-        etree.SubElement(section, "position", attrs)
 
 
 def loop_sites(robot: Robot) -> dict[str, list[dict[str, str]]]:

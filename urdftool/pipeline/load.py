@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from urdftool.parse import Loaded, read
 from urdftool.pipeline.check import CheckOptions
+from urdftool.pipeline.home import with_home
 
 
 class NoSuchModel(ValueError):
@@ -11,11 +12,13 @@ class NoSuchModel(ValueError):
 
 
 def load_models(path: str, options: CheckOptions) -> list[Loaded]:
-    """Every model in *path*, read with the options' xacro arguments and packages.
+    """Every model in *path*, read with the options' xacro arguments and packages, each with its
+    home configuration (from the SRDF beside it when the model gives none).
 
     Raises :class:`~urdftool.parse.InputError` when the file cannot be read at all.
     """
-    return read(path, options.xacro_args, options.resolver())
+    resolver = options.resolver()
+    return [with_home(loaded, resolver) for loaded in read(path, options.xacro_args, resolver)]
 
 
 def load_one(path: str, options: CheckOptions, model: str | None = None) -> Loaded:

@@ -1,0 +1,216 @@
+"""MJCF actuators (``--actuators none|position|velocity|motor|auto``) and joint armature.
+
+Every 1-DOF joint with a positive, finite effort that is not a mimic follower
+gets one actuator named after the joint. ``auto`` picks the kind per joint from
+the source: the command interface of its ``<transmission>``
+(``PositionJointInterface`` → position, ``VelocityJointInterface`` →
+velocity, ``EffortJointInterface`` → motor) or ``<ros2_control>`` joint
+(``<command_interface name="position|velocity|effort">``); wheels (a
+continuous joint of a robot that moves on wheels) get velocity; every other
+joint a position servo, so that an ``auto`` export holds its home pose.
+
+Gains come from the joint's reflected inertia and a target bandwidth:
+
+    I  = inertia about the axis (kg·m²) or mass along it (kg) of everything the
+         joint moves, at the home configuration, plus the joint's armature
+    ω  = 2π · f,  f = :data:`BANDWIDTH_HZ` (10 Hz)
+    G  = g Σ mᵢ rᵢ, the largest gravity torque the joint can meet (rᵢ: distance of
+         each moved link's centre of mass from the axis; for a slide G = g Σ mᵢ)
+         (a free robot adds its whole mass at the farthest point the joint moves:
+         it may stand on that limb)
+    position: kp = max(I ω², G / e) with e = :data:`HOLD_ERROR` (5 mrad, 1 mm),
+              capped at I ω_max² (ω_max = :data:`MAX_OMEGA`, stable at MuJoCo's
+              default 2 ms step); kv = 2 ζ √(kp I) with ζ = 1 (critically damped)
+    velocity: kv = I ω    (first order, time constant 1/ω)
+    motor:    gear 1, ctrlrange = ±effort
+
+``forcerange`` (position, velocity) is ±effort. A joint's armature is the
+rotor inertia reflected through its reduction, ``rotor · reduction²``, when a
+``<transmission>`` gives ``<mechanicalReduction>`` and a rotor inertia
+(``<motorInertia>`` or ``<rotorInertia>`` in its ``<actuator>``).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+
+import numpy as np
+from lxml import etree
+
+from urdftool.export.mjcf_bodies import MjJoint, unit_axis
+from urdftool.export.mjcf_extras import actuated_joints, moved_inertia
+from urdftool.export.numbers import num, vec
+from urdftool.model import Inertial, Joint, JointType, KinematicTree, Robot
+from urdftool.physics.mobility import mobility
+
+#: Target closed-loop bandwidth (Hz) of position and velocity actuators.
+BANDWIDTH_HZ = 10.0
+#: Largest static error (rad, m) a position actuator may leave under gravity.
+HOLD_ERROR = {"hinge": 0.005, "slide": 0.001}
+#: Highest natural frequency (rad/s) a position actuator is given (ω·dt = 0.25 at dt = 2 ms).
+MAX_OMEGA = 125.0
+GRAVITY = 9.81
+#: Damping ratio of position actuators.
+DAMPING_RATIO = 1.0
+#: Floor (kg·m² or kg) under the reflected inertia, so a joint moving nothing still gets kp > 0.
+MIN_INERTIA = 1e-6
+MODES = ("none", "position", "velocity", "motor", "auto")
+_INTERFACES = {"position": "position", "velocity": "velocity", "effort": "motor"}
+
+
+@dataclass(frozen=True)
+class Drive:
+    """What the source says about one joint's actuation."""
+
+    interface: str | None = None  # "position" | "velocity" | "motor"
+    reduction: float | None = None
+    rotor_inertia: float | None = None
+
+    @property
+    def armature(self) -> float | None:
+        if self.rotor_inertia is None or self.rotor_inertia <= 0:
+            return None
+        reduction = self.reduction if self.reduction is not None else 1.0
+        return self.rotor_inertia * reduction * reduction
+
+
+def _local(tag: object) -> str:
+    return tag.split("}")[-1] if isinstance(tag, str) else ""
+
+
+def _number(element: etree._Element, *names: str) -> float | None:
+    for child in element.iter():
+        if _local(child.tag) in names and child.text:
+            try:
+                value = float(child.text.strip())
+            except ValueError:
+                continue
+            if math.isfinite(value):
+                return value
+    return None
+
+
+def _interface(text: str) -> str | None:
+    lower = text.lower()
+    for word, kind in _INTERFACES.items():
+        if word in lower:
+            return kind
+    return None
+
+
+def drives(robot: Robot) -> dict[str, Drive]:
+    """Per joint name: its command interface, reduction and rotor inertia from the source."""
+    found: dict[str, Drive] = {}
+    for ext in robot.extensions:
+        if ext.element is None:
+            continue
+        if ext.tag == "transmission":
+            actuator = next((c for c in ext.element.iter() if _local(c.tag) == "actuator"), None)
+            reduction = _number(actuator, "mechanicalReduction") if actuator is not None else None
+            rotor = _number(actuator, "motorInertia", "rotorInertia") if actuator is not None else None
+            for joint in ext.element.iter():
+                if _local(joint.tag) != "joint" or not joint.get("name"):
+                    continue
+                words = " ".join(c.text or "" for c in ext.element.iter()
+                                 if _local(c.tag) == "hardwareInterface")
+                found[joint.get("name", "")] = Drive(_interface(words), reduction, rotor)
+        elif ext.tag == "ros2_control":
+            for joint in ext.element.iter():
+                if _local(joint.tag) != "joint" or not joint.get("name"):
+                    continue
+                commands = [c.get("name", "") for c in joint if _local(c.tag) == "command_interface"]
+                kinds = [_INTERFACES[c] for c in commands if c in _INTERFACES]
+                previous = found.get(joint.get("name", ""), Drive())
+                found[joint.get("name", "")] = Drive(kinds[0] if kinds else previous.interface,
+                                                     previous.reduction, previous.rotor_inertia)
+    return found
+
+
+def _is_wheel(robot: Robot, name: str, moves_on_wheels: bool) -> bool:
+    joint = robot.joint(name)
+    if joint is None or joint.type is not JointType.CONTINUOUS:
+        return False
+    return moves_on_wheels or "wheel" in f"{joint.name} {joint.child}".lower()
+
+
+def gravity_moment(tree: KinematicTree, inertials: Mapping[str, Inertial | None], joint: Joint,
+                   q: Mapping[str, float], carried: float = 0.0) -> float:
+    """The largest gravity torque (N·m) or force (N) on *joint* from what it moves, over all
+    orientations: g Σ mᵢ rᵢ for a hinge (rᵢ from the axis), g Σ mᵢ for a slide; plus a mass
+    *carried* at the farthest link origin it moves (a free robot standing on that limb)."""
+    poses = tree.forward_kinematics(dict(q))
+    frame = poses[joint.child]
+    axis = frame[:3, :3] @ np.asarray(unit_axis(joint))
+    anchor = frame[:3, 3]
+    total = 0.0
+    reach = 0.0
+    for _, link, _ in tree.walk(joint.child):
+        tip = poses[link.name][:3, 3] - anchor
+        reach = max(reach, float(np.linalg.norm(tip - float(tip @ axis) * axis)))
+        inertial = inertials.get(link.name)
+        if inertial is None:
+            continue
+        if joint.type is JointType.PRISMATIC:
+            total += inertial.mass
+            continue
+        offset = (poses[link.name] @ inertial.origin.matrix)[:3, 3] - anchor
+        total += inertial.mass * float(np.linalg.norm(offset - float(offset @ axis) * axis))
+    if carried:
+        total += carried * (1.0 if joint.type is JointType.PRISMATIC else reach)
+    return GRAVITY * total
+
+
+def write_armature(body_root: etree._Element, robot: Robot) -> dict[str, float]:
+    """Set ``armature`` on joints whose transmission gives a rotor inertia; returns them."""
+    armature = {name: d.armature for name, d in drives(robot).items() if d.armature is not None}
+    if not armature:
+        return {}
+    for element in body_root.iter("joint"):
+        value = armature.get(element.get("name", ""))
+        if value is not None:
+            element.set("armature", num(value))
+    return {k: v for k, v in armature.items() if v is not None}
+
+
+def write_actuators(root: etree._Element, robot: Robot, tree: KinematicTree, joints: Sequence[MjJoint],
+                    inertials: Mapping[str, Inertial | None], mode: str,
+                    armature: Mapping[str, float], free_base: bool = False) -> list[str]:
+    """The ``<actuator>`` section for *mode*; returns the actuated joint names."""
+    if mode == "none":
+        return []
+    actuated = actuated_joints(robot, joints)
+    if not actuated:
+        return []
+    source = drives(robot) if mode == "auto" else {}
+    wheels = (mobility(robot, tree) or "") == "wheels"
+    home = dict(robot.home or {})
+    section = etree.SubElement(root, "actuator")
+    omega = 2 * math.pi * BANDWIDTH_HZ
+    # a free robot stands on its limbs: each joint may carry the whole robot at its tip
+    carried = sum(i.mass for i in inertials.values() if i is not None) if free_base else 0.0
+    names = []
+    for mj, joint, effort in actuated:
+        kind = mode
+        if mode == "auto":
+            declared = source.get(joint.name, Drive()).interface
+            kind = declared or ("velocity" if _is_wheel(robot, joint.name, wheels) else "position")
+        reflected = moved_inertia(tree, inertials, joint, home) + armature.get(joint.name, 0.0)
+        inertia = max(MIN_INERTIA, reflected)
+        force = vec((-effort, effort))
+        names.append(mj.name)
+        if kind == "motor":
+            etree.SubElement(section, "motor", {"name": mj.name, "joint": mj.name, "ctrlrange": force})
+        elif kind == "velocity":
+            etree.SubElement(section, "velocity", {"name": mj.name, "joint": mj.name,
+                                                   "kv": num(inertia * omega), "forcerange": force})
+        else:
+            hold = gravity_moment(tree, inertials, joint, home, carried) / HOLD_ERROR[mj.kind]
+            kp = min(max(inertia * omega * omega, hold), inertia * MAX_OMEGA * MAX_OMEGA)
+            attrs = {"name": mj.name, "joint": mj.name, "kp": num(kp),
+                     "kv": num(2 * DAMPING_RATIO * math.sqrt(kp * inertia)), "forcerange": force}
+            if mj.range is not None:
+                attrs["ctrlrange"] = vec(mj.range)
+            etree.SubElement(section, "position", attrs)
+    return names
