@@ -40,13 +40,20 @@ def test_recall_slice_does_not_regress() -> None:
             drops.append(f"{cls}: no longer planted")
             continue
         if new["found"] * old["mutants"] < old["found"] * new["mutants"]:
-            drops.append(f"{cls}: found {new['found']}/{new['mutants']}, recorded {old['found']}/{old['mutants']}")
+            drops.append(
+                f"{cls}: found {new['found']}/{new['mutants']}, recorded {old['found']}/{old['mutants']}"
+            )
         if new["located"] * old["mutants"] < old["located"] * new["mutants"]:
-            drops.append(f"{cls}: located {new['located']}/{new['mutants']}, "
-                         f"recorded {old['located']}/{old['mutants']}")
+            drops.append(
+                f"{cls}: located {new['located']}/{new['mutants']}, "
+                f"recorded {old['located']}/{old['mutants']}"
+            )
         if new["noisy"] > old["noisy"]:
             drops.append(f"{cls}: {new['noisy']} noisy twins, recorded {old['noisy']}")
-    assert not drops, "recall regressed (rerun benchmarks/recall/run.py --misses to see the mutants):\n" + "\n".join(drops)
+    assert not drops, (
+        "recall regressed (rerun benchmarks/recall/run.py --misses to see the mutants):\n"
+        + "\n".join(drops)
+    )
     assert now["overall"]["recall"] >= recorded["overall"]["recall"] - 1e-9
     assert now["overall"]["located"] >= recorded["overall"]["located"] - 1e-9
     assert now["overall"]["noisy_twins"] <= recorded["overall"]["noisy_twins"]

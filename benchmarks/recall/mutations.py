@@ -36,7 +36,9 @@ def _moving_joints(root: etree._Element) -> list[etree._Element]:
     return [j for j in root.findall("joint") if j.get("type") in ("revolute", "prismatic", "continuous")]
 
 
-def _line_sub(text: str, line: int, pattern: str, repl: str | Callable[[re.Match[str]], str]) -> Mutant | None:
+def _line_sub(
+    text: str, line: int, pattern: str, repl: str | Callable[[re.Match[str]], str]
+) -> Mutant | None:
     """*text* with the first match of *pattern* on 1-based *line* replaced, or None."""
     lines = text.split("\n")
     new, n = re.subn(pattern, repl, lines[line - 1], count=1)
@@ -46,7 +48,9 @@ def _line_sub(text: str, line: int, pattern: str, repl: str | Callable[[re.Match
     return "\n".join(lines), line
 
 
-def _first(candidates: list[etree._Element], edit: Callable[[etree._Element], Mutant | None]) -> Mutant | None:
+def _first(
+    candidates: list[etree._Element], edit: Callable[[etree._Element], Mutant | None]
+) -> Mutant | None:
     for element in candidates:
         result = edit(element)
         if result is not None:
@@ -54,7 +58,9 @@ def _first(candidates: list[etree._Element], edit: Callable[[etree._Element], Mu
     return None
 
 
-def _removed(text: str, root: etree._Element, victims: list[etree._Element], anchor_xpath: str) -> Mutant | None:
+def _removed(
+    text: str, root: etree._Element, victims: list[etree._Element], anchor_xpath: str
+) -> Mutant | None:
     """The document without *victims*; the planted line is where *anchor_xpath* sits in the mutant."""
     for victim in victims:
         parent = victim.getparent()
@@ -76,7 +82,12 @@ def _set_attr(text: str, element: etree._Element, attr: str, value: Callable[[st
     if old is None:
         return None
     pattern = rf'(\b{attr}\s*=\s*)(["\']){re.escape(old)}\2'
-    return _line_sub(text, int(element.sourceline), pattern, lambda m: f"{m.group(1)}{m.group(2)}{value(old)}{m.group(2)}")
+    return _line_sub(
+        text,
+        int(element.sourceline),
+        pattern,
+        lambda m: f"{m.group(1)}{m.group(2)}{value(old)}{m.group(2)}",
+    )
 
 
 def _num(value: str) -> float | None:
@@ -196,9 +207,15 @@ def negative_or_zero_mass(text: str) -> Mutant | None:
     root = _tree(text)
     if root is None:
         return None
-    masses = [link.find("inertial/mass") for link in root.findall("link") if link.find("inertial/mass") is not None]
-    return _first([m for m in masses if (_num(m.get("value", "")) or 0) > 0],
-                  lambda m: _set_attr(text, m, "value", lambda v: f"{-float(v):.6g}"))
+    masses = [
+        link.find("inertial/mass")
+        for link in root.findall("link")
+        if link.find("inertial/mass") is not None
+    ]
+    return _first(
+        [m for m in masses if (_num(m.get("value", "")) or 0) > 0],
+        lambda m: _set_attr(text, m, "value", lambda v: f"{-float(v):.6g}"),
+    )
 
 
 def extreme_mass_ratio(text: str) -> Mutant | None:
@@ -212,8 +229,10 @@ def extreme_mass_ratio(text: str) -> Mutant | None:
     inertias = _inertias(root)
     if not inertias:
         return None
-    links = sorted((i.getparent().getparent() for i in inertias),
-                   key=lambda link: -(_num(link.find("inertial/mass").get("value", "")) or 0))
+    links = sorted(
+        (i.getparent().getparent() for i in inertias),
+        key=lambda link: -(_num(link.find("inertial/mass").get("value", "")) or 0),
+    )
     for link in links:
         mass = link.find("inertial/mass")
         result = _set_attr(text, mass, "value", lambda v: f"{float(v) * 1e4:.6g}")
@@ -239,16 +258,24 @@ def root_link_inertia_kdl(text: str) -> Mutant | None:
     lines = text.split("\n")
     if "/>" in lines[line - 1] or not re.search(r"<link\b[^>]*>\s*$", lines[line - 1]):
         return None
-    lines[line - 1] += ('<inertial><mass value="2.0"/>'
-                        '<inertia ixx="0.01" ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0.01"/></inertial>')
+    lines[line - 1] += (
+        '<inertial><mass value="2.0"/>'
+        '<inertia ixx="0.01" ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0.01"/></inertial>'
+    )
     return "\n".join(lines), line
 
 
 # --- joints ------------------------------------------------------------------------------
 
 
-def _limits(root: etree._Element, types: tuple[str, ...] = ("revolute", "prismatic")) -> list[etree._Element]:
-    return [j.find("limit") for j in root.findall("joint") if j.get("type") in types and j.find("limit") is not None]
+def _limits(
+    root: etree._Element, types: tuple[str, ...] = ("revolute", "prismatic")
+) -> list[etree._Element]:
+    return [
+        j.find("limit")
+        for j in root.findall("joint")
+        if j.get("type") in types and j.find("limit") is not None
+    ]
 
 
 def zero_effort_limit(text: str) -> Mutant | None:
@@ -258,8 +285,10 @@ def zero_effort_limit(text: str) -> Mutant | None:
     root = _tree(text)
     if root is None:
         return None
-    return _first([lim for lim in _limits(root) if (_num(lim.get("effort", "")) or 0) > 0],
-                  lambda lim: _set_attr(text, lim, "effort", lambda _: "0"))
+    return _first(
+        [lim for lim in _limits(root) if (_num(lim.get("effort", "")) or 0) > 0],
+        lambda lim: _set_attr(text, lim, "effort", lambda _: "0"),
+    )
 
 
 def missing_joint_limit(text: str) -> Mutant | None:
@@ -362,7 +391,9 @@ def closed_chain_in_urdf(text: str) -> Mutant | None:
     root = _tree(text)
     if root is None:
         return None
-    joints = [j for j in root.findall("joint") if j.find("child") is not None and j.find("parent") is not None]
+    joints = [
+        j for j in root.findall("joint") if j.find("child") is not None and j.find("parent") is not None
+    ]
     if len(joints) < 2:
         return None
     first, last = joints[0], joints[-1]
@@ -372,8 +403,10 @@ def closed_chain_in_urdf(text: str) -> Mutant | None:
         return None
     line = int(last.sourceline)
     lines = text.split("\n")
-    lines[line - 1] = (f'<joint name="planted_loop" type="fixed"><parent link="{parent}"/>'
-                       f'<child link="{child}"/></joint>' + lines[line - 1])
+    lines[line - 1] = (
+        f'<joint name="planted_loop" type="fixed"><parent link="{parent}"/>'
+        f'<child link="{child}"/></joint>' + lines[line - 1]
+    )
     return "\n".join(lines), line
 
 
@@ -404,8 +437,9 @@ def missing_geometry_element(text: str) -> Mutant | None:
         geometry = collision.find("geometry")
         if geometry is not None:
             link = collision.getparent()
-            return _removed(text, root, [geometry],
-                            f"/robot/link[@name='{link.get('name')}']/collision[not(geometry)]")
+            return _removed(
+                text, root, [geometry], f"/robot/link[@name='{link.get('name')}']/collision[not(geometry)]"
+            )
     return None
 
 
@@ -430,8 +464,10 @@ def xml_malformed(text: str) -> Mutant | None:
     root = _tree(text)
     if root is None:
         return None
-    return _first(root.findall("joint"),
-                  lambda j: _line_sub(text, int(j.sourceline), r'(<joint\b)', r'\1 name="planted"'))
+    return _first(
+        root.findall("joint"),
+        lambda j: _line_sub(text, int(j.sourceline), r"(<joint\b)", r'\1 name="planted"'),
+    )
 
 
 # --- meshes ------------------------------------------------------------------------------
@@ -474,7 +510,9 @@ def mesh_units_wrong(text: str) -> Mutant | None:
             values = [_num(v) for v in scale.split()]
             if len(values) != 3 or any(v is None for v in values):
                 return None
-            return _set_attr(text, mesh, "scale", lambda _: " ".join(f"{(v or 0) * 1000:g}" for v in values))
+            return _set_attr(
+                text, mesh, "scale", lambda _: " ".join(f"{(v or 0) * 1000:g}" for v in values)
+            )
         return _line_sub(text, int(mesh.sourceline), r"<mesh\b", '<mesh scale="1000 1000 1000"')
 
     return _first(_meshes(root), edit)
@@ -522,11 +560,15 @@ MUTATIONS: dict[str, Mutation] = {
 
 #: classes with a rule that the harness does not plant yet, and why
 NOT_PLANTED: dict[str, str] = {
-    "mesh-format-not-accepted": "M004 reads the mesh file's header; planting needs a mesh file of a refused format, "
-                                "which a mutation of the robot's text cannot create (mesh_format_not_accepted is kept "
-                                "for when the harness writes meshes)",
-    "fixed-joint-lumping-loses-frame": "needs a Gazebo plugin naming a joint; none of the URDF corpus has one",
-    "drive-geometry-mismatch": "needs a diff-drive plugin; only the xacro seeds have one (xacro planting not built yet)",
+    "mesh-format-not-accepted": (
+        "M004 reads the mesh file's header; planting needs a mesh file of a refused format, "
+        "which a mutation of the robot's text cannot create (mesh_format_not_accepted is kept "
+        "for when the harness writes meshes)"
+    ),
+    "fixed-joint-lumping-loses-frame": "needs a Gazebo plugin naming a joint; no URDF of the corpus has one",
+    "drive-geometry-mismatch": (
+        "needs a diff-drive plugin; only the xacro seeds have one (xacro planting not built yet)"
+    ),
     "xacro-expansion-error": "xacro only; xacro planting not built yet",
     "macros-only-description": "xacro only; xacro planting not built yet",
     "overlapping-collision-geometry": "caught by the simulation rule R002; too slow for the harness",
