@@ -242,10 +242,10 @@ def extreme_mass_ratio(text: str) -> Mutant | None:
 
 
 def root_link_inertia_kdl(text: str) -> Mutant | None:
-    """Give the root link an <inertial> when it has none and its children are fixed-free.
+    """Give the root link an <inertial> when it has none (a mobile base's mass put on the root).
 
-    KDL (robot_state_publisher, gazebo_ros) ignores the inertia of the root link and warns:
-    the mass the author wrote never reaches the simulation."""
+    KDL (robot_state_publisher, gazebo_ros, MoveIt's KDL solvers) ignores the inertia of the
+    root link and warns: the mass the author wrote never reaches KDL's dynamics."""
     root = _tree(text)
     if root is None:
         return None
@@ -254,14 +254,19 @@ def root_link_inertia_kdl(text: str) -> Mutant | None:
     if len(roots) != 1 or roots[0].find("inertial") is not None:
         return None
     link = roots[0]
-    line = int(link.sourceline)
-    lines = text.split("\n")
-    if "/>" in lines[line - 1] or not re.search(r"<link\b[^>]*>\s*$", lines[line - 1]):
-        return None
-    lines[line - 1] += (
+    inertial = (
         '<inertial><mass value="2.0"/>'
         '<inertia ixx="0.01" ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0.01"/></inertial>'
     )
+    line = int(link.sourceline)
+    lines = text.split("\n")
+    if re.search(r"<link\b[^>]*/>", lines[line - 1]) and len(link) == 0:
+        lines[line - 1] = re.sub(r"(<link\b[^>]*?)\s*/>", lambda m: f"{m.group(1)}>{inertial}</link>",
+                                 lines[line - 1], count=1)
+    elif re.search(r"<link\b[^>]*>\s*$", lines[line - 1]):
+        lines[line - 1] += inertial
+    else:
+        return None
     return "\n".join(lines), line
 
 
