@@ -132,6 +132,7 @@ class Counts:
     twins: int = 0
     noisy: int = 0
     misses: list[str] = field(default_factory=list)
+    noisy_models: set[str] = field(default_factory=set)
 
 
 def run_model(args: tuple[str, str | None, tuple[str, ...], int]) -> list[dict[str, Any]]:
@@ -212,6 +213,8 @@ def measure(
         k.located += row["located"]
         k.twins += 1
         k.noisy += row["noisy"]
+        if row["noisy"]:
+            k.noisy_models.add(Path(row["model"]).name)
         if not row["located"]:
             model = row["model"]
             shown = os.path.relpath(model, ROOT) if model.startswith(str(ROOT)) else Path(model).name
@@ -255,7 +258,16 @@ def table(counts: dict[str, Counts]) -> str:
         f"| **all** | | {t['mutants']} | {100 * t['recall']:.1f} % | {100 * t['located']:.1f} % "
         f"| {t['noisy_twins']} |",
         "",
-        "A twin is noisy when the class's rule reports an error or a warning on the unmutated model.",
+        "A twin is noisy when the class's rule reports an error or a warning on the unmutated model;",
+        "the column counts mutants whose twin is noisy. The noisy models, by rule (to review: a true",
+        "defect of the real model, or a false alarm to fix in the rule):",
+        "",
+        *sorted({
+            f"- {codes[cls]}: {len(k.noisy_models)} models ({', '.join(sorted(k.noisy_models)[:8])}"
+            f"{', …' if len(k.noisy_models) > 8 else ''})"
+            for cls, k in counts.items()
+            if k.noisy_models
+        }),
         "",
         "## Classes with a rule that are not planted yet",
         "",
