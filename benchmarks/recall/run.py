@@ -1,0 +1,321 @@
+"""Planted-defect harness: how many of the catalogue's defects urdftool finds, and where.
+
+For every class of docs/defects/catalogue.yaml that has a rule and a mutation in
+mutations.py, the defect is planted into each real model it applies to (example-robot-data,
+pybullet_data, the URDFs of fixtures/seeds). Each mutant and its unmutated twin are checked
+in-process with the class's rule and counted:
+
+- found: the class's rule reports a finding on the mutant that it does not report on the twin;
+- located: one of those findings is at the planted line of the mutant;
+- noise: the rule reports an error or a warning on the unmutated twin.
+
+    python benchmarks/recall/run.py                       # print the table
+    python benchmarks/recall/run.py --write docs/recall.md  # and record it (+ recorded.json)
+    python benchmarks/recall/run.py --per-class 12        # the CI slice's sample
+"""
+
+from __future__ import annotations
+
+import argparse
+import collections
+import json
+import os
+import shutil
+import sys
+import tempfile
+from collections.abc import Iterable
+from concurrent.futures import ProcessPoolExecutor
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import yaml
+
+HERE = Path(__file__).resolve().parent
+ROOT = HERE.parents[1]
+sys.path.insert(0, str(ROOT))
+sys.path.insert(0, str(HERE))
+
+from mutations import MUTATIONS, NOT_PLANTED, _tree  # noqa: E402
+
+from urdftool.diagnostics import Severity  # noqa: E402
+from urdftool.parse import InputError  # noqa: E402
+from urdftool.pipeline.check import CheckOptions, check_file  # noqa: E402
+
+CATALOGUE = ROOT / "docs" / "defects" / "catalogue.yaml"
+RECORDED = HERE / "recorded.json"
+
+
+def rule_codes() -> dict[str, str]:
+    """class id -> code of its existing rule, for the statically visible classes that have one."""
+    classes = yaml.safe_load(CATALOGUE.read_text())["classes"]
+    return {
+        c["id"]: c["existing_rule"].split()[0]
+        for c in classes
+        if c.get("existing_rule") and c["visible_in_files"].get("visible")
+    }
+
+
+def unruled() -> list[str]:
+    classes = yaml.safe_load(CATALOGUE.read_text())["classes"]
+    return [c["id"] for c in classes if not c.get("existing_rule") and c["visible_in_files"].get("visible")]
+
+
+def corpus() -> list[tuple[str, Path | None]]:
+    """(model path, folder that package:// URIs of example-robot-data resolve to)."""
+
+    sys.path.insert(0, str(ROOT / "tests"))
+    from conftest import ERD, erd_urdfs, pybullet_robots
+
+    out: list[tuple[str, Path | None]] = [(p, ERD.parent if ERD else None) for p in erd_urdfs()]
+    out += [(p, None) for p in pybullet_robots()]
+    out += [(str(p), None) for p in sorted((ROOT / "fixtures" / "seeds").rglob("*.urdf"))]
+
+    return out
+
+
+def _mirror(original: str, work: Path) -> Path:
+    """A folder in *work* that shows the original's folder and its parent's entries (for relative meshes)."""
+    src = Path(original).resolve().parent
+    top = work / "p"
+    here = top / "d"
+    here.mkdir(parents=True)
+    for entry in src.parent.iterdir():
+        if entry != src:
+            (top / entry.name).symlink_to(entry)
+    for entry in src.iterdir():
+        if entry.is_file() and entry.suffix.lower() in (".urdf", ".xacro", ".srdf", ".sdf"):
+            continue
+        (here / entry.name).symlink_to(entry)
+    return here
+
+
+def _findings(
+    path: Path, codes: Iterable[str], packages: dict[str, str]
+) -> list[tuple[str, str, int | None, str]]:
+    options = CheckOptions(
+        select=tuple(codes), rule_options={"dynamics": False}, packages=packages, discover_srdf=False
+    )
+    try:
+        reports = check_file(str(path), options)
+    except InputError:
+        return []
+    out = []
+    for report in reports:
+        for d in report.diagnostics:
+            line = d.location.line if d.location and os.path.samefile(d.location.path, path) else None
+            out.append((d.code, d.message, line, d.severity.value))
+    return out
+
+
+def accepted_lines(mutated: str, line: int) -> set[int]:
+    """Lines where a finding counts as located: the planted line, the rest of the element that
+    starts there (a <limit> inside the planted <joint>) and the opening lines of its ancestors
+    (the <link> whose <mass> was planted); never the <robot> line unless that was planted."""
+    lines = {line}
+    root = _tree(mutated)
+    if root is None:
+        return lines
+    element = next((e for e in root.iter() if isinstance(e.tag, str) and e.sourceline == line), None)
+    if element is None:
+        return lines
+    lines.update(int(e.sourceline) for e in element.iter() if isinstance(e.tag, str) and e.sourceline)
+    lines.update(int(a.sourceline) for a in element.iterancestors() if a.getparent() is not None)
+    return lines
+
+
+@dataclass
+class Counts:
+    mutants: int = 0
+    found: int = 0
+    located: int = 0
+    twins: int = 0
+    noisy: int = 0
+    misses: list[str] = field(default_factory=list)
+    noisy_models: set[str] = field(default_factory=set)
+
+
+def run_model(args: tuple[str, str | None, tuple[str, ...], int]) -> list[dict[str, Any]]:
+    """Every mutant of one model: [{class, found, located, noisy}]."""
+    path, erd, classes, _ = args
+    codes = rule_codes()
+    text = Path(path).read_text(errors="replace")
+    packages = {"example-robot-data": erd} if erd else {}
+    results = []
+    with tempfile.TemporaryDirectory(prefix="recall-") as tmp:
+        folder = _mirror(path, Path(tmp))
+        name = Path(path).name
+        twin = folder / name
+        twin.write_text(text)
+        wanted = sorted({codes[c] for c in classes})
+        twin_findings = _findings(twin, wanted, packages)
+        mutant = folder / ("planted_" + name)
+        for cls in classes:
+            planted = MUTATIONS[cls](text)
+            if planted is None or planted[0] == text:
+                continue
+            mutated, line = planted
+            code = codes[cls]
+            mutant.write_text(mutated)
+            before = collections.Counter((c, m) for c, m, _, _ in twin_findings if c == code)
+            new = []
+            for c, m, at, _ in _findings(mutant, [code], packages):
+                if c != code:
+                    continue
+                if before[(c, m)]:
+                    before[(c, m)] -= 1
+                else:
+                    new.append(at)
+            noisy = any(
+                c == code and sev in (Severity.ERROR.value, Severity.WARNING.value)
+                for c, _, _, sev in twin_findings
+            )
+            results.append(
+                {
+                    "class": cls,
+                    "model": path,
+                    "found": bool(new),
+                    "located": bool(accepted_lines(mutated, line) & set(new)),
+                    "noisy": noisy,
+                    "line": line,
+                }
+            )
+        shutil.rmtree(folder.parent, ignore_errors=True)
+    return results
+
+
+#: the CI slice (tests/test_recall.py) plants into every SLICE_STRIDE-th model of the corpus
+SLICE_STRIDE = 4
+
+
+def measure(
+    per_class: int | None = None, jobs: int = 2, classes: Iterable[str] | None = None, stride: int = 1
+) -> dict[str, Counts]:
+    codes = rule_codes()
+    chosen = tuple(c for c in (classes or MUTATIONS) if c in codes)
+    models = corpus()[::stride]
+    work = [(p, str(erd) if erd else None, chosen, i) for i, (p, erd) in enumerate(models)]
+    if jobs > 1:
+        with ProcessPoolExecutor(jobs) as pool:
+            rows = [r for part in pool.map(run_model, work, chunksize=4) for r in part]
+    else:
+        rows = [r for w in work for r in run_model(w)]
+    counts: dict[str, Counts] = {c: Counts() for c in chosen}
+    taken: collections.Counter[str] = collections.Counter()
+    for row in rows:
+        cls = row["class"]
+        if per_class is not None and taken[cls] >= per_class:
+            continue
+        taken[cls] += 1
+        k = counts[cls]
+        k.mutants += 1
+        k.found += row["found"]
+        k.located += row["located"]
+        k.twins += 1
+        k.noisy += row["noisy"]
+        if row["noisy"]:
+            k.noisy_models.add(Path(row["model"]).name)
+        if not row["located"]:
+            model = row["model"]
+            shown = os.path.relpath(model, ROOT) if model.startswith(str(ROOT)) else Path(model).name
+            k.misses.append(f"{shown}:{row['line']}")
+    return counts
+
+
+def totals(counts: dict[str, Counts]) -> dict[str, float]:
+    mutants = sum(k.mutants for k in counts.values())
+    return {
+        "mutants": mutants,
+        "recall": sum(k.found for k in counts.values()) / mutants if mutants else 0.0,
+        "located": sum(k.located for k in counts.values()) / mutants if mutants else 0.0,
+        "noisy_twins": sum(k.noisy for k in counts.values()),
+    }
+
+
+def pct(a: int, b: int) -> str:
+    return f"{100 * a / b:.0f} %" if b else "–"
+
+
+def table(counts: dict[str, Counts]) -> str:
+    codes = rule_codes()
+    lines = [
+        "# Recall on planted defects",
+        "",
+        "Generated by `python benchmarks/recall/run.py --write docs/recall.md`; do not edit by hand.",
+        "How a class is measured: "
+        "[docs/defects/README.md](defects/README.md#how-the-recall-harness-measures-a-class).",
+        "",
+        "| class | rule | mutants | found | located | noisy twins |",
+        "|---|---|---:|---:|---:|---:|",
+    ]
+    for cls, k in sorted(counts.items()):
+        lines.append(
+            f"| [{cls}](defects/{cls}.md) | {codes[cls]} | {k.mutants} | {pct(k.found, k.mutants)} "
+            f"| {pct(k.located, k.mutants)} | {k.noisy} |"
+        )
+    t = totals(counts)
+    lines += [
+        f"| **all** | | {t['mutants']} | {100 * t['recall']:.1f} % | {100 * t['located']:.1f} % "
+        f"| {t['noisy_twins']} |",
+        "",
+        "A twin is noisy when the class's rule reports an error or a warning on the unmutated model;",
+        "the column counts mutants whose twin is noisy. The noisy models, by rule (to review: a true",
+        "defect of the real model, or a false alarm to fix in the rule):",
+        "",
+        *sorted({
+            f"- {codes[cls]}: {len(k.noisy_models)} models ({', '.join(sorted(k.noisy_models)[:8])}"
+            f"{', …' if len(k.noisy_models) > 8 else ''})"
+            for cls, k in counts.items()
+            if k.noisy_models
+        }),
+        "",
+        "## Classes with a rule that are not planted yet",
+        "",
+        *[f"- {c}: {why}" for c, why in sorted(NOT_PLANTED.items())],
+        "",
+        "## Statically visible classes with no rule yet",
+        "",
+        *[f"- [{c}](defects/{c}.md)" for c in unruled()],
+        "",
+    ]
+    return "\n".join(lines)
+
+
+def figures(counts: dict[str, Counts]) -> dict[str, Any]:
+    return {
+        "overall": totals(counts),
+        "classes": {
+            c: {"mutants": k.mutants, "found": k.found, "located": k.located, "noisy": k.noisy}
+            for c, k in sorted(counts.items())
+        },
+    }
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(
+        description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter
+    )
+    parser.add_argument(
+        "--write", metavar="MD", help="write the table there and the figures to recorded.json"
+    )
+    parser.add_argument("--per-class", type=int, default=None, help="at most this many mutants per class")
+    parser.add_argument("--jobs", type=int, default=2)
+    parser.add_argument("--misses", action="store_true", help="list the mutants not found at their line")
+    args = parser.parse_args(argv)
+    counts = measure(args.per_class, args.jobs)
+    text = table(counts)
+    print(text)
+    if args.misses:
+        for cls, k in sorted(counts.items()):
+            for miss in k.misses:
+                print(f"miss {cls} {miss}")
+    if args.write:
+        Path(args.write).write_text(text)
+        ci = measure(jobs=args.jobs, stride=SLICE_STRIDE)
+        record = {"full": figures(counts), "slice": {"stride": SLICE_STRIDE, **figures(ci)}}
+        RECORDED.write_text(json.dumps(record, indent=2) + "\n")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
