@@ -63,8 +63,13 @@ def test_a_reformatted_reordered_file_diffs_as_empty(tmp_path: Path) -> None:
             element.attrib.clear()
             for key, value in items:
                 element.set(key, value)
-    copy = tmp_path / "panda.urdf"
+    # Beside its SRDF, as the original is: the SRDF's stance is part of the robot both sides load.
+    copy = tmp_path / "urdf" / "panda.urdf"
+    copy.parent.mkdir()
     copy.write_bytes(etree.tostring(root, pretty_print=True, xml_declaration=True, encoding="utf-8"))
+    (tmp_path / "srdf").mkdir()
+    srdf = PANDA.parent.parent / "srdf" / "panda.srdf"
+    (tmp_path / "srdf" / "panda.srdf").write_bytes(srdf.read_bytes())
     assert copy.read_bytes() != PANDA.read_bytes()
     assert urdftool.diff(PANDA, copy).empty
 

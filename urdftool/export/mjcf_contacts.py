@@ -20,12 +20,17 @@ carry collision geoms:
 
 from __future__ import annotations
 
+import copy as copy_module
 import itertools
 from pathlib import Path
 
 from lxml import etree
 
 from urdftool.safe_files import read_regular
+
+#: A welded group with more colliding bodies than this gets no pairwise excludes (their number
+#: grows as the square: a 5,000-link chain of fixed joints would need 12.5 million).
+MAX_GROUP_BODIES = 64
 
 #: Name of the floor geom written by ``--scene`` (never excluded).
 FLOOR = "floor"
@@ -71,7 +76,10 @@ def structural_pairs(worldbody: etree._Element) -> list[tuple[str, str]]:
             pairs.append((_name(a), _name(b)))
 
     for members in groups.values():
-        for a, b in itertools.combinations(members, 2):
+        colliding = [m for m in members if _collides(m)]
+        if len(colliding) > MAX_GROUP_BODIES:
+            continue  # quadratic in the group: MuJoCo's own parent-child filter has to do
+        for a, b in itertools.combinations(colliding, 2):
             add(a, b)
     for child_id, above in parent_group.items():
         below = next(m for m in groups[child_id] if id(m) == child_id)
@@ -89,7 +97,7 @@ def touching_pairs(root: etree._Element, out_dir: Path | None,
         import mujoco
     except ImportError:
         return []
-    copy = etree.fromstring(etree.tostring(root))
+    copy = copy_module.deepcopy(root)  # not a text round trip: lxml caps parsed depth at 256
     assets: dict[str, bytes] = {}
     for i, mesh in enumerate(copy.iter("mesh")):
         file = mesh.get("file")
