@@ -41,6 +41,7 @@ class Family(enum.Enum):
     DYNAMICS = ("D", "dynamics")
     RUNTIME = ("R", "runtime")
     CONVERSION = ("C", "conversion")
+    TARGETS = ("T", "consumers (check --target)")
 
     @property
     def letter(self) -> str:
