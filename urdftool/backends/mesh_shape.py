@@ -117,7 +117,7 @@ def _measure(path: str) -> ShapeFacts:
     watertight = bool(mesh.is_watertight)
     if watertight:
         solid = abs(float(mesh.volume))
-    objects = _objects(path)
+    objects = object_meshes(path)
     object_hulls = sum(_hull_volume(o) for o in objects) if len(objects) > 1 else hull_volume
     if not watertight:
         pieces = sum(_hull_volume(piece) for piece in mesh.split(only_watertight=False))
@@ -157,7 +157,7 @@ def _nonmanifold_edges(mesh: Any) -> int:
     return int((counts > 2).sum())
 
 
-def _objects(path: str) -> list[Any]:
+def object_meshes(path: str) -> list[Any]:
     """The objects of an OBJ file (``o``/``g`` groups) as meshes; ``[]`` for other formats."""
     if not path.lower().endswith(".obj"):
         return []
