@@ -77,7 +77,8 @@ def _probe_position(path: Path) -> str:
 
 def test_every_engine_effect_is_measured() -> None:
     """The fixtures exercise each kind of prediction in each engine (no vacuous pass)."""
-    codes = {t: {d.code for p in TARGET_FIXTURES for d in findings(p, t)} for t in ("mujoco", "pybullet", "pinocchio")}
+    engines = ("mujoco", "pybullet", "pinocchio")
+    codes = {t: {d.code for p in TARGET_FIXTURES for d in findings(p, t)} for t in engines}
     assert codes == {
         "mujoco": {"T001", "T002", "T003"},
         "pybullet": {"T001", "T003", "T004", "T005", "T010"},
@@ -133,10 +134,9 @@ def test_pybullet_predictions(path: Path, bullet: Any) -> None:
     with inside(path.parent):
         body = p.loadURDF(path.name, physicsClientId=client)
     links = _bullet_links(p, body, client)
-    joints = {
-        p.getJointInfo(body, i, physicsClientId=client)[1].decode(): p.getJointInfo(body, i, physicsClientId=client)[2]
-        for i in range(p.getNumJoints(body, physicsClientId=client))
-    }
+    count = p.getNumJoints(body, physicsClientId=client)
+    infos = [p.getJointInfo(body, i, physicsClientId=client) for i in range(count)]
+    joints = {info[1].decode(): info[2] for info in infos}
     for d in findings(path, "pybullet"):
         if d.code == "T001":
             info = p.getDynamicsInfo(body, links[d.data["link"]], physicsClientId=client)

@@ -12,6 +12,7 @@ decomposition takes seconds per mesh). Generated files live in folders named
 
 from __future__ import annotations
 
+import contextlib
 import hashlib
 import json
 import os
@@ -117,10 +118,8 @@ def simplify(
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", RuntimeWarning)
         result = _compute(path, mode, scale, folder, threshold, max_parts, tolerance)
-    try:
+    with contextlib.suppress(OSError):  # a cache that cannot be written only costs time
         (folder / "result.json").write_text(json.dumps(_to_json(result, folder)), encoding="utf-8")
-    except OSError:
-        pass  # a cache that cannot be written only costs time
     return result
 
 

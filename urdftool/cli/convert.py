@@ -7,11 +7,28 @@ from collections.abc import Sequence
 
 import click
 
-from urdftool.cli.common import EXIT_FINDINGS, EXIT_OK, EXIT_USAGE, build_options, input_error, model_options
+from urdftool.cli.common import (
+    EXIT_FINDINGS,
+    EXIT_OK,
+    EXIT_USAGE,
+    build_options,
+    input_error,
+    is_terminal,
+    model_options,
+)
 from urdftool.diagnostics import Diagnostic, Severity
 from urdftool.export import ExportOptions, UnknownTarget, target_for, verify_model
 from urdftool.export.write import OutputError, guard_inputs, is_stale, model_inputs
+from urdftool.model import Robot
 from urdftool.parse import InputError
+from urdftool.pipeline.collision import MODES as COLLISION_MODES
+from urdftool.pipeline.collision import (
+    CollisionOptions,
+    Simplification,
+    collision_meshes,
+    simplify_collisions,
+    with_collision_files,
+)
 from urdftool.pipeline.convert import convert_robot, output_paths, write_conversion
 from urdftool.pipeline.load import NoSuchModel, load_one
 from urdftool.render.text import render_diagnostic
@@ -56,6 +73,15 @@ def _refuse_output(out: str, inputs: Sequence[str]) -> None:
 )
 @click.option("--copy-assets", is_flag=True, help="Copy meshes into an assets folder beside OUT.")
 @click.option("--scene", is_flag=True, help="MJCF: add a ground plane and a light.")
+@click.option("--collision", "collision_mode", type=click.Choice(list(COLLISION_MODES)), default="as-is",
+              show_default=True, help="Replace collision meshes by their convex hulls, a convex "
+              "decomposition (CoACD) or fitted primitives; visual meshes are untouched.")
+@click.option("--collision-threshold", type=click.FloatRange(0.01, 1.0), default=0.05, show_default=True,
+              help="decompose: CoACD's concavity threshold (smaller: more, tighter parts).")
+@click.option("--collision-max-parts", type=click.IntRange(1, 256), default=16, show_default=True,
+              help="decompose: at most this many convex parts per mesh.")
+@click.option("--collision-tolerance", type=click.FloatRange(0.0, 10.0), default=0.15, show_default=True,
+              help="primitives: largest relative volume error of a fitted box, cylinder or sphere.")
 @click.option("-q", "--quiet", is_flag=True, help="Print errors only (not the loss report's warnings).")
 @model_options
 def convert_command(
@@ -71,6 +97,10 @@ def convert_command(
     copy_assets: bool,
     scene: bool,
     quiet: bool,
+    collision_mode: str,
+    collision_threshold: float,
+    collision_max_parts: int,
+    collision_tolerance: float,
     xacro_args: Sequence[str],
     packages: Sequence[str],
     package_paths: Sequence[str],
@@ -101,12 +131,19 @@ def convert_command(
         copy_assets=copy_assets,
         scene=scene,
     )
+    collision = CollisionOptions(
+        collision_mode, collision_threshold, collision_max_parts, collision_tolerance
+    )
+    simplified = _simplify(loaded.robot, collision, quiet)
     try:
-        conversion = convert_robot(loaded.robot, target, out, export_options, inputs)
+        conversion = convert_robot(simplified.robot, target, out, export_options, inputs)
+        if not conversion.refused:
+            conversion = with_collision_files(conversion, simplified)
     except UnknownTarget as exc:
         click.echo(f"urdftool: {exc}", err=True)
         sys.exit(EXIT_USAGE)
-    _emit([d for d in conversion.diagnostics if not quiet or d.severity is Severity.ERROR])
+    _emit([d for d in [*simplified.diagnostics, *conversion.diagnostics]
+           if not quiet or d.severity is Severity.ERROR])
     if conversion.refused:
         structural = conversion.errors and all(d.code[0] in "SX" for d in conversion.errors)
         hint = ": fix the errors above first" if structural else ""
@@ -142,3 +179,12 @@ def convert_command(
                 click.echo(f"{name:40} {error:12.3g} {tolerance:12.3g}  {'ok' if passed else 'FAIL'}")
         sys.exit(EXIT_OK if outcome.ok else EXIT_FINDINGS)
     sys.exit(EXIT_OK)
+
+
+def _simplify(robot: Robot, options: CollisionOptions, quiet: bool) -> Simplification:
+    """The robot with its collision meshes simplified; a progress bar on a terminal for many meshes."""
+    count = len(collision_meshes(robot)) if options.mode != "as-is" else 0
+    if count < 3 or quiet or not is_terminal():
+        return simplify_collisions(robot, options)
+    with click.progressbar(length=count, label=f"collision: {options.mode}", file=sys.stderr) as bar:
+        return simplify_collisions(robot, options, progress=lambda _name: bar.update(1))

@@ -5,7 +5,7 @@ catalogue (:mod:`urdftool.catalogue`), beside the reader and conversion rules
 defined there, so :func:`all_rules` and :func:`lookup` see the whole table.
 """
 
-from urdftool.catalogue import conversion, sdf, xacro  # noqa: F401  (register the definitions)
+from urdftool.catalogue import collision, conversion, sdf, xacro  # noqa: F401  (register the definitions)
 from urdftool.catalogue import syntax as _reader_syntax  # noqa: F401
 from urdftool.facts.context import CheckContext
 from urdftool.rules import (  # noqa: F401  (importing registers the rules)

@@ -290,7 +290,7 @@ class TargetHullsConcaveMesh(_Targets):
         chosen = [t for t in targets(ctx) if t.hulls_collision_meshes is not None]
         if not chosen:
             return
-        for path, (shape, uses) in mesh_shape.collision_shapes(ctx).items():
+        for shape, uses in mesh_shape.collision_shapes(ctx).values():
             first = uses[0]
             for target in chosen:
                 per_object = target.hulls_collision_meshes == "object" and shape.objects > 1
@@ -491,7 +491,7 @@ class TargetCollisionBudget(_Targets):
         chosen = targets(ctx)
         if not any(t.face_budget or t.hull_vertex_limit for t in chosen):
             return
-        for path, (shape, uses) in mesh_shape.collision_shapes(ctx).items():
+        for shape, uses in mesh_shape.collision_shapes(ctx).values():
             first = uses[0]
             option = "decompose" if shape.fill < HULL_NOTE else "hull"
             for target in chosen:
