@@ -164,7 +164,9 @@ def object_meshes(path: str) -> list[Any]:
     import trimesh
 
     try:
-        scene = trimesh.load(path, force="scene", split_objects=True, split_groups=True, group_material=False)
+        scene: Any = trimesh.load(
+            path, force="scene", split_objects=True, split_groups=True, group_material=False
+        )
     except Exception:  # the whole-file read succeeded: treat the file as one object
         return []
     return [g for g in scene.geometry.values() if isinstance(g, trimesh.Trimesh) and len(g.faces)]

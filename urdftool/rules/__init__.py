@@ -19,6 +19,7 @@ from urdftool.rules import (  # noqa: F401  (importing registers the rules)
     meshes,
     runtime,
     syntax,
+    target_meshes,
     targets,
 )
 from urdftool.rules.registry import REGISTRY, Family, Rule, all_rules, lookup
