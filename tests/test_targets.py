@@ -86,3 +86,23 @@ def test_config_target_key(tmp_path: Path) -> None:
     (tmp_path / "urdftool.toml").write_text('target = ["kdl"]\nselect = ["T"]\n', encoding="utf-8")
     result = CliRunner().invoke(main, ["check", str(tmp_path / "mimic.urdf")])
     assert "KDL will ignore the <mimic> of joint 'right_slide'" in result.output
+
+
+@pytest.mark.slow
+def test_heavy_collision_meshes_of_a_real_robot() -> None:
+    """UR3 from example-robot-data: CAD-resolution collision meshes, with the convert option to use."""
+    from tests.conftest import ERD
+
+    if ERD is None:
+        pytest.skip("example-robot-data not installed")
+    path = ERD / "ur_description" / "urdf" / "ur3_robot.urdf"
+    options = CheckOptions(
+        select=("T007",), package_paths=(str(ERD.parent), str(ERD)), rule_options={"targets": ("moveit",)}
+    )
+    found = [d for r in check_file(str(path), options) for d in r.diagnostics]
+    by_mesh = {d.data["uri"].rsplit("/", 1)[-1]: d for d in found}
+    assert {"base.stl", "shoulder.stl", "upperarm.stl"} <= set(by_mesh)
+    assert by_mesh["upperarm.stl"].data["faces"] > 10_000
+    assert by_mesh["shoulder.stl"].data["suggest"] == "hull"  # convex already
+    assert by_mesh["base.stl"].data["suggest"] == "decompose"  # fills 67 % of its hull
+    assert all("--collision" in (d.help or "") for d in found)
