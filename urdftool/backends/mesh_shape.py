@@ -30,8 +30,9 @@ class ShapeFacts:
     """How a mesh fills its hull, and whether its surface is a clean closed solid.
 
     ``solid_volume`` is the volume the mesh encloses: its own when it is
-    watertight, else the sum of the hulls of its connected pieces (a tray made
-    of open boxes is the volume of the boxes), so it never exceeds
+    watertight, else the sum of the hulls of its connected pieces or of its OBJ
+    objects, whichever is larger (a tray made of open boxes is the volume of
+    the boxes), so it never exceeds
     ``hull_volume``. ``object_hull_volume`` sums one hull per object of an OBJ
     file (``objects`` of them; for other formats it equals ``hull_volume``).
     ``nonmanifold_edges`` counts edges shared by more than two faces;
