@@ -27,6 +27,8 @@ _EXPECT_FILE = re.compile(r"<!--\s*expect-file:\s*([A-Z0-9, ]+?)\s*-->")
 #: Conversion rules fire on export, not on check: their fixtures (fixtures/rules/C*/)
 #: are run through the MJCF exporter by tests/test_mjcf_rules.py.
 EXPORT_ONLY = {"C001", "C002", "C003", "C004", "C005"}
+#: collision-simplified is reported by `convert --collision`: tests/test_collision_convert.py.
+CONVERT_ONLY = {"C006"}
 #: Runtime rules fire only when the simulation runs, which `check` does not do by default:
 #: their fixtures (fixtures/rules/R*/) are run with the simulation by tests/test_sim_rules.py.
 SIM_ONLY = {"R001", "R002", "R003", "R004", "R005"}
@@ -57,11 +59,17 @@ def expected_marks(path: Path, code: str) -> tuple[set[int], bool]:
     return lines, file_level
 
 
+_TARGET = re.compile(r"<!--\s*check-target:\s*([a-z,\- ]+?)\s*-->")
+
+
 def findings(path: Path, code: str) -> list:
     rule = lookup(code)
     # a rule that is off by default (an optional convention) runs when named
     select = None if rule is None or rule.default_enabled else (code,)
-    options = CheckOptions(package_paths=(str(path.parent),), select=select)
+    # consumer rules (T) fire for the targets a fixture names with <!-- check-target: name -->
+    named = _TARGET.search(path.read_text(encoding="utf-8", errors="replace"))
+    rule_options = {"targets": tuple(t.strip() for t in named.group(1).split(","))} if named else {}
+    options = CheckOptions(package_paths=(str(path.parent),), select=select, rule_options=rule_options)
     model = path.with_suffix(".urdf") if path.suffix in (".srdf", ".yaml") else path
     return [d for r in check_file(str(model), options) for d in r.diagnostics if d.code == code]
 
@@ -91,7 +99,7 @@ def test_good_fixture_is_quiet(path: Path) -> None:
 
 #: Rules that no input file can trigger, each with a dedicated test instead.
 NO_FIXTURE = {"S000"}  # internal-error: see test_rule_crash_becomes_internal_error
-NO_FIXTURE |= EXPORT_ONLY
+NO_FIXTURE |= EXPORT_ONLY | CONVERT_ONLY
 NO_FIXTURE |= SIM_ONLY  # runtime rules: see tests/test_sim_rules.py
 
 

@@ -43,6 +43,7 @@ class Family(enum.Enum):
     CONVERSION = ("C", "conversion")
     SRDF = ("P", "MoveIt SRDF (planning groups, states, collision matrix)")
     INTENT = ("N", "intent: units, conventions, symmetry, self-consistency")
+    TARGETS = ("T", "consumers (check --target)")
 
     @property
     def letter(self) -> str:

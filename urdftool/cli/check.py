@@ -31,6 +31,7 @@ from urdftool.pipeline.check import CheckOptions, check_files, default_jobs
 from urdftool.pipeline.discover import expand_paths
 from urdftool.pipeline.settings import Overrides, Settings, SettingsError, group_by_settings, resolve
 from urdftool.rules import UnknownSelector
+from urdftool.targets import TARGETS, UnknownTarget, parse_targets
 
 #: a progress bar is shown on a terminal from this many files on
 PROGRESS_FROM = 4
@@ -63,6 +64,9 @@ PROGRESS_FROM = 4
               help="Report only findings not recorded in this baseline file.")
 @click.option("--write-baseline", type=click.Path(dir_okay=False),
               help="Record every finding in this baseline file (exit 0) and report nothing.")
+@click.option("--target", "target_names", multiple=True, metavar="T[,T...]",
+              help="Also report what these consumers will do with the file: " + ", ".join(TARGETS)
+              + " or all (rules T).")
 @click.option("--show-settings", is_flag=True,
               help="Print the settings each file is checked with, and where each came from.")
 @fix_options  # --fix, --unsafe-fixes, --diff, --fix-only (urdftool/cli/fix.py)
@@ -103,6 +107,7 @@ def check_command(
     srdf_file: str | None = None,
     no_srdf: bool = False,
     controllers_file: str | None = None,
+    target_names: Sequence[str] = (),
 ) -> None:
     """Load each model (files, or directories searched recursively) and report diagnostics.
 
@@ -111,6 +116,12 @@ def check_command(
     findings on their line or the next (--no-suppressions shows everything).
     """
     simulation = rule_options_for(SimOptions(engine_names(engine))) if sim else {}
+    try:
+        chosen = parse_targets(target_names)
+    except UnknownTarget as exc:
+        raise click.BadParameter(str(exc), param_hint="--target") from exc
+    if chosen:
+        simulation = {**simulation, "targets": tuple(t.name for t in chosen)}
     options = build_options(xacro_args, packages, package_paths, select, ignore, dynamics=not no_dynamics,
                             **simulation)
     options = dataclasses.replace(options, suppressions=not no_suppressions, srdf=srdf_file,
@@ -209,6 +220,13 @@ def _check_groups(groups: list[tuple[Settings, list[str]]], files: list[str], op
     reports: list[FileReport] = []
     for settings, group in groups:
         group_options = _group_options(settings, options)
+        if settings.target and "targets" not in options.rule_options:
+            try:
+                configured = parse_targets(settings.target)
+            except UnknownTarget as exc:
+                raise InputProblem(f"{settings.config or 'settings'}: {exc}") from exc
+            group_options = dataclasses.replace(group_options, rule_options={
+                **options.rule_options, "targets": tuple(t.name for t in configured)})
         try:
             group_options.selection()
             result = check_files(group, group_options, jobs=workers, progress=progress)

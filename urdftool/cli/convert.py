@@ -9,12 +9,29 @@ from pathlib import Path
 
 import click
 
-from urdftool.cli.common import EXIT_FINDINGS, EXIT_OK, EXIT_USAGE, build_options, input_error, model_options
+from urdftool.cli.common import (
+    EXIT_FINDINGS,
+    EXIT_OK,
+    EXIT_USAGE,
+    build_options,
+    input_error,
+    is_terminal,
+    model_options,
+)
 from urdftool.diagnostics import Diagnostic, Severity
 from urdftool.export import ExportOptions, UnknownTarget, target_for, verify_model
 from urdftool.export.write import OutputError, guard_inputs, is_stale, model_inputs
+from urdftool.model import Robot
 from urdftool.parse import InputError, Loaded
 from urdftool.pipeline.check import CheckOptions
+from urdftool.pipeline.collision import MODES as COLLISION_MODES
+from urdftool.pipeline.collision import (
+    CollisionOptions,
+    Simplification,
+    collision_meshes,
+    simplify_collisions,
+    with_collision_files,
+)
 from urdftool.pipeline.convert import convert_robot, output_paths, write_conversion
 from urdftool.pipeline.load import load_models
 from urdftool.render.text import render_diagnostic
@@ -62,6 +79,15 @@ def _refuse_output(out: str, inputs: Sequence[str]) -> None:
 )
 @click.option("--copy-assets", is_flag=True, help="Copy meshes into an assets folder beside OUT.")
 @click.option("--scene", is_flag=True, help="MJCF: add a ground plane and a light.")
+@click.option("--collision", "collision_mode", type=click.Choice(list(COLLISION_MODES)), default="as-is",
+              show_default=True, help="Replace collision meshes by their convex hulls, a convex "
+              "decomposition (CoACD) or fitted primitives; visual meshes are untouched.")
+@click.option("--collision-threshold", type=click.FloatRange(0.01, 1.0), default=0.05, show_default=True,
+              help="decompose: CoACD's concavity threshold (smaller: more, tighter parts).")
+@click.option("--collision-max-parts", type=click.IntRange(1, 256), default=16, show_default=True,
+              help="decompose: at most this many convex parts per mesh.")
+@click.option("--collision-tolerance", type=click.FloatRange(0.0, 10.0), default=0.15, show_default=True,
+              help="primitives: largest relative volume error of a fitted box, cylinder or sphere.")
 @click.option("-q", "--quiet", is_flag=True, help="Print errors only (not the loss report's warnings).")
 @model_options
 def convert_command(
@@ -78,6 +104,10 @@ def convert_command(
     scene: bool,
     quiet: bool,
     all_models: bool,
+    collision_mode: str,
+    collision_threshold: float,
+    collision_max_parts: int,
+    collision_tolerance: float,
     xacro_args: Sequence[str],
     packages: Sequence[str],
     package_paths: Sequence[str],
@@ -100,13 +130,17 @@ def convert_command(
         copy_assets=copy_assets,
         scene=scene,
     )
+    collision = CollisionOptions(
+        collision_mode, collision_threshold, collision_max_parts, collision_tolerance
+    )
     codes = []
     for loaded in chosen:
         name = (loaded.robot.name if loaded.robot else None) or "model"
         where = out if len(chosen) == 1 else _per_model(out, name)
         if len(chosen) > 1:
             click.echo(f"urdftool: model '{name}' -> {where}", err=True)
-        codes.append(_convert_one(loaded, source, where, target, export_options, check_only, verify, quiet))
+        codes.append(_convert_one(loaded, source, where, target, export_options, collision, check_only,
+                                  verify, quiet))
     sys.exit(max(codes))
 
 
@@ -137,19 +171,23 @@ def _per_model(out: str, name: str) -> str:
 
 
 def _convert_one(loaded: Loaded, source: str, out: str, target: str, export_options: ExportOptions,
-                 check_only: bool, verify: bool, quiet: bool) -> int:
+                 collision: CollisionOptions, check_only: bool, verify: bool, quiet: bool) -> int:
     """Convert one model; the exit code for it."""
     if loaded.robot is None:
         _emit(loaded.diagnostics)
         return EXIT_FINDINGS
     inputs = model_inputs(loaded.robot, loaded.files or [source])
     _refuse_output(out, inputs)  # an included xacro file or a mesh
+    simplified = _simplify(loaded.robot, collision, quiet)
     try:
-        conversion = convert_robot(loaded.robot, target, out, export_options, inputs)
+        conversion = convert_robot(simplified.robot, target, out, export_options, inputs)
+        if not conversion.refused:
+            conversion = with_collision_files(conversion, simplified)
     except UnknownTarget as exc:
         click.echo(f"urdftool: {exc}", err=True)
         return EXIT_USAGE
-    _emit([d for d in conversion.diagnostics if not quiet or d.severity is Severity.ERROR])
+    _emit([d for d in [*simplified.diagnostics, *conversion.diagnostics]
+           if not quiet or d.severity is Severity.ERROR])
     if conversion.refused:
         structural = conversion.errors and all(d.code[0] in "SX" for d in conversion.errors)
         hint = ": fix the errors above first" if structural else ""
@@ -185,3 +223,12 @@ def _convert_one(loaded: Loaded, source: str, out: str, target: str, export_opti
         for name, error, tolerance, passed in outcome.rows:
             click.echo(f"{name:40} {error:12.3g} {tolerance:12.3g}  {'ok' if passed else 'FAIL'}")
     return EXIT_OK if outcome.ok else EXIT_FINDINGS
+
+
+def _simplify(robot: Robot, options: CollisionOptions, quiet: bool) -> Simplification:
+    """The robot with its collision meshes simplified; a progress bar on a terminal for many meshes."""
+    count = len(collision_meshes(robot)) if options.mode != "as-is" else 0
+    if count < 3 or quiet or not is_terminal():
+        return simplify_collisions(robot, options)
+    with click.progressbar(length=count, label=f"collision: {options.mode}", file=sys.stderr) as bar:
+        return simplify_collisions(robot, options, progress=lambda _name: bar.update(1))

@@ -21,6 +21,7 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from urdftool.backends.collision_shapes import is_generated
 from urdftool.safe_files import read_regular
 
 ASSETS_DIR = "assets"
@@ -101,7 +102,7 @@ class MeshFiles:
         except OSError as exc:
             raise MeshUnavailable(f"cannot read '{path}' ({exc.strerror or exc})") from exc
         native = self.native(path, data)
-        if native and not self.copy:
+        if native and not self.copy and not is_generated(path):
             planned = MeshFile(relative_reference(path, self.out_dir), False, content_hash(data))
         else:
             payload = data if native else self.convert(path)

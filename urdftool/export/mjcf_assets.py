@@ -23,6 +23,7 @@ from pathlib import Path
 import numpy as np
 
 from urdftool.backends import mesh_cache
+from urdftool.backends.collision_shapes import is_generated
 from urdftool.backends.meshes import MeshError, load_trimesh
 from urdftool.export.assets import (
     MeshUnavailable,
@@ -148,7 +149,7 @@ class AssetPlan:
         content = content_hash(data)
         suffix = Path(path).suffix.lower()
         native = mujoco_reads(suffix, data)
-        if native and not self.copy:
+        if native and not self.copy and not is_generated(path):
             reference = self._reference(path)
         else:
             payload, out_suffix = (data, suffix) if native else _convert_cached(content, path)

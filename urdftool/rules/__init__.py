@@ -5,7 +5,7 @@ catalogue (:mod:`urdftool.catalogue`), beside the reader and conversion rules
 defined there, so :func:`all_rules` and :func:`lookup` see the whole table.
 """
 
-from urdftool.catalogue import conversion, sdf, xacro  # noqa: F401  (register the definitions)
+from urdftool.catalogue import collision, conversion, sdf, xacro  # noqa: F401  (register the definitions)
 from urdftool.catalogue import ros2_control as _reader_ros2_control  # noqa: F401
 from urdftool.catalogue import syntax as _reader_syntax  # noqa: F401
 from urdftool.facts.context import CheckContext
@@ -28,6 +28,8 @@ from urdftool.rules import (  # noqa: F401  (importing registers the rules)
     srdf,
     srdf_parts,
     syntax,
+    target_meshes,
+    targets,
 )
 from urdftool.rules.registry import REGISTRY, Family, Rule, all_rules, lookup
 from urdftool.rules.selection import Selection, UnknownSelector
