@@ -305,3 +305,15 @@ def test_output_to_a_device_is_refused(tmp_path: Path, command: str) -> None:
         assert "not a regular file" in result.output
     assert Path("/dev/full").is_char_device()
     assert fifo.is_fifo()
+
+
+def test_fuzz_regressions_check_without_an_exception() -> None:
+    """Every input a fuzz run crashed on (fixtures/fuzz-regressions/) now gets a report."""
+    import urdftool
+    from tests.conftest import FIXTURES
+
+    cases = sorted((FIXTURES / "fuzz-regressions").iterdir())
+    assert cases
+    for case in cases:
+        report = urdftool.check(case)
+        assert not [d for d in report.diagnostics if d.code == "S000"], case

@@ -313,7 +313,9 @@ class SdfSemantics:
         name = frame.get("name") or ""
         self._world_ref(frame, "attached_to", scope, f"frame[{name}]")
         self._world_ref(frame.find("pose"), "relative_to", scope, f"frame[{name}]/pose")
-        by_name = {f.get("name"): f for f in frames}
+        if not name:
+            return  # nothing can refer to an unnamed frame, so it closes no cycle
+        by_name = {n: f for f in frames if (n := f.get("name"))}
         for via in ("attached_to", "relative_to"):
             chain = [name]
             current = _step(frame, via)
