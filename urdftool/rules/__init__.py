@@ -22,6 +22,7 @@ from urdftool.rules import (  # noqa: F401  (importing registers the rules)
     mesh_contents,
     meshes,
     runtime,
+    self_collision,
     srdf,
     srdf_parts,
     syntax,
