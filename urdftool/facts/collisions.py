@@ -85,23 +85,26 @@ def available(ctx: CheckContext) -> bool:
     return importlib.util.find_spec("pinocchio") is not None and importlib.util.find_spec("coal") is not None
 
 
-def scene_of(ctx: CheckContext) -> CollisionScene | NotChecked | None:
-    """The robot's collision scene, why it was not built, or ``None`` (nothing to check)."""
-    if "collision-scene" in ctx.cache:
-        return ctx.cache["collision-scene"]  # type: ignore[no-any-return]
+def scene_of(ctx: CheckContext, limit: int = MAX_GEOMETRIES) -> CollisionScene | NotChecked | None:
+    """The robot's collision scene, why it was not built, or ``None`` (nothing to check).
+
+    Models with more than *limit* collision geometries are not built."""
+    key = ("collision-scene", limit)
+    if key in ctx.cache:
+        return ctx.cache[key]  # type: ignore[no-any-return]
     result: CollisionScene | NotChecked | None
     count = count_geometries(ctx.robot)
-    if not available(ctx) or count < 2 or ctx.robot.loop_closures:
+    if not available(ctx) or count < 2:
         result = None
-    elif count > MAX_GEOMETRIES:
-        result = NotChecked(f"{count} collision geometries, over the {MAX_GEOMETRIES} the home check handles")
+    elif count > limit:
+        result = NotChecked(f"{count} collision geometries, over the {limit} the home check handles")
     else:
         paths = {id(use.mesh): existing_file(use) for use in mesh_uses(ctx) if use.role == "collision"}
         try:
             result = build_scene(ctx.robot, paths)
         except ValueError as exc:  # joint types Pinocchio has no model for here
             result = NotChecked(str(exc))
-    ctx.cache["collision-scene"] = result
+    ctx.cache[key] = result
     return result
 
 
@@ -201,7 +204,8 @@ def home_overlaps(ctx: CheckContext) -> list[Overlap] | NotChecked | None:
     """Link pairs overlapping at home (deepest first), why they were not checked, or ``None``."""
     if "collision-home" in ctx.cache:
         return ctx.cache["collision-home"]  # type: ignore[no-any-return]
-    scene = scene_of(ctx)
+    # A closed chain's home is not its tree's zero configuration: not checked.
+    scene = scene_of(ctx) if not ctx.robot.loop_closures else None
     result: list[Overlap] | NotChecked | None = scene if not isinstance(scene, CollisionScene) else None
     if isinstance(scene, CollisionScene):
         result = _overlaps(ctx, scene)
