@@ -53,6 +53,8 @@ class CollisionScene:
     pin: PinocchioModel
     geometry: Any
     pieces: list[Piece] = field(default_factory=list)
+    #: piece index -> (mesh path, scale) for pieces that are convex hulls of meshes
+    meshes: dict[int, tuple[str, tuple[float, float, float]]] = field(default_factory=dict)
     #: (link, what) of geometries left out: unreadable meshes, planes
     skipped: list[tuple[str, str]] = field(default_factory=list)
     _data: Any = None
@@ -96,6 +98,26 @@ class CollisionScene:
         pin.computeDistances(self.pin.model, self._data, self.geometry, self._gdata, q)
         return [float(self._gdata.distanceResults[k].min_distance) for k in range(len(self._pairs))]
 
+    def surfaces_meet(self, i: int, j: int) -> bool:
+        """Whether pieces *i* and *j* still touch when meshes are their triangles, not their hulls,
+        at the placements of the last :meth:`distances` or :meth:`colliding` call. A mesh wholly
+        inside another shape does not count (its surface meets nothing)."""
+        import coal
+
+        shapes = [self._exact(k) for k in (i, j)]
+        if any(s is None for s in shapes):
+            return True
+        placed = [self._gdata.oMg[k] for k in (i, j)]
+        request, result = coal.CollisionRequest(), coal.CollisionResult()
+        transforms = [coal.Transform3s(p.rotation, p.translation) for p in placed]
+        return bool(coal.collide(shapes[0], transforms[0], shapes[1], transforms[1], request, result))
+
+    def _exact(self, k: int) -> Any:
+        if k not in self.meshes:
+            return self.geometry.geometryObjects[k].geometry
+        path, scale = self.meshes[k]
+        return triangles(path, scale)
+
     @property
     def pairs(self) -> list[tuple[int, int]]:
         return list(self._pairs)
@@ -122,6 +144,10 @@ def build_scene(robot: Robot, mesh_paths: Mapping[int, str | None]) -> Collision
                 scene.skipped.append((link.name, shape))
                 continue
             placement = frame.placement * _se3(collision.origin.matrix)
+            if isinstance(collision.geometry, Mesh):
+                scale = tuple(float(v) for v in collision.geometry.scale)
+                scene.meshes[len(scene.pieces)] = (str(mesh_paths[id(collision.geometry)]),
+                                                   (scale[0], scale[1], scale[2]))
             obj = pin.GeometryObject(f"{link.name}#{index}", int(frame.parentJoint), frame_id, placement, shape)
             scene.geometry.addGeometryObject(obj)
             scene.pieces.append(Piece(link.name, index, int(frame.parentJoint)))
@@ -188,6 +214,31 @@ def _read_hull(path: str, scale: tuple[float, float, float]) -> Any:
     bvh.endModel()
     bvh.buildConvexRepresentation(False)
     return bvh.convex
+
+
+#: (path, scale) -> coal triangle mesh (or ``None`` when unreadable)
+_TRIANGLES: dict[tuple[str, tuple[float, float, float]], Any] = {}
+
+
+def triangles(path: str, scale: tuple[float, float, float]) -> Any:
+    """The mesh at *path* as a coal triangle mesh (BVH), scaled; ``None`` when unreadable."""
+    import coal
+
+    key = (path, scale)
+    if key not in _TRIANGLES:
+        try:
+            mesh = load_trimesh(path)
+        except MeshError:
+            _TRIANGLES[key] = None
+            return None
+        bvh = coal.BVHModelOBBRSS()
+        vertices = np.asarray(mesh.vertices, dtype=float) * np.asarray(scale, dtype=float)
+        bvh.beginModel(len(mesh.faces), len(vertices))
+        bvh.addVertices(vertices)
+        bvh.addTriangles(np.asarray(mesh.faces, dtype=np.int64))
+        bvh.endModel()
+        _TRIANGLES[key] = bvh
+    return _TRIANGLES[key]
 
 
 def sample_counts(scene: CollisionScene, configurations: Iterable[Any], groups: list[int],

@@ -233,7 +233,7 @@ def _overlaps(ctx: CheckContext, scene: CollisionScene) -> list[Overlap]:
     deepest: dict[Pair, float] = {}
     order: dict[Pair, tuple[str, str]] = {}
     for (i, j), distance in zip(todo, scene.distances(home_configuration(ctx, scene)), strict=True):
-        if -distance > DEPTH_TOLERANCE:
+        if -distance > DEPTH_TOLERANCE and scene.surfaces_meet(i, j):
             key = pair(scene.pieces[i].link, scene.pieces[j].link)
             order.setdefault(key, (scene.pieces[i].link, scene.pieces[j].link))
             deepest[key] = max(deepest.get(key, 0.0), -distance)
