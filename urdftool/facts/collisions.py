@@ -195,7 +195,10 @@ def _apply_mimics(robot: Robot, scene: CollisionScene, q: Any) -> None:
 
 
 def _bodies_adjacent(scene: CollisionScene, adjacent_links: set[Pair]) -> set[tuple[int, int]]:
-    body = {p.link: p.body for p in scene.pieces}
+    """Rigid bodies (Pinocchio joints) joined by an adjacent link pair; every link counts, with or
+    without geometry, so a link welded to a geometry-less one inherits its neighbours."""
+    frames = scene.pin.model.frames
+    body = {link: int(frames[fid].parentJoint) for link, fid in scene.pin.link_frames.items()}
     return {(min(body[a], body[b]), max(body[a], body[b])) for a, b in adjacent_links
             if a in body and b in body}
 
