@@ -40,7 +40,7 @@ def _matrix(samples: int = 1000, seed: int = 0):  # type: ignore[no-untyped-def]
 
 
 def test_panda_matrix_agrees_with_its_srdf_and_covers_adjacent_pairs() -> None:
-    urdf, srdf = _panda()
+    _, srdf = _panda()
     start = time.monotonic()
     found = _matrix(1000)
     assert time.monotonic() - start < 30
@@ -73,8 +73,9 @@ def test_merge_keeps_every_other_byte() -> None:
 
 def test_merge_into_an_srdf_without_entries() -> None:
     found = _matrix(100)
-    text = b'<?xml version="1.0"?>\r\n<robot name="panda">\r\n  <!-- <disable_collisions link1="x" link2="y"/> -->\r\n' \
-        b'  <group name="arm"/>\r\n</robot>\r\n'
+    text = (b'<?xml version="1.0"?>\r\n<robot name="panda">\r\n'
+            b'  <!-- <disable_collisions link1="x" link2="y"/> -->\r\n'
+            b'  <group name="arm"/>\r\n</robot>\r\n')
     merged = merge_srdf(text, found)
     assert merged.startswith(text[: text.index(b"</robot>")])
     assert b'\r\n  <disable_collisions link1="panda_hand"' in merged

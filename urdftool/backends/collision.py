@@ -148,8 +148,9 @@ def build_scene(robot: Robot, mesh_paths: Mapping[int, str | None]) -> Collision
                 scale = tuple(float(v) for v in collision.geometry.scale)
                 scene.meshes[len(scene.pieces)] = (str(mesh_paths[id(collision.geometry)]),
                                                    (scale[0], scale[1], scale[2]))
-            obj = pin.GeometryObject(f"{link.name}#{index}", int(frame.parentJoint), frame_id, placement, shape)
-            scene.geometry.addGeometryObject(obj)
+            body = int(frame.parentJoint)
+            scene.geometry.addGeometryObject(pin.GeometryObject(f"{link.name}#{index}", body, frame_id,
+                                                                placement, shape))
             scene.pieces.append(Piece(link.name, index, int(frame.parentJoint)))
     return scene
 

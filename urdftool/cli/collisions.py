@@ -9,8 +9,15 @@ from typing import NoReturn
 
 import click
 
-from urdftool.cli.common import EXIT_FINDINGS, EXIT_OK, EXIT_USAGE, build_options, input_error, is_terminal, \
-    model_options
+from urdftool.cli.common import (
+    EXIT_FINDINGS,
+    EXIT_OK,
+    EXIT_USAGE,
+    build_options,
+    input_error,
+    is_terminal,
+    model_options,
+)
 from urdftool.export.write import OutputError, guard_inputs, model_inputs, write_bytes_atomic
 from urdftool.parse import InputError
 from urdftool.pipeline.collisions import NoMatrix, collision_matrix, mjcf_bytes, srdf_bytes, summary
@@ -35,8 +42,17 @@ def _fail(message: str, code: int) -> NoReturn:
 @click.option("--model", "model_name", help="For files with several models (SDF worlds): which one.")
 @click.option("-q", "--quiet", is_flag=True, help="Print nothing on success.")
 @model_options
-def collisions_command(source: str, out: str, samples: int, seed: int, model_name: str | None, quiet: bool,
-                       xacro_args: Sequence[str], packages: Sequence[str], package_paths: Sequence[str]) -> None:
+def collisions_command(
+    source: str,
+    out: str,
+    samples: int,
+    seed: int,
+    model_name: str | None,
+    quiet: bool,
+    xacro_args: Sequence[str],
+    packages: Sequence[str],
+    package_paths: Sequence[str],
+) -> None:
     """Compute the self-collision matrix of SOURCE as MoveIt Setup Assistant does.
 
     Every pair of links with collision geometry is classified: Adjacent

@@ -62,7 +62,8 @@ def new_srdf(found: Matrix, robot_name: str) -> bytes:
 
 
 _COMMENT = re.compile(rb"<!--.*?-->", re.S)
-_ENTRY = re.compile(rb"[ \t]*<disable_collisions\b[^>]*?(?:/>|>.*?</disable_collisions\s*>)[ \t]*(?:\r?\n)?", re.S)
+_ENTRY = re.compile(
+    rb"[ \t]*<disable_collisions\b[^>]*?(?:/>|>.*?</disable_collisions\s*>)[ \t]*(?:\r?\n)?", re.S)
 _CLOSE = re.compile(rb"</robot\s*>")
 _CHILD_INDENT = re.compile(rb"\n([ \t]+)<[A-Za-z]")
 

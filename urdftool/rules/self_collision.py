@@ -80,7 +80,8 @@ class SelfCollisionAtHome(_SelfCollision):
                       "tolerance": DEPTH_TOLERANCE},
             )
             if elsewhere is not None:
-                finding = replace(finding, related=(Related(elsewhere, f"the collision of link '{overlap.link2}'"),))
+                label = f"the collision of link '{overlap.link2}'"
+                finding = replace(finding, related=(Related(elsewhere, label),))
             yield finding
 
 
