@@ -31,6 +31,16 @@ from urdftool.backends.meshes import MeshError, load_trimesh
 from urdftool.backends.pinocchio import PinocchioModel, build_model
 from urdftool.model import Box, Capsule, Cylinder, Ellipsoid, Mesh, Robot, Sphere
 
+
+def fcl() -> Any:
+    """coal, or hpp-fcl (its name before coal 3) with older Pinocchio builds."""
+    try:
+        import coal
+    except ImportError:
+        import hppfcl as coal
+    return coal
+
+
 #: (path, scale) -> coal convex hull (or the error reading it)
 _HULLS: dict[tuple[str, tuple[float, float, float]], Any] = {}
 
@@ -102,14 +112,15 @@ class CollisionScene:
         """Whether pieces *i* and *j* still touch when meshes are their triangles, not their hulls,
         at the placements of the last :meth:`distances` or :meth:`colliding` call. A mesh wholly
         inside another shape does not count (its surface meets nothing)."""
-        import coal
+        coal = fcl()
 
         shapes = [self._exact(k) for k in (i, j)]
         if any(s is None for s in shapes):
             return True
         placed = [self._gdata.oMg[k] for k in (i, j)]
         request, result = coal.CollisionRequest(), coal.CollisionResult()
-        transforms = [coal.Transform3s(p.rotation, p.translation) for p in placed]
+        transform = getattr(coal, "Transform3s", None) or coal.Transform3f
+        transforms = [transform(p.rotation, p.translation) for p in placed]
         return bool(coal.collide(shapes[0], transforms[0], shapes[1], transforms[1], request, result))
 
     def _exact(self, k: int) -> Any:
@@ -164,7 +175,7 @@ def _se3(matrix: Any) -> Any:
 
 def _shape(geometry: object, mesh_paths: Mapping[int, str | None]) -> Any:
     """A coal shape, or a sentence saying why there is none."""
-    import coal
+    coal = fcl()
 
     if isinstance(geometry, Box):
         return coal.Box(*(float(v) for v in geometry.size))
@@ -195,7 +206,7 @@ def convex_hull(path: str, scale: tuple[float, float, float]) -> Any:
 
 
 def _read_hull(path: str, scale: tuple[float, float, float]) -> Any:
-    import coal
+    coal = fcl()
 
     try:
         mesh = load_trimesh(path)
@@ -223,7 +234,7 @@ _TRIANGLES: dict[tuple[str, tuple[float, float, float]], Any] = {}
 
 def triangles(path: str, scale: tuple[float, float, float]) -> Any:
     """The mesh at *path* as a coal triangle mesh (BVH), scaled; ``None`` when unreadable."""
-    import coal
+    coal = fcl()
 
     key = (path, scale)
     if key not in _TRIANGLES:

@@ -82,7 +82,8 @@ def pair(a: str, b: str) -> Pair:
 def available(ctx: CheckContext) -> bool:
     if not ctx.options.get(OPTION, True):
         return False
-    return importlib.util.find_spec("pinocchio") is not None and importlib.util.find_spec("coal") is not None
+    return importlib.util.find_spec("pinocchio") is not None and (
+        importlib.util.find_spec("coal") is not None or importlib.util.find_spec("hppfcl") is not None)
 
 
 def scene_of(ctx: CheckContext, limit: int = MAX_GEOMETRIES) -> CollisionScene | NotChecked | None:

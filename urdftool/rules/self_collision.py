@@ -76,7 +76,7 @@ class SelfCollisionAtHome(_SelfCollision):
                 where,
                 element=f"link[{overlap.link1}]/collision",
                 help="shrink or move a collision shape, or disable the pair in the SRDF",
-                data={"link1": overlap.link1, "link2": overlap.link2, "depth": overlap.depth,
+                data={"link1": overlap.link1, "link2": overlap.link2, "depth": round(overlap.depth, 6),
                       "tolerance": DEPTH_TOLERANCE},
             )
             if elsewhere is not None:
