@@ -18,6 +18,7 @@ from urdftool.version import __version__
 #: command name -> "module:attribute" of its click command
 COMMANDS: dict[str, str] = {
     "check": "urdftool.cli.check:check_command",
+    "collisions": "urdftool.cli.collisions:collisions_command",
     "convert": "urdftool.cli.convert:convert_command",
     "diff": "urdftool.cli.diff:diff_command",
     "graph": "urdftool.cli.graph:graph_command",

@@ -25,6 +25,7 @@ from urdftool.rules import (  # noqa: F401  (importing registers the rules)
     meshes,
     ros2_control,
     runtime,
+    self_collision,
     srdf,
     srdf_parts,
     syntax,
