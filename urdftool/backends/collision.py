@@ -27,7 +27,7 @@ if TYPE_CHECKING:
 else:
     from urdftool.lazy import numpy as np
 
-from urdftool.backends.meshes import MeshError, load_trimesh
+from urdftool.backends.meshes import MeshError, load_trimesh, quiet_numerics
 from urdftool.backends.pinocchio import PinocchioModel, build_model
 from urdftool.model import Box, Capsule, Cylinder, Ellipsoid, Mesh, Robot, Sphere
 
@@ -209,8 +209,9 @@ def _read_hull(path: str, scale: tuple[float, float, float]) -> Any:
     coal = fcl()
 
     try:
-        mesh = load_trimesh(path)
-        hull = mesh.convex_hull
+        with quiet_numerics():
+            mesh = load_trimesh(path)
+            hull = mesh.convex_hull
     except MeshError as exc:
         return exc
     except Exception as exc:  # qhull refuses flat point sets, trimesh odd files

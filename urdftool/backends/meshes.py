@@ -16,13 +16,14 @@ form). :func:`load_many` reads many files in parallel worker processes.
 
 from __future__ import annotations
 
+import contextlib
 import hashlib
 import logging
 import os
 import re
 import threading
 import warnings
-from collections.abc import Iterable
+from collections.abc import Iterable, Iterator
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
@@ -337,11 +338,18 @@ def read_facts(path: str, lean: bool = True) -> MeshFacts:
     *lean* reads COLLADA files with the lean reader where it can (see :func:`load_trimesh`).
     """
     mesh = load_trimesh(path, lean)
-    # A flat or empty mesh has zero volume, and trimesh divides by it while measuring: the
-    # result is handled below, and the RuntimeWarning would only litter the user's terminal.
+    with quiet_numerics():
+        return _measure(path, mesh)
+
+
+@contextlib.contextmanager
+def quiet_numerics() -> Iterator[None]:
+    """Silence NumPy's floating-point RuntimeWarnings inside trimesh: a flat or empty mesh has
+    zero volume and trimesh divides by it while measuring; callers handle the result, and the
+    warning would only litter the user's terminal."""
     with warnings.catch_warnings(), np.errstate(all="ignore"):
         warnings.simplefilter("ignore", RuntimeWarning)
-        return _measure(path, mesh)
+        yield
 
 
 def _measure(path: str, mesh: Any) -> MeshFacts:

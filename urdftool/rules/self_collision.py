@@ -64,23 +64,25 @@ class SelfCollisionAtHome(_SelfCollision):
         if not isinstance(found, list):
             return
         for overlap in found:
-            first = ctx.robot.link(overlap.link1)
-            other = ctx.robot.link(overlap.link2)
+            # the pair in name order: the same finding however the file orders its links
+            name1, name2 = sorted((overlap.link1, overlap.link2))
+            first = ctx.robot.link(name1)
+            other = ctx.robot.link(name2)
             where = (first.collisions[0].span if first and first.collisions else None) or \
                 (first.span if first else None)
             elsewhere = (other.collisions[0].span if other and other.collisions else None) or \
                 (other.span if other else None)
             finding = self.diagnostic(
-                f"links '{overlap.link1}' and '{overlap.link2}' overlap at home: the collision "
+                f"links '{name1}' and '{name2}' overlap at home: the collision "
                 f"geometries interpenetrate by {fmt(overlap.depth * 1000)} mm",
                 where,
-                element=f"link[{overlap.link1}]/collision",
+                element=f"link[{name1}]/collision",
                 help="shrink or move a collision shape, or disable the pair in the SRDF",
-                data={"link1": overlap.link1, "link2": overlap.link2, "depth": round(overlap.depth, 6),
+                data={"link1": name1, "link2": name2, "depth": round(overlap.depth, 6),
                       "tolerance": DEPTH_TOLERANCE},
             )
             if elsewhere is not None:
-                label = f"the collision of link '{overlap.link2}'"
+                label = f"the collision of link '{name2}'"
                 finding = replace(finding, related=(Related(elsewhere, label),))
             yield finding
 
