@@ -9,6 +9,7 @@ moving joint has nothing to carry it.
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass
 from functools import cached_property
 from typing import TYPE_CHECKING
@@ -51,15 +52,21 @@ class RigidBody:
         """Total mass (kg) of the links that declare one (missing ``<inertial>`` counts 0)."""
         return float(sum(link.inertial.mass for link, _ in self.links if link.inertial))
 
-    def composite_inertia(self) -> Matrix:
-        """Inertia (kg·m²) of the welded links about their common centre of mass, head frame."""
+    def composite_inertia(self, replaced: Mapping[str, Matrix] | None = None) -> Matrix:
+        """Inertia (kg·m²) of the welded links about their common centre of mass, head frame.
+
+        *replaced* maps link names to a tensor (kg·m², about the link's centre of
+        mass, link frame) used instead of the declared one: what the body would
+        be with that link's inertia repaired.
+        """
         parts: list[tuple[float, Matrix, Matrix]] = []
         for link, pose in self.links:
             if link.inertial is None or link.inertial.mass <= 0:
                 continue
             rotation = pose.rotation
             com = rotation @ np.asarray(link.inertial.origin.xyz) + np.asarray(pose.xyz)
-            tensor = rotation @ link.inertial.inertia_in_link_frame @ rotation.T
+            own = (replaced or {}).get(link.name, link.inertial.inertia_in_link_frame)
+            tensor = rotation @ own @ rotation.T
             parts.append((link.inertial.mass, com, tensor))
         total = sum(m for m, _, _ in parts)
         if total <= 0:

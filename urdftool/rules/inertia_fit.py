@@ -43,6 +43,10 @@ from urdftool.rules.inertia import _Inertia, _where, bodies, body_of_link
 #: any link the rule accepts still gets caught when its inertia is made 10×
 #: larger or smaller; 3 leaves a little room for that.
 INERTIA_FACTOR = 3.0
+#: A declared inertia larger than the geometry's is reported only when no mass
+#: distribution inside the geometry's bounds, grown by this factor in every
+#: direction, could have it (see _possible_for_bounds).
+BOUNDS_MARGIN = 1.0
 #: Right moments, wrong axes: principal moments within this factor of the
 #: geometry's, while the moment about some geometric axis is off by the next.
 SAME_MOMENTS = 1.15
@@ -71,9 +75,13 @@ class InertiaGeometryMismatch(_Inertia):
     their origins; the collision geometry is used, the visual one when the
     collision geometry cannot be measured. The result is rotated into the
     inertial frame of `<inertial><origin rpy>`. The finding is reported when
-    the declared tensor is 3× larger or smaller (ratio of traces) than the
-    geometry's, and when the principal moments agree but sit on the wrong
-    axes (a wheel whose spin moment is on an axis it does not spin about).
+    the declared tensor is 3× smaller (ratio of traces) than the geometry's,
+    or larger than any distribution of the declared mass inside the
+    geometry's bounds could have; and when the principal moments agree but
+    sit on the wrong axes (a wheel whose spin moment is on an axis it does
+    not spin about). A link welded below another is judged with its body:
+    when its own tensor, declared or fitted, leaves the body's inertia within
+    3×, nothing a consumer computes depends on it and it is not reported.
 
     ## Why it matters
     Placeholder inertias (`0.1` everywhere, `1e-3` on a 20 g finger) and
@@ -116,7 +124,10 @@ class InertiaGeometryMismatch(_Inertia):
             if comparison is None:
                 continue
             if comparison.factor >= INERTIA_FACTOR:
-                yield self._scale_finding(link, comparison)
+                if not _possible_for_bounds(link, comparison) and not _lost_in_body(
+                    ctx, link, comparison
+                ):
+                    yield self._scale_finding(link, comparison)
                 continue
             factor = _wrong_axes(link, comparison)
             if factor is not None:
@@ -162,6 +173,52 @@ class InertiaGeometryMismatch(_Inertia):
                 "declared": link.inertial.inertia_matrix.tolist(),
             },
         )
+
+
+def _possible_for_bounds(link: Link, comparison: InertiaComparison) -> bool:
+    """Whether a declared inertia *larger* than the uniform solid's could still be the link's.
+
+    Geometry is a stand-in for the part: CAD tensors include motors, cables and
+    flanges that a collision hull or a primitive leaves out, so "3× the uniform
+    solid" alone is no evidence. Evidence is a tensor that no distribution of
+    the declared mass inside the geometry's bounds can have: about the centre
+    of mass, trace(I) = 2·Σ mᵢ·|rᵢ|² ≤ 2·m·R², R the distance from the centre
+    of mass to the farthest corner of the bounds, enlarged by BOUNDS_MARGIN.
+    """
+    assert link.inertial is not None
+    if comparison.ratio < 1:
+        return False
+    solid = comparison.solid
+    com = np.asarray(link.inertial.origin.xyz, dtype=float)
+    corners = np.array(
+        [[(solid.bounds_min, solid.bounds_max)[k >> axis & 1][axis] for axis in range(3)] for k in range(8)]
+    )
+    reach = float(np.max(np.linalg.norm(corners - com, axis=1))) * BOUNDS_MARGIN
+    declared = float(np.trace(link.inertial.inertia_matrix))
+    return declared <= 2.0 * link.inertial.mass * reach**2
+
+
+def _lost_in_body(ctx: CheckContext, link: Link, comparison: InertiaComparison) -> bool:
+    """Whether *link* is welded below another link and its own inertia, declared or fitted to
+    its geometry, leaves the welded body's inertia within INERTIA_FACTOR.
+
+    Every consumer that matters here (Pinocchio, MuJoCo's import, Gazebo's
+    lumping) sees the body, not the link: a 1 g IMU link with a placeholder
+    1e-4 kg·m² welded into a 10 kg trunk changes nothing anyone computes. The
+    head of a body is always judged on its own, so a planted mistake in a
+    moving link is always caught.
+    """
+    body = body_of_link(ctx, link.name)
+    if body is None or body.head == link.name or link.inertial is None:
+        return False
+    rotation = link.inertial.origin.rotation
+    declared = float(np.trace(body.composite_inertia()))
+    fitted = float(
+        np.trace(body.composite_inertia({link.name: rotation @ comparison.computed @ rotation.T}))
+    )
+    if declared <= 0 or fitted <= 0:
+        return False
+    return max(declared / fitted, fitted / declared) < INERTIA_FACTOR
 
 
 def _wrong_axes(link: Link, comparison: InertiaComparison) -> float | None:
