@@ -52,6 +52,12 @@ from urdftool.physics.mobility import BasePlan, decide_base
 from urdftool.rules.syntax import MultipleRoots
 
 
+#: The ``<option>`` written: implicit damping (joint damping and the actuators' kv are integrated
+#: implicitly, so stiff servos stay stable at the default 2 ms step) and elliptic friction cones,
+#: as MuJoCo Menagerie writes them.
+OPTION = {"integrator": "implicitfast", "cone": "elliptic"}
+
+
 def export(robot: Robot, out: Path, options: ExportOptions) -> ExportResult:
     """The MJCF file for *robot* (key ``out.name``) and its converted assets (``assets/...``)."""
     folder = None if options.absolute_mesh_paths else Path(out).parent
@@ -80,6 +86,7 @@ def build(
     )
     root.append(etree.Comment(note.replace("--", "- -")))  # XML comments may not hold "--"
     etree.SubElement(root, "compiler", {"angle": "radian", "autolimits": "true", "inertiafromgeom": "false"})
+    etree.SubElement(root, "option", OPTION)
     _defaults(root)
     asset = etree.SubElement(root, "asset")
     worldbody = etree.SubElement(root, "worldbody")

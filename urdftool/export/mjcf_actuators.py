@@ -50,7 +50,7 @@ BANDWIDTH_HZ = 10.0
 #: Largest static error (rad, m) a position actuator may leave under gravity.
 HOLD_ERROR = {"hinge": 0.005, "slide": 0.001}
 #: Highest natural frequency (rad/s) a position actuator is given (ω·dt = 0.25 at dt = 2 ms).
-MAX_OMEGA = 125.0
+MAX_OMEGA = 500.0
 GRAVITY = 9.81
 #: Damping ratio of position actuators.
 DAMPING_RATIO = 1.0
@@ -198,18 +198,20 @@ def write_actuators(root: etree._Element, robot: Robot, tree: KinematicTree, joi
             kind = declared or ("velocity" if _is_wheel(robot, joint.name, wheels) else "position")
         reflected = moved_inertia(tree, inertials, joint, home) + armature.get(joint.name, 0.0)
         inertia = max(MIN_INERTIA, reflected)
-        force = vec((-effort, effort))
+        # an unlimited effort (SDF's default) gets no force range
+        force = {"forcerange": vec((-effort, effort))} if math.isfinite(effort) else {}
         names.append(mj.name)
         if kind == "motor":
-            etree.SubElement(section, "motor", {"name": mj.name, "joint": mj.name, "ctrlrange": force})
+            etree.SubElement(section, "motor", {"name": mj.name, "joint": mj.name,
+                                                **{"ctrlrange": v for v in force.values()}})
         elif kind == "velocity":
             etree.SubElement(section, "velocity", {"name": mj.name, "joint": mj.name,
-                                                   "kv": num(inertia * omega), "forcerange": force})
+                                                   "kv": num(inertia * omega), **force})
         else:
             hold = gravity_moment(tree, inertials, joint, home, carried) / HOLD_ERROR[mj.kind]
             kp = min(max(inertia * omega * omega, hold), inertia * MAX_OMEGA * MAX_OMEGA)
             attrs = {"name": mj.name, "joint": mj.name, "kp": num(kp),
-                     "kv": num(2 * DAMPING_RATIO * math.sqrt(kp * inertia)), "forcerange": force}
+                     "kv": num(2 * DAMPING_RATIO * math.sqrt(kp * inertia)), **force}
             if mj.range is not None:
                 attrs["ctrlrange"] = vec(mj.range)
             etree.SubElement(section, "position", attrs)

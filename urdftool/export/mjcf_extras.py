@@ -2,7 +2,8 @@
 joints that may carry actuators (written by :mod:`urdftool.export.mjcf_actuators`).
 
 Joints without a positive effort get no actuator, nor do mimic followers (their
-equality drives them).
+equality drives them); a joint whose source sets no effort limit (SDF's default,
+unlimited) is actuated when it has a finite range, without a force range.
 """
 
 from __future__ import annotations
@@ -23,12 +24,22 @@ from urdftool.model.pose import Matrix
 
 
 def _effort(joint: Joint) -> float | None:
-    effort = joint.limit.effort if joint.limit else None
-    return effort if effort is not None and 0 < effort < math.inf else None
+    """The joint's effort limit; ``inf`` when the source sets none (SDF's default: unlimited) on a
+    joint with a finite range; ``None`` (no actuator) for 0, or unlimited without a range."""
+    limit = joint.limit
+    effort = limit.effort if limit else None
+    if effort is not None and 0 < effort < math.inf:
+        return effort
+    if limit is None or (effort is not None and effort < math.inf):
+        return None
+    lower, upper = limit.lower, limit.upper
+    ranged = lower is not None and upper is not None and math.isfinite(lower) and math.isfinite(upper)
+    return math.inf if ranged and lower < upper else None  # type: ignore[operator]
 
 
 def actuated_joints(robot: Robot, joints: Sequence[MjJoint]) -> list[tuple[MjJoint, Joint, float]]:
-    """1-DOF source joints with a positive effort that are not mimic followers."""
+    """1-DOF source joints with a positive effort (``inf``: unlimited, with a range) that are not
+    mimic followers."""
     out = []
     for mj in joints:
         source = robot.joint(mj.source) if mj.source else None
