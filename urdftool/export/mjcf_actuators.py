@@ -18,9 +18,12 @@ Gains come from the joint's reflected inertia and a target bandwidth:
          each moved link's centre of mass from the axis; for a slide G = g Σ mᵢ)
          (a free robot adds its whole mass at the farthest point the joint moves:
          it may stand on that limb)
-    position: kp = max(I ω², G / e) with e = :data:`HOLD_ERROR` (5 mrad, 1 mm),
-              capped at I ω_max² (ω_max = :data:`MAX_OMEGA`, stable at MuJoCo's
-              default 2 ms step); kv = 2 ζ √(kp I) with ζ = 1 (critically damped)
+    position: kp = max(I ω², G / e) with e = :data:`HOLD_ERROR` (5 mrad, 1 mm);
+              kv = max(2 ζ √(kp I), kp · dt) with ζ = 1 (critically damped) and
+              dt = :data:`TIMESTEP`: with the damping integrated implicitly
+              (``implicitfast``), symplectic Euler is stable when kp dt² < 4 I + 2 kv dt,
+              which kv ≥ kp dt guarantees for any I (a stiff servo on a light
+              link becomes overdamped, time constant kv / kp ≥ dt, instead of exploding)
     velocity: kv = I ω    (first order, time constant 1/ω)
     motor:    gear 1, ctrlrange = ±effort
 
@@ -42,6 +45,7 @@ from lxml import etree
 from urdftool.export.mjcf_bodies import MjJoint, unit_axis
 from urdftool.export.mjcf_extras import actuated_joints, moved_inertia
 from urdftool.export.numbers import num, vec
+from urdftool.export.placement import bounding_radius
 from urdftool.model import Inertial, Joint, JointType, KinematicTree, Robot
 from urdftool.physics.mobility import mobility
 
@@ -49,8 +53,9 @@ from urdftool.physics.mobility import mobility
 BANDWIDTH_HZ = 10.0
 #: Largest static error (rad, m) a position actuator may leave under gravity.
 HOLD_ERROR = {"hinge": 0.005, "slide": 0.001}
-#: Highest natural frequency (rad/s) a position actuator is given (ω·dt = 0.25 at dt = 2 ms).
-MAX_OMEGA = 500.0
+#: MuJoCo's default time step (s), which the exported models keep: kv ≥ kp · TIMESTEP keeps a
+#: servo stable under the implicit integrator however small the inertia it moves.
+TIMESTEP = 0.002
 GRAVITY = 9.81
 #: Damping ratio of position actuators.
 DAMPING_RATIO = 1.0
@@ -139,7 +144,8 @@ def gravity_moment(tree: KinematicTree, inertials: Mapping[str, Inertial | None]
                    q: Mapping[str, float], carried: float = 0.0) -> float:
     """The largest gravity torque (N·m) or force (N) on *joint* from what it moves, over all
     orientations: g Σ mᵢ rᵢ for a hinge (rᵢ from the axis), g Σ mᵢ for a slide; plus a mass
-    *carried* at the farthest link origin it moves (a free robot standing on that limb)."""
+    *carried* at the farthest point it moves (link origins, and collision shapes by their bounding
+    spheres: a free robot standing on that limb)."""
     poses = tree.forward_kinematics(dict(q))
     frame = poses[joint.child]
     axis = frame[:3, :3] @ np.asarray(unit_axis(joint))
@@ -149,6 +155,10 @@ def gravity_moment(tree: KinematicTree, inertials: Mapping[str, Inertial | None]
     for _, link, _ in tree.walk(joint.child):
         tip = poses[link.name][:3, 3] - anchor
         reach = max(reach, float(np.linalg.norm(tip - float(tip @ axis) * axis)))
+        for collision in link.collisions:  # a foot stands on its collision shape, not its origin
+            centre = (poses[link.name] @ collision.origin.matrix)[:3, 3] - anchor
+            reach = max(reach, float(np.linalg.norm(centre - float(centre @ axis) * axis))
+                        + bounding_radius(collision.geometry))
         inertial = inertials.get(link.name)
         if inertial is None:
             continue
@@ -209,9 +219,9 @@ def write_actuators(root: etree._Element, robot: Robot, tree: KinematicTree, joi
                                                    "kv": num(inertia * omega), **force})
         else:
             hold = gravity_moment(tree, inertials, joint, home, carried) / HOLD_ERROR[mj.kind]
-            kp = min(max(inertia * omega * omega, hold), inertia * MAX_OMEGA * MAX_OMEGA)
-            attrs = {"name": mj.name, "joint": mj.name, "kp": num(kp),
-                     "kv": num(2 * DAMPING_RATIO * math.sqrt(kp * inertia)), **force}
+            kp = max(inertia * omega * omega, hold)
+            kv = max(2 * DAMPING_RATIO * math.sqrt(kp * inertia), kp * TIMESTEP)
+            attrs = {"name": mj.name, "joint": mj.name, "kp": num(kp), "kv": num(kv), **force}
             if mj.range is not None:
                 attrs["ctrlrange"] = vec(mj.range)
             etree.SubElement(section, "position", attrs)
