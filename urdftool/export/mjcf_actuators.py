@@ -16,8 +16,9 @@ Gains come from the joint's reflected inertia and a target bandwidth:
     ω  = 2π · f,  f = :data:`BANDWIDTH_HZ` (10 Hz)
     G  = g Σ mᵢ rᵢ, the largest gravity torque the joint can meet (rᵢ: distance of
          each moved link's centre of mass from the axis; for a slide G = g Σ mᵢ)
-         (a free robot adds its whole mass at the farthest point the joint moves:
-         it may stand on that limb)
+         (a free robot adds its whole mass at the farthest point the joint moves
+         when the joint moves a link it stands on: a link whose collision geometry
+         reaches within :data:`STANCE_BAND` of the lowest point at home)
     position: kp = max(I ω², G / e) with e = :data:`HOLD_ERROR` (5 mrad, 1 mm);
               kv = max(2 ζ √(kp I), kp · dt) with ζ = 1 (critically damped) and
               dt = :data:`TIMESTEP`: with the damping integrated implicitly
@@ -45,7 +46,7 @@ from lxml import etree
 from urdftool.export.mjcf_bodies import MjJoint, unit_axis
 from urdftool.export.mjcf_extras import actuated_joints, moved_inertia
 from urdftool.export.numbers import num, vec
-from urdftool.export.placement import bounding_radius
+from urdftool.export.placement import bounding_radius, lowest_point
 from urdftool.model import Inertial, Joint, JointType, KinematicTree, Robot
 from urdftool.physics.mobility import mobility
 
@@ -57,6 +58,8 @@ HOLD_ERROR = {"hinge": 0.005, "slide": 0.001}
 #: servo stable under the implicit integrator however small the inertia it moves.
 TIMESTEP = 0.002
 GRAVITY = 9.81
+#: Links whose collision geometry reaches this close (m) to the robot's lowest point carry it.
+STANCE_BAND = 0.02
 #: Damping ratio of position actuators.
 DAMPING_RATIO = 1.0
 #: Floor (kg·m² or kg) under the reflected inertia, so a joint moving nothing still gets kp > 0.
@@ -172,6 +175,33 @@ def gravity_moment(tree: KinematicTree, inertials: Mapping[str, Inertial | None]
     return GRAVITY * total
 
 
+def stance_links(robot: Robot, tree: KinematicTree, q: Mapping[str, float]) -> set[str]:
+    """The links a free robot stands on at *q*: those whose collision geometry reaches within
+    :data:`STANCE_BAND` of the robot's lowest collision point, and the links a loop closure ties
+    to them."""
+    poses = tree.forward_kinematics(dict(q))
+    lowest: dict[str, float] = {}
+    for link in robot.links:
+        frame = poses.get(link.name)
+        if frame is None:
+            continue
+        for collision in link.collisions:
+            z = lowest_point(collision.geometry, frame @ collision.origin.matrix)
+            if z is not None:
+                lowest[link.name] = min(z, lowest.get(link.name, z))
+    if not lowest:
+        return set()
+    floor = min(lowest.values())
+    feet = {name for name, z in lowest.items() if z <= floor + STANCE_BAND}
+    grown = True
+    while grown:  # a link tied to a foot by a loop closure carries it too (Cassie's plantar rods)
+        ties = {c.joint.parent for c in robot.loop_closures if c.joint.child in feet}
+        ties |= {c.joint.child for c in robot.loop_closures if c.joint.parent in feet}
+        grown = not ties <= feet
+        feet |= ties
+    return feet
+
+
 def write_armature(body_root: etree._Element, robot: Robot) -> dict[str, float]:
     """Set ``armature`` on joints whose transmission gives a rotor inertia; returns them."""
     armature = {name: d.armature for name, d in drives(robot).items() if d.armature is not None}
@@ -200,6 +230,7 @@ def write_actuators(root: etree._Element, robot: Robot, tree: KinematicTree, joi
     omega = 2 * math.pi * BANDWIDTH_HZ
     # a free robot stands on its limbs: each joint may carry the whole robot at its tip
     carried = sum(i.mass for i in inertials.values() if i is not None) if free_base else 0.0
+    feet = stance_links(robot, tree, home) if carried else set()
     names = []
     for mj, joint, effort in actuated:
         kind = mode
@@ -218,7 +249,8 @@ def write_actuators(root: etree._Element, robot: Robot, tree: KinematicTree, joi
             etree.SubElement(section, "velocity", {"name": mj.name, "joint": mj.name,
                                                    "kv": num(inertia * omega), **force})
         else:
-            hold = gravity_moment(tree, inertials, joint, home, carried) / HOLD_ERROR[mj.kind]
+            stands = any(link.name in feet for _, link, _ in tree.walk(joint.child))
+            hold = gravity_moment(tree, inertials, joint, home, carried if stands else 0.0) / HOLD_ERROR[mj.kind]
             kp = max(inertia * omega * omega, hold)
             kv = max(2 * DAMPING_RATIO * math.sqrt(kp * inertia), kp * TIMESTEP)
             attrs = {"name": mj.name, "joint": mj.name, "kp": num(kp), "kv": num(kv), **force}
