@@ -53,7 +53,6 @@ from urdftool.model.pose import Matrix
 from urdftool.physics.mobility import BasePlan, decide_base
 from urdftool.rules.syntax import MultipleRoots
 
-
 #: The ``<option>`` written: implicit damping (joint damping and the actuators' kv are integrated
 #: implicitly, so stiff servos stay stable at the default 2 ms step) and elliptic friction cones,
 #: as MuJoCo Menagerie writes them.

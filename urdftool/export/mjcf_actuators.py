@@ -243,14 +243,15 @@ def write_actuators(root: etree._Element, robot: Robot, tree: KinematicTree, joi
         force = {"forcerange": vec((-effort, effort))} if math.isfinite(effort) else {}
         names.append(mj.name)
         if kind == "motor":
-            etree.SubElement(section, "motor", {"name": mj.name, "joint": mj.name,
-                                                **{"ctrlrange": v for v in force.values()}})
+            limits = {"ctrlrange": force["forcerange"]} if force else {}
+            etree.SubElement(section, "motor", {"name": mj.name, "joint": mj.name, **limits})
         elif kind == "velocity":
             etree.SubElement(section, "velocity", {"name": mj.name, "joint": mj.name,
                                                    "kv": num(inertia * omega), **force})
         else:
             stands = any(link.name in feet for _, link, _ in tree.walk(joint.child))
-            hold = gravity_moment(tree, inertials, joint, home, carried if stands else 0.0) / HOLD_ERROR[mj.kind]
+            load = gravity_moment(tree, inertials, joint, home, carried if stands else 0.0)
+            hold = load / HOLD_ERROR[mj.kind]
             kp = max(inertia * omega * omega, hold)
             kv = max(2 * DAMPING_RATIO * math.sqrt(kp * inertia), kp * TIMESTEP)
             attrs = {"name": mj.name, "joint": mj.name, "kp": num(kp), "kv": num(kv), **force}
