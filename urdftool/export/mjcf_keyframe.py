@@ -131,23 +131,27 @@ def close_loops(root: etree._Element, out_dir: Path | None, files: dict[str, byt
         mujoco.mj_integratePos(model, data.qpos, step, 1.0)
         residual, jac = _residual(model, data)
         steps += 1
-    _lift(model, data)
+    lifted = _lift(model, data)
     key.set("qpos", vec(data.qpos.tolist()))
     after = float(np.max(np.abs(residual), initial=0.0))
+    placed = f"; root then at z = {lifted:.6g} m, 1 mm above the floor" if lifted is not None else ""
     key.addprevious(etree.Comment(f" home solved for the loop closures: largest residual {before:.3g} "
-                                  f"before, {after:.3g} after {steps} projection steps "))
+                                  f"before, {after:.3g} after {steps} projection steps{placed} "))
     return LoopSolve(before, after, steps)
 
 
-def _lift(model: Any, data: Any) -> None:
-    """Raise a free root so its lowest colliding geom is :data:`CLEARANCE` above the floor."""
+def _lift(model: Any, data: Any) -> float | None:
+    """Raise a free root so its lowest colliding geom is :data:`CLEARANCE` above the floor; the
+    root's new height, ``None`` without a floor or a free root."""
     import mujoco
 
     floor = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_GEOM, _FLOOR)
     if floor < 0 or model.njnt == 0 or model.jnt_type[0] != mujoco.mjtJoint.mjJNT_FREE:
-        return
+        return None
     mujoco.mj_forward(model, data)
     gaps = [mujoco.mj_geomDistance(model, data, floor, g, 10.0, None) for g in range(model.ngeom)
             if g != floor and (model.geom_contype[g] or model.geom_conaffinity[g])]
+    height = int(model.jnt_qposadr[0]) + 2
     if gaps:
-        data.qpos[int(model.jnt_qposadr[0]) + 2] += CLEARANCE - min(gaps)
+        data.qpos[height] += CLEARANCE - min(gaps)
+    return float(data.qpos[height])
