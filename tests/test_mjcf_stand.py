@@ -93,7 +93,9 @@ def test_scene_with_auto_actuators_holds_home_for_five_seconds(case: Case, tmp_p
     servoed = [int(model.jnt_qposadr[model.actuator_trnid[i, 0]]) for i in range(model.nu)
                if model.actuator_biastype[i] == mujoco.mjtBias.mjBIAS_AFFINE]
     assert servoed, "auto gives these robots position servos"
-    data.ctrl[:] = [home[int(model.jnt_qposadr[model.actuator_trnid[i, 0]])] for i in range(model.nu)]
+    # the keyframe commands every servo to its joint's home value: resetting to it is enough
+    commanded = [home[int(model.jnt_qposadr[model.actuator_trnid[i, 0]])] for i in range(model.nu)]
+    assert np.allclose(data.ctrl, commanded, atol=1e-12)
     free = model.jnt_type[0] == mujoco.mjtJoint.mjJNT_FREE
     loops = any(model.eq_type[e] == mujoco.mjtEq.mjEQ_CONNECT for e in range(model.neq))
     joint_dev = base_dev = tilt = gap = angle = 0.0

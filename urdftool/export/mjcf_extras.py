@@ -175,11 +175,24 @@ def home_qpos(robot: Robot, joints: Sequence[MjJoint]) -> list[float]:
 
 
 def write_keyframe(root: etree._Element, robot: Robot, joints: Sequence[MjJoint]) -> None:
+    """The ``home`` keyframe: its qpos, and with actuators its ctrl (position servos commanded to
+    their joint's home value, velocity and motor actuators to 0), so that resetting to it holds."""
     qpos = home_qpos(robot, joints)
     if not qpos:
         return
+    attrs = {"name": "home", "qpos": vec(qpos)}
+    offsets: dict[str, int] = {}
+    at = 0
+    for mj in joints:
+        offsets[mj.name] = at
+        at += len(mj.home)
+    actuators = root.find("actuator")
+    if actuators is not None and len(actuators):
+        attrs["ctrl"] = vec([qpos[offsets[a.get("joint", "")]]
+                             if a.tag == "position" and a.get("joint") in offsets else 0.0
+                             for a in actuators])
     section = etree.SubElement(root, "keyframe")
-    etree.SubElement(section, "key", {"name": "home", "qpos": vec(qpos)})
+    etree.SubElement(section, "key", attrs)
 
 
 def write_scene(root: etree._Element, worldbody: etree._Element, floor: float = 0.0) -> None:

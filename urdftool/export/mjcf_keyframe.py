@@ -133,6 +133,12 @@ def close_loops(root: etree._Element, out_dir: Path | None, files: dict[str, byt
         steps += 1
     lifted = _lift(model, data)
     key.set("qpos", vec(data.qpos.tolist()))
+    if key.get("ctrl") is not None:  # position servos follow their solved joints
+        ctrl = [float(data.qpos[model.jnt_qposadr[model.actuator_trnid[i, 0]]])
+                if model.actuator_biastype[i] == mujoco.mjtBias.mjBIAS_AFFINE
+                and model.actuator_gainprm[i, 0] == -model.actuator_biasprm[i, 1] else 0.0
+                for i in range(model.nu)]
+        key.set("ctrl", vec(ctrl))
     after = float(np.max(np.abs(residual), initial=0.0))
     placed = f"; root then at z = {lifted:.6g} m, 1 mm above the floor" if lifted is not None else ""
     key.addprevious(etree.Comment(f" home solved for the loop closures: largest residual {before:.3g} "
