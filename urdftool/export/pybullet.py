@@ -19,7 +19,8 @@ the model:
   frames listed in a comment (:mod:`urdftool.export.pybullet_fuse`);
 * floating joints refused (PyBullet silently makes them fixed);
 * mimic joints kept in the file but reported: PyBullet ignores ``<mimic>``;
-  ``help`` gives the gear-constraint recipe.
+  ``help`` gives the gear-constraint recipe that holds them (as ``sim`` applies
+  it: :func:`urdftool.backends.pybullet.couple_mimics`).
 
 A comment at the top of OUT records the source and how to load the file.
 """
@@ -264,17 +265,15 @@ def _mimic_reports(robot: Robot) -> list[Diagnostic]:
             continue
         mimic = joint.mimic
         recipe = (
-            "PyBullet ignores <mimic>; couple the joints with a gear constraint after loading: "
+            "PyBullet ignores <mimic>; couple the joints with a gear constraint after loading "
+            "(urdftool.backends.pybullet.couple_mimics does this): "
             f"a = index of joint '{joint.name}', b = index of joint '{mimic.joint}'; "
             "c = p.createConstraint(robot, a, robot, b, jointType=p.JOINT_GEAR, jointAxis=[0, 0, 1], "
             "parentFramePosition=[0, 0, 0], childFramePosition=[0, 0, 0]); "
-            f"p.changeConstraint(c, gearRatio={-mimic.multiplier:g}, maxForce=...)"
-            + (
-                f"; the offset {mimic.offset:g} has no equivalent (set the joint with "
-                "resetJointState)"
-                if mimic.offset
-                else ""
-            )
+            f"p.changeConstraint(c, gearRatio={-mimic.multiplier:g}, "
+            f"relativePositionTarget={mimic.offset:g}, erp=1, maxForce=1e6); "
+            "p.setPhysicsEngineParameter(numSolverIterations=200) (PyBullet's defaults, erp 0 and "
+            "50 iterations, let followers drift by tenths of a radian)"
         )
         found.append(
             ConversionDropped.diagnostic(
