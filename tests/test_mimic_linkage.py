@@ -144,3 +144,36 @@ def test_sim_reports_the_linkage_holding_in_both_engines(gripper: Robot) -> None
         assert run["ran"] and run["finite"], engine
         assert run["max_mimic_error"] < 0.01, (engine, run["worst_mimic_joint"], run["max_mimic_error"])
         assert run["max_joint_speed"] > 0.5, engine  # the linkage did move
+
+
+def test_couple_mimics_keeps_the_offset(tmp_path: Path) -> None:
+    inertial = ('<inertial><mass value="1"/><inertia ixx="0.01" ixy="0" ixz="0" iyy="0.01" iyz="0" '
+                'izz="0.01"/></inertial>')
+    joints = "".join(
+        f'<joint name="j{i}" type="revolute"><parent link="base"/><child link="l{i}"/>'
+        f'<origin xyz="0 {0.3 * i} 0"/><axis xyz="0 0 1"/><limit lower="-2" upper="2" effort="5" '
+        f'velocity="2"/>{extra}</joint>'
+        for i, extra in ((1, ""), (2, '<mimic joint="j1" multiplier="0.5" offset="0.2"/>')))
+    src = tmp_path / "pair.urdf"
+    src.write_text(f'<robot name="pair"><link name="base">{inertial}</link><link name="l1">{inertial}</link>'
+                   f'<link name="l2">{inertial}</link>{joints}</robot>')
+    robot = urdftool.load(src)
+    path = write(robot, "pybullet", tmp_path / "out" / "pair.urdf", ExportOptions())
+    p = import_pybullet()
+    with captured_output():
+        client = p.connect(p.DIRECT)
+    try:
+        body = p.loadURDF(str(path), flags=p.URDF_USE_INERTIA_FROM_FILE, useFixedBase=True,
+                          physicsClientId=client)
+        p.setJointMotorControlArray(body, [0, 1], p.VELOCITY_CONTROL, forces=[0.0, 0.0],
+                                    physicsClientId=client)
+        assert len(couple_mimics(p, client, body, followers(robot))) == 1
+        for _ in range(240):
+            p.setJointMotorControl2(body, 0, p.POSITION_CONTROL, targetPosition=0.8, force=5,
+                                    physicsClientId=client)
+            p.stepSimulation(physicsClientId=client)
+        leader, follower = (p.getJointState(body, i, physicsClientId=client)[0] for i in (0, 1))
+    finally:
+        p.disconnect(physicsClientId=client)
+    assert leader == pytest.approx(0.8, abs=0.01)
+    assert follower == pytest.approx(0.5 * leader + 0.2, abs=1e-3)
