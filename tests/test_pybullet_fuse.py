@@ -165,3 +165,23 @@ def test_tiago_dual_is_fused_automatically_and_keeps_mass_and_frames(tmp_path: P
         built = np.linalg.inv(root) @ frames_world[into] @ pose.matrix
         expected = np.linalg.inv(poses["base_link"]) @ poses[name]
         assert np.allclose(built, expected, rtol=0, atol=1e-6), name
+
+
+def test_a_massless_world_root_stays_massless_and_fixed(tmp_path: Path) -> None:
+    """Fusing the arm's base into a massless ``world`` root would give PyBullet a base with mass,
+    which floats: the root keeps its fixed children as links."""
+    src = _toy(tmp_path)
+    src.write_text(src.read_text().replace(
+        '<link name="mount"/>',
+        '<link name="mount"/><link name="world"/><joint name="bolt" type="fixed"><parent link="world"/>'
+        '<child link="base"/><origin xyz="0 0 0.3"/></joint>'))
+    out = tmp_path / "o.urdf"
+    result = export_model(urdftool.load(src), "pybullet", out, ExportOptions(fuse_fixed=True))
+    assert not result.failed
+    text = result.files["o.urdf"].decode()
+    assert "base: fixed to the world" in text
+    assert set(read_fused_frames(text)) == {"mount", "camera", "tool"}  # into base and arm, not world
+    out.write_bytes(text.encode())
+    with PyBulletLoad(str(out)) as loaded:
+        masses = {link.name: link.mass for link in loaded.links()}
+    assert masses["world"] == 0 and masses["base"] > 0

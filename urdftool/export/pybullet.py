@@ -128,7 +128,7 @@ def plan_export(robot: Robot, options: ExportOptions) -> ExportPlan:
     joints = len(rooted.links) - 1
     if not options.fuse_fixed and joints <= MAX_JOINTS:
         return ExportPlan(rooted, rooted, Fusion(rooted), base.diagnostics)
-    fusion = fuse_fixed(rooted)
+    fusion = fuse_fixed(rooted, _anchor(rooted, options))
     if not fusion.frames:
         return ExportPlan(rooted, rooted, fusion, base.diagnostics)
     left = len(fusion.robot.links) - 1
@@ -161,6 +161,16 @@ def plan_export(robot: Robot, options: ExportOptions) -> ExportPlan:
         },
     )
     return ExportPlan(fusion.robot, rooted, fusion, (*base.diagnostics, note))
+
+
+def _anchor(robot: Robot, options: ExportOptions) -> str | None:
+    """The root, when it is massless and the robot is not free: PyBullet fixes it to the world
+    only while it has no mass, so nothing may be fused into it."""
+    tree = KinematicTree.of(robot)
+    root = robot.link(tree.root or "")
+    if root is None or (root.inertial is not None and root.inertial.mass > 0):
+        return None
+    return None if decide_base(robot, tree, options.floating_base).kind == "free" else root.name
 
 
 def export(robot: Robot, out: Path, options: ExportOptions) -> ExportResult:

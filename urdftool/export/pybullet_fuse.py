@@ -58,15 +58,20 @@ class Fusion:
     frames: tuple[FusedFrame, ...] = ()
 
 
-def fuse_fixed(robot: Robot) -> Fusion:
-    """*robot* with every link on a fixed joint merged into its nearest non-fixed ancestor."""
+def fuse_fixed(robot: Robot, anchor: str | None = None) -> Fusion:
+    """*robot* with every link on a fixed joint merged into its nearest non-fixed ancestor.
+
+    Nothing is merged into *anchor*: a massless root that holds a fixed robot to the world
+    (PyBullet fixes a base of mass 0) must stay massless, so its fixed children stay links.
+    """
     tree = KinematicTree.of(robot)
     if tree.cycle_joints:
         return Fusion(robot)  # a closed chain is refused by the exporter; nothing to fuse
     placed: dict[str, tuple[str, Matrix]] = {}
     frames: list[FusedFrame] = []
     for _depth, link, joint in tree.walk():
-        if joint is not None and joint.type is JointType.FIXED and joint.parent in placed:
+        fusable = joint is not None and joint.type is JointType.FIXED and joint.parent in placed
+        if fusable and joint is not None and placed[joint.parent][0] != anchor:
             kept, above = placed[joint.parent]
             transform = above @ joint.origin.matrix
             placed[link.name] = (kept, transform)
