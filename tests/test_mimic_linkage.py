@@ -114,10 +114,20 @@ def test_mujoco_equalities_hold_five_followers(gripper: Robot, tmp_path: Path) -
     path = write(gripper, "mjcf", tmp_path / "gripper.xml", ExportOptions(actuators="position"))
     model = mujoco.MjModel.from_xml_path(str(path))
     assert model.neq == 5 and model.nu == 1
-    # A firmer servo than the exported one (kp from the 0.1 N·m effort) so that the leader sweeps
-    # its range under gravity: the point is what the followers do.
-    model.actuator_gainprm[0, 0], model.actuator_biasprm[0, 1:3] = 5.0, (-5.0, -0.2)
-    model.actuator_forcerange[0] = (-5.0, 5.0)
+    # A servo about twice as firm as the exported one (kp from the 0.1 N·m effort), damped by the
+    # exporter's own rule kv = max(2·sqrt(kp·I), kp·dt), so that the leader sweeps its range
+    # under gravity: the point is what the followers do. (MuJoCo cannot make an equality stiffer
+    # than a 2-step time constant, so a much firmer servo on these 10 g fingers outruns any
+    # coupling: kp = 5 lags by 0.09 rad.)
+    data = mujoco.MjData(model)
+    mujoco.mj_forward(model, data)
+    mass_matrix = np.zeros((model.nv, model.nv))
+    mujoco.mj_fullM(model, data, mass_matrix)
+    dof = int(model.jnt_dofadr[model.actuator_trnid[0, 0]])
+    kp = 1.0
+    kv = max(2 * math.sqrt(kp * mass_matrix[dof, dof]), kp * model.opt.timestep)
+    model.actuator_gainprm[0, 0], model.actuator_biasprm[0, 1:3] = kp, (-kp, -kv)
+    model.actuator_forcerange[0] = (-1.0, 1.0)
     data = mujoco.MjData(model)
     address = {model.joint(i).name: int(model.jnt_qposadr[i]) for i in range(model.njnt)}
     pairs = followers(gripper)
