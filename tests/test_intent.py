@@ -46,7 +46,11 @@ REVIEWED: dict[str, list[tuple[str, int]]] = {
     "biped/biped2d_pybullet.urdf": [("N202", 146), ("N204", 191)],
     "husky/husky.urdf": [("N302", 115), ("N302", 166), ("N302", 217), ("N302", 268)],
     "r2d2.urdf": [("N103", 96), ("N103", 123), ("N103", 201), ("N103", 228)],
-    "racecar/racecar.urdf": [("N202", 174)],
+    "racecar/racecar.urdf": [("N105", 457), ("N202", 174)],
+    "hyundai_ngv/m_robot_description/urdf/m_robot.xacro": [("N105", 70)],
+    "learning_ros/mobot_urdf/urdf/mobot_w_lidar_and_camera.xacro": [("N105", 75)],
+    "learning_ros/mobot_urdf/urdf/mobot_w_lidar_and_kinect.xacro": [("N105", 75)],
+    "go_chase_it/my_robot/urdf/my_robot.xacro": [("N105", 51)],
     "racecar/racecar_differential.urdf": [("N202", 146)],
 }
 

@@ -688,6 +688,10 @@ NOT_PLANTED: dict[str, str] = {
     "ros2-control-block-misconfigured": "needs a <ros2_control> block; no URDF of the corpus has one",
     "mimic-joint-sim-unsupported": "reported with check --target; the harness checks without a target",
     "frame-link-without-inertial": "reported with check --target; the harness checks without a target",
+    "camera-optical-frame-missing": (
+        "needs a Gazebo camera plugin stamping an optical frame; the corpus has none (racecar's "
+        "stamps its body frame and is reported on the twin)"
+    ),
     "mesh-filename-case": (
         "needs a mesh file on disk in the other case, which a mutation of the text cannot create"
     ),

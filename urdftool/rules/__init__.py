@@ -16,6 +16,7 @@ from urdftool.rules import (  # noqa: F401  (importing registers the rules)
     gazebo_frames,
     inertia,
     inertia_fit,
+    intent_camera,
     intent_consistency,
     intent_ros,
     intent_symmetry,
