@@ -200,3 +200,22 @@ def test_drake_collision_formats(tmp_path: Path) -> None:
         else:
             read.add(extension.lower())
     assert read == set(TARGETS["drake"].collision_formats or ())
+
+
+def test_drake_massless_welded_link_does_not_stop(tmp_path: Path) -> None:
+    """A massless flange welded to a massive link (UR's tool0) has zero mass, and the plant still steps."""
+    urdf = tmp_path / "flange.urdf"
+    inertia = '<inertia ixx="0.01" ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0.01"/>'
+    urdf.write_text(
+        f'<robot name="flange"><link name="base"><inertial><mass value="2"/>{inertia}</inertial></link>'
+        f'<link name="arm"><inertial><mass value="1"/>{inertia}</inertial></link><link name="flange"/>'
+        '<joint name="shoulder" type="revolute"><parent link="base"/><child link="arm"/><axis xyz="0 1 0"/>'
+        '<limit lower="-1" upper="1" effort="10" velocity="1"/></joint>'
+        '<joint name="mount" type="fixed"><parent link="arm"/><child link="flange"/></joint></robot>',
+        encoding="utf-8",
+    )
+    (d,) = findings(urdf)
+    assert (d.code, d.data["link"], d.data["stops"]) == ("T001", "flange", False)
+    loaded = Loaded(urdf)
+    _massless(urdf, loaded, d)
+    loaded.step(0.01)  # the root floats, the arm swings, the flange rides on it: nothing is singular

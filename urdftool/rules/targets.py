@@ -108,7 +108,8 @@ class TargetDefaultMass(_Targets):
     every link below it, when the link is not attached by a fixed joint.
     Drake also floats a root link that is not welded to the world, and stops
     a simulation whose mass matrix a massless link leaves singular: a warning
-    when nothing on fixed joints below the link carries mass.
+    when the link is not welded to its parent and nothing on fixed joints
+    below it carries mass.
 
     ## Why it matters
     The same file then weighs different amounts in each program: a sensor
@@ -149,7 +150,9 @@ class TargetDefaultMass(_Targets):
     ) -> Diagnostic:
         """Zero mass and inertia; for Drake, a simulation that stops when nothing below carries mass."""
         floats = target.floating_root and link.name == ctx.tree.root
-        stops = target.massless_stops and _lumped_mass(ctx, link.name) == 0
+        parent = _parent_joint(ctx, link.name)
+        joined = floats or (parent is not None and parent.type is not JointType.FIXED)  # not welded
+        stops = target.massless_stops and joined and _lumped_mass(ctx, link.name) == 0
         message = f"{target.label} will give link '{link.name}' zero mass and inertia (it {what})"
         if floats:
             message += " and make it a free body unless it is welded to the world"
