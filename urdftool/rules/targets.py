@@ -339,8 +339,7 @@ class TargetIgnoresMimic(_Targets):
                 unless = {
                     "ignored": "",
                     "needs-plugin": " unless a mimic joint plugin couples it",
-                    "needs-option": " unless asked to honour it"
-                    + (" (mimic=True)" if target.name == "pinocchio" else " (SAP discrete solver)"),
+                    "needs-option": " unless asked to honour it (mimic=True)",
                 }[target.mimic or ""]
                 yield self.diagnostic(
                     f"{target.label} will ignore the <mimic> of joint '{joint.name}' "
@@ -393,15 +392,15 @@ class TargetJointType(_Targets):
                     message = f"{target.label} will weld {kind} joint '{joint.name}' (a fixed joint)"
                 elif effect == "free":
                     message = (
-                        f"{target.label} will drop {joint.type.value} joint '{joint.name}' and make link "
+                        f"{target.label} will drop {kind} joint '{joint.name}' and make link "
                         f"'{joint.child}' a free body, not attached to '{joint.parent}'"
                     )
                 else:
-                    message = f"{target.label} will give {joint.type.value} joint '{joint.name}' {effect}"
+                    message = f"{target.label} will give {kind} joint '{joint.name}' {effect}"
                 yield self.diagnostic(
                     message, joint.span, element=f"joint[{joint.name}]",
                     severity=Severity.WARNING if lost else Severity.INFO,
-                    data={"target": target.name, "joint": joint.name, "type": joint.type.value,
+                    data={"target": target.name, "joint": joint.name, "type": kind,
                           "child": joint.child, "effect": effect},
                 )
 
