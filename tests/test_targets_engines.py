@@ -1,7 +1,7 @@
 """The consumer tables cannot drift from the engines: every prediction is measured in the engine.
 
-For MuJoCo, PyBullet and Pinocchio, each fixture of fixtures/targets/ is
-checked with ``--target`` that engine, loaded in the engine itself, and every
+For MuJoCo, PyBullet and Pinocchio (Drake: tests/test_targets_drake.py), each
+fixture of fixtures/targets/ is checked with ``--target`` that engine, loaded in the engine itself, and every
 finding's predicted effect measured: the mass a link gets, which bodies exist
 after fusing, whether a ball inside a concave collision mesh collides with its
 hull, the inertia PyBullet computes, welded joints, the configuration size.
@@ -77,12 +77,13 @@ def _probe_position(path: Path) -> str:
 
 def test_every_engine_effect_is_measured() -> None:
     """The fixtures exercise each kind of prediction in each engine (no vacuous pass)."""
-    engines = ("mujoco", "pybullet", "pinocchio")
+    engines = ("mujoco", "pybullet", "pinocchio", "drake")  # drake: tests/test_targets_drake.py
     codes = {t: {d.code for p in TARGET_FIXTURES for d in findings(p, t)} for t in engines}
     assert codes == {
         "mujoco": {"T001", "T002", "T003"},
         "pybullet": {"T001", "T003", "T004", "T005", "T010"},
         "pinocchio": {"T001", "T002", "T004", "T005"},
+        "drake": {"T001", "T003", "T004", "T005", "T006"},
     }
 
 

@@ -14,6 +14,18 @@ from urdftool.facts import mesh_shape
 from urdftool.facts import meshes as survey
 from urdftool.facts.context import CheckContext
 from urdftool.rules.targets import HULL_NOTE, HULL_WARN, _pct, _Targets, targets
+from urdftool.targets import Target
+
+
+def _extension(filename: str) -> str:
+    """The file's extension, lower case with its dot (``""`` when it has none)."""
+    return "." + filename.rsplit(".", 1)[-1].lower() if "." in filename.rsplit("/", 1)[-1] else ""
+
+
+def _refused(target: Target, filename: str) -> bool:
+    """The target stops loading the file at a collision mesh of this format (Drake)."""
+    formats = target.collision_formats
+    return target.unread_format_fails and formats is not None and _extension(filename) not in formats
 
 
 @register
@@ -26,7 +38,9 @@ class TargetHullsConcaveMesh(_Targets):
     of the hull each collision mesh fills (its volume, or for an open mesh the
     hulls of its pieces, over the hull's volume; PyBullet hulls each object
     of an OBJ file on its own). Reports meshes that fill less than 75 % of
-    the hull (a warning below 50 %).
+    the hull (a warning below 50 %). A mesh whose format stops the
+    consumer's load (an STL mesh in Drake: `target-mesh-format`) is left to
+    that rule.
 
     ## Why it matters
     A bowl becomes a solid dome, a tray a block: objects placed in it rest on
@@ -51,6 +65,8 @@ class TargetHullsConcaveMesh(_Targets):
         for shape, uses in mesh_shape.collision_shapes(ctx).values():
             first = uses[0]
             for target in chosen:
+                if _refused(target, first.mesh.filename):
+                    continue
                 per_object = target.hulls_collision_meshes == "object" and shape.objects > 1
                 fill = shape.hull_fill(per_object)
                 if fill >= HULL_NOTE or shape.hull_volume <= 0:
@@ -76,12 +92,15 @@ class TargetMeshFormat(_Targets):
     ## What it does
     For each target of `--target` other than MuJoCo and PyBullet (whose
     formats `mesh-format-unsupported` checks), reports collision meshes whose
-    file extension the consumer does not read: Drake reads OBJ (and VTK,
-    glTF), Gazebo, Isaac Sim and MoveIt read STL, OBJ and COLLADA.
+    file extension the consumer does not read: Drake reads OBJ, VTK and
+    glTF (`.gltf`, not `.glb`), Gazebo, Isaac Sim and MoveIt read STL, OBJ
+    and COLLADA. For Drake it is an error: its parser stops at the mesh.
 
     ## Why it matters
     The consumer drops the collision shape, with a warning at best: the link
-    passes through everything.
+    passes through everything. Drake, loading into a plant with a
+    SceneGraph, refuses the whole file ("MakeConvexHull only applies to .obj,
+    .vtk, and .gltf meshes").
 
     ## Example
     ```xml
@@ -105,16 +124,23 @@ class TargetMeshFormat(_Targets):
         for use in survey.mesh_uses(ctx):
             if use.role != "collision" or survey.has_substitution(use.mesh.filename):
                 continue
-            extension = "." + use.mesh.filename.rsplit(".", 1)[-1].lower() if "." in use.mesh.filename else ""
+            extension = _extension(use.mesh.filename)
             for target in chosen:
                 if extension in (target.collision_formats or ()):
                     continue
                 reads = ", ".join(sorted(e.lstrip(".").upper() for e in target.collision_formats or ()))
+                refused = _refused(target, use.mesh.filename)
+                effect = (
+                    f"{target.label} will refuse to load the file because of {use.describe}"
+                    if refused
+                    else f"{target.label} will not use {use.describe} as collision geometry"
+                )
                 yield self.diagnostic(
-                    f"{target.label} will not use {use.describe} as collision geometry: it reads "
-                    f"{reads} collision meshes",
+                    f"{effect}: it reads {reads} collision meshes only",
                     use.location, element=use.element, help="convert the mesh to OBJ",
-                    data={"target": target.name, "uri": use.mesh.filename, "extension": extension},
+                    severity=Severity.ERROR if refused else Severity.WARNING,
+                    data={"target": target.name, "uri": use.mesh.filename, "extension": extension,
+                          "refused": refused},
                 )
 
 

@@ -9,7 +9,7 @@ survey facts (:mod:`urdftool.facts.meshes`, :mod:`urdftool.facts.mesh_shape`).
 
 from __future__ import annotations
 
-from collections.abc import Iterator
+from collections.abc import Iterator, Mapping
 
 from urdftool.catalogue.registry import Family, Rule, register
 from urdftool.diagnostics import Diagnostic, Severity
@@ -42,8 +42,10 @@ def _pct(value: float) -> str:
     return f"{100 * value:.0f} %"
 
 
-def _moving(ctx: CheckContext, link: str) -> bool:
-    """The link moves relative to the root (a non-fixed joint between them)."""
+def _moving(ctx: CheckContext, link: str, target: Target | None = None) -> bool:
+    """The link moves relative to the root (a non-fixed joint between them), or floats with it."""
+    if target is not None and target.floating_root and link == ctx.tree.root:
+        return True
     return any(j.type is not JointType.FIXED for j in ctx.tree.path_to_root(link))
 
 
@@ -101,14 +103,19 @@ class TargetDefaultMass(_Targets):
     ## What it does
     For each target of `--target`, reports links without `<inertial>` (or
     with zero mass) and what the consumer gives them: PyBullet 1 kg; MuJoCo
-    and Isaac Sim the mass of the collision geometry at 1000 kg/m³; Pinocchio
-    and KDL zero; Gazebo (classic and gz-sim) leaves the link out, with every
-    link below it, when the link is not attached by a fixed joint.
+    and Isaac Sim the mass of the collision geometry at 1000 kg/m³; Pinocchio,
+    KDL and Drake zero; Gazebo (classic and gz-sim) leaves the link out, with
+    every link below it, when the link is not attached by a fixed joint.
+    Drake also floats a root link that is not welded to the world, and stops
+    a simulation whose mass matrix a massless link leaves singular: a warning
+    when the link is not welded to its parent and nothing on fixed joints
+    below it carries mass.
 
     ## Why it matters
     The same file then weighs different amounts in each program: a sensor
-    mount that weighs nothing in RViz weighs 1 kg in PyBullet, and in Gazebo
-    the arm below a massless link simply disappears.
+    mount that weighs nothing in RViz weighs 1 kg in PyBullet, in Gazebo
+    the arm below a massless link simply disappears, and in Drake the first
+    simulation step stops with "mass matrix ... is not positive-definite".
 
     ## Example
     ```xml
@@ -138,6 +145,29 @@ class TargetDefaultMass(_Targets):
                 if found is not None:
                     yield found
 
+    def _zero(
+        self, ctx: CheckContext, target: Target, link: Link, what: str, data: Mapping[str, object]
+    ) -> Diagnostic:
+        """Zero mass and inertia; for Drake, a simulation that stops when nothing below carries mass."""
+        floats = target.floating_root and link.name == ctx.tree.root
+        parent = _parent_joint(ctx, link.name)
+        joined = floats or (parent is not None and parent.type is not JointType.FIXED)  # not welded
+        stops = target.massless_stops and joined and _lumped_mass(ctx, link.name) == 0
+        message = f"{target.label} will give link '{link.name}' zero mass and inertia (it {what})"
+        if floats:
+            message += " and make it a free body unless it is welded to the world"
+        if stops:
+            message += "; a simulation stops at its first step (a mass matrix that is not positive-definite)"
+            if ctx.tree.children(link.name):
+                message += " unless the links below it carry inertia about each way it moves"
+        return self.diagnostic(
+            message, link.span, element=f"link[{link.name}]",
+            severity=Severity.WARNING if stops else Severity.INFO,
+            help="give the link an <inertial> if it carries any mass"
+            + (" (or weld it to the world: plant.WeldFrames)" if floats else ""),
+            data={**data, "mass": 0.0, "floats": floats, "stops": stops},
+        )
+
     def _effect(self, ctx: CheckContext, target: Target, link: Link) -> Diagnostic | None:
         kind = target.missing_inertial
         what = "has no <inertial>" if link.inertial is None else "has zero mass"
@@ -166,14 +196,10 @@ class TargetDefaultMass(_Targets):
                 link.span, element=f"link[{link.name}]", help="give the link an <inertial>",
                 data={**data, "mass": 1.0},
             )
-        if not _moving(ctx, link.name):
+        if not _moving(ctx, link.name, target):
             return None
         if kind == "zero":
-            return self.diagnostic(
-                f"{target.label} will give link '{link.name}' zero mass and inertia (it {what})",
-                link.span, element=f"link[{link.name}]", severity=Severity.INFO,
-                help="give the link an <inertial> if it carries any mass", data={**data, "mass": 0.0},
-            )
+            return self._zero(ctx, target, link, what, data)
         volume = _collision_volume(link)
         if volume is None or volume <= 0:
             return None
@@ -263,7 +289,10 @@ class TargetIgnoresMimic(_Targets):
     ## What it does
     For each target of `--target`, reports `<mimic>` elements the consumer
     ignores (PyBullet, KDL), needs a plugin for (Gazebo classic) or honours
-    only when asked (Pinocchio's `mimic=True`, Drake's SAP solver).
+    only when asked (Pinocchio's `mimic=True`) or only in some plants (Drake:
+    a discrete plant with the SAP solver, its default, couples the joints; the
+    TAMSI solver ignores the `<mimic>`, and a continuous plant stops at its
+    first step).
 
     ## Why it matters
     The follower becomes an independent joint: a gripper's second finger
@@ -277,13 +306,26 @@ class TargetIgnoresMimic(_Targets):
     ## Fix
     PyBullet: `createConstraint(..., JOINT_GEAR, ...)` between the joints;
     Gazebo classic: a mimic joint plugin; Pinocchio:
-    `buildModelFromUrdf(path, mimic=True)`; Drake: a discrete plant with the
-    SAP solver.
+    `buildModelFromUrdf(path, mimic=True)`; Drake: a discrete plant
+    (`time_step > 0`) with the SAP solver (the default approximation
+    `lagged`, or `sap` or `similar`).
     """
 
     code = "T004"
     name = "target-ignores-mimic"
     severity = Severity.WARNING
+
+    def _discrete_only(self, target: Target, joint: Joint) -> Diagnostic:
+        assert joint.mimic is not None
+        return self.diagnostic(
+            f"{target.label} will couple joint '{joint.name}' to '{joint.mimic.joint}' (its <mimic>) only "
+            "in a discrete plant with the SAP solver (the default): the TAMSI solver ignores the <mimic> "
+            "and a continuous plant (time_step 0) stops at its first step",
+            joint.mimic.span or joint.span, element=f"joint[{joint.name}]/mimic", severity=Severity.INFO,
+            help="simulate it in a discrete plant (time_step > 0) with the SAP solver",
+            data={"target": target.name, "joint": joint.name, "leader": joint.mimic.joint,
+                  "effect": target.mimic},
+        )
 
     def check(self, ctx: CheckContext) -> Iterator[Diagnostic]:
         chosen = [t for t in targets(ctx) if t.mimic is not None]
@@ -291,11 +333,13 @@ class TargetIgnoresMimic(_Targets):
             if joint.mimic is None:
                 continue
             for target in chosen:
+                if target.mimic == "discrete-only":
+                    yield self._discrete_only(target, joint)
+                    continue
                 unless = {
                     "ignored": "",
                     "needs-plugin": " unless a mimic joint plugin couples it",
-                    "needs-option": " unless asked to honour it"
-                    + (" (mimic=True)" if target.name == "pinocchio" else " (SAP discrete solver)"),
+                    "needs-option": " unless asked to honour it (mimic=True)",
                 }[target.mimic or ""]
                 yield self.diagnostic(
                     f"{target.label} will ignore the <mimic> of joint '{joint.name}' "
@@ -314,7 +358,9 @@ class TargetJointType(_Targets):
     For each target of `--target`, reports joints of a type the consumer does
     not read as URDF means it: PyBullet welds `floating` joints, KDL welds
     `floating` and `planar` joints, Pinocchio gives a `continuous` joint two
-    configuration variables (cos θ, sin θ).
+    configuration variables (cos θ, sin θ), Drake drops a `floating` joint
+    and leaves its child a free body (not attached to the parent, at the
+    world origin).
 
     ## Why it matters
     A welded joint no longer moves; a continuous joint with two configuration
@@ -340,17 +386,22 @@ class TargetJointType(_Targets):
                 effect = target.joint_types.get(joint.type.value)
                 if effect is None:
                     continue
-                welded = effect == "fixed"
-                message = (
-                    f"{target.label} will weld {joint.type.value} joint '{joint.name}' (a fixed joint)"
-                    if welded
-                    else f"{target.label} will give {joint.type.value} joint '{joint.name}' {effect}"
-                )
+                lost = effect in ("fixed", "free")  # the joint no longer moves as written
+                kind = joint.type.value
+                if effect == "fixed":
+                    message = f"{target.label} will weld {kind} joint '{joint.name}' (a fixed joint)"
+                elif effect == "free":
+                    message = (
+                        f"{target.label} will drop {kind} joint '{joint.name}' and make link "
+                        f"'{joint.child}' a free body, not attached to '{joint.parent}'"
+                    )
+                else:
+                    message = f"{target.label} will give {kind} joint '{joint.name}' {effect}"
                 yield self.diagnostic(
                     message, joint.span, element=f"joint[{joint.name}]",
-                    severity=Severity.WARNING if welded else Severity.INFO,
-                    data={"target": target.name, "joint": joint.name, "type": joint.type.value,
-                          "effect": effect},
+                    severity=Severity.WARNING if lost else Severity.INFO,
+                    data={"target": target.name, "joint": joint.name, "type": kind,
+                          "child": joint.child, "effect": effect},
                 )
 
 

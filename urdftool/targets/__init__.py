@@ -9,12 +9,13 @@ joints, replaces a concave collision mesh by its convex hull, ignores
 (:mod:`urdftool.rules.targets`) read these tables and say, for the targets a
 check was asked about, what each will do with this file.
 
-Every entry names the engine version it was verified on. For MuJoCo, PyBullet
-and Pinocchio the table is re-checked against the installed engine by
-``tests/test_targets_engines.py`` (each fixture of ``fixtures/targets/`` is
-loaded and the predicted mass, body count or hull is measured); the other
-entries come from the consumer's documentation and source at the version
-named, and docs/targets/<name>.md says where.
+Every entry names the engine version it was verified on. For MuJoCo, PyBullet,
+Pinocchio and Drake the table is re-checked against the installed engine by
+``tests/test_targets_engines.py`` and ``tests/test_targets_drake.py`` (each
+fixture of ``fixtures/targets/`` is loaded and the predicted mass, body count
+or hull is measured); the other entries come from the consumer's
+documentation and source at the version named, and docs/targets/<name>.md
+says where.
 
 Nothing here imports anything: the tables are data.
 """
@@ -45,6 +46,13 @@ class Target:
         geometry at 1000 kg/m³: MuJoCo, Isaac), ``"zero"`` (kept massless:
         Pinocchio, KDL), ``"dropped"`` (the link and its subtree are left out:
         Gazebo's URDF-to-SDF conversion).
+    ``massless_stops``
+        A massless link is kept with zero mass and inertia, and a simulation
+        stops where that leaves the mass matrix singular (Drake: "mass matrix
+        ... is not positive-definite").
+    ``floating_root``
+        The root link becomes a free body unless it is welded to the world
+        (Drake), so it moves like any other link.
     ``fixed_joints``
         ``"fused"`` (the child becomes part of its parent's body: MuJoCo),
         ``"lumped"`` (Gazebo: the child's inertia and shapes move into the
@@ -58,12 +66,18 @@ class Target:
     ``mimic``
         ``"ignored"`` (the follower is an independent joint),
         ``"needs-plugin"`` (Gazebo classic: a mimic plugin is needed),
-        ``"needs-option"`` (honoured only when asked for), or ``None``.
+        ``"needs-option"`` (honoured only when asked for), ``"discrete-only"``
+        (Drake: a coupler constraint that only a discrete plant with the SAP
+        solver honours), or ``None``.
     ``joint_types``
-        joint type -> what becomes of it (``"fixed"``: welded, or a phrase).
+        joint type -> what becomes of it (``"fixed"``: welded, ``"free"``: the
+        joint is dropped and its child becomes a free body, or a phrase).
     ``collision_formats``
         Mesh file extensions the consumer reads for collision (``None``: all
         the common ones).
+    ``unread_format_fails``
+        A collision mesh in another format stops the whole load (Drake's
+        parser raises) instead of being dropped.
     ``face_budget``
         Triangles per collision mesh above which collision checking gets slow
         for this consumer (its per-step or per-query cost).
@@ -84,11 +98,14 @@ class Target:
     verified: str
     engine_tested: bool = False
     missing_inertial: str | None = None
+    massless_stops: bool = False
+    floating_root: bool = False
     fixed_joints: str | None = None
     hulls_collision_meshes: str | None = None
     mimic: str | None = None
     joint_types: Mapping[str, str] = field(default_factory=dict)
     collision_formats: frozenset[str] | None = None
+    unread_format_fails: bool = False
     face_budget: int | None = None
     hull_vertex_limit: int | None = None
     root_inertia_ignored: bool = False
@@ -152,10 +169,16 @@ TARGETS: dict[str, Target] = {
         Target(
             name="drake",
             label="Drake",
-            verified="Drake 1.30 (multibody::Parser, URDF)",
+            verified="Drake 1.51.1 (multibody::Parser, URDF, into a MultibodyPlant with a SceneGraph)",
+            engine_tested=True,
+            missing_inertial="zero",
+            massless_stops=True,
+            floating_root=True,
             hulls_collision_meshes="file",
-            mimic="needs-option",
-            collision_formats=frozenset({".obj", ".vtk", ".gltf", ".glb"}),
+            mimic="discrete-only",
+            joint_types={"floating": "free"},
+            collision_formats=frozenset({".obj", ".vtk", ".gltf"}),
+            unread_format_fails=True,
             face_budget=20_000,
         ),
         Target(
