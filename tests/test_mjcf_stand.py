@@ -118,3 +118,29 @@ def test_scene_with_auto_actuators_holds_home_for_five_seconds(case: Case, tmp_p
     assert gap <= LOOP_GAP and angle <= LOOP_ANGLE, f"{case.name}: loops {gap:.5f} m, {angle:.5f} rad"
     if case.name == "cassie":
         assert loops and model.neq == 6  # 2 Achilles (hinge cut: 2 connects each) + 2 plantar
+
+
+def test_cassie_gearboxes_become_the_reflected_rotor_inertia(tmp_path: Path) -> None:
+    """Cassie's ten SDF gearbox closures (motor rotor to joint output) reach MuJoCo as armature on
+    the output joint: the rotor's spin inertia about its hinge divided by the ratio squared."""
+    loaded = load_one(str(ERD / "cassie_description/robots/cassie.sdf"), CheckOptions())
+    robot = loaded.robot
+    assert robot is not None
+    options = ExportOptions(scene=True, actuators="auto", repair_inertia=True)
+    conversion = convert_robot(robot, "mjcf", tmp_path / "robot.xml", options)
+    geared = {d.data["joint"]: d.data["armature"] for d in conversion.diagnostics
+              if d.code == "C001" and d.data.get("reason") == "gearbox written as reflected rotor inertia"}
+    assert len(geared) == 10
+    write_conversion(conversion)
+    model = mujoco.MjModel.from_xml_path(str(tmp_path / "robot.xml"))
+    rotor = next(j for j in robot.joints if j.name == "left-pitch-ip")
+    link = robot.link(rotor.child)
+    assert link is not None and link.inertial is not None
+    inertial = link.inertial
+    axis = np.asarray(rotor.axis) / np.linalg.norm(rotor.axis)
+    com = np.asarray(inertial.origin.xyz)
+    spin = axis @ inertial.inertia_in_link_frame @ axis + inertial.mass * (com @ com - (axis @ com) ** 2)
+    assert geared["left-pitch-op"] == pytest.approx(spin / 0.0625**2, rel=1e-12)
+    for name, value in geared.items():
+        dof = int(model.jnt_dofadr[mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_JOINT, name)])
+        assert model.dof_armature[dof] == pytest.approx(value, rel=1e-6), name

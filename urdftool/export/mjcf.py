@@ -109,8 +109,8 @@ def build(
         write_scene(root, worldbody, floor)
     if len(asset) == 0:
         root.remove(asset)
-    write_equality(root, robot, bodies.joints, diagnostics)
-    armature = write_armature(worldbody, robot)
+    geared = write_equality(root, robot, bodies.joints, diagnostics)
+    armature = write_armature(worldbody, robot, geared)
     actuated = write_actuators(root, robot, tree, bodies.joints, inertia.inertials, options.actuators,
                                armature, free_base=base.kind == "free")
     write_keyframe(root, robot, bodies.joints)

@@ -202,16 +202,21 @@ def stance_links(robot: Robot, tree: KinematicTree, q: Mapping[str, float]) -> s
     return feet
 
 
-def write_armature(body_root: etree._Element, robot: Robot) -> dict[str, float]:
-    """Set ``armature`` on joints whose transmission gives a rotor inertia; returns them."""
-    armature = {name: d.armature for name, d in drives(robot).items() if d.armature is not None}
+def write_armature(body_root: etree._Element, robot: Robot,
+                   geared: Mapping[str, float] | None = None) -> dict[str, float]:
+    """Set ``armature`` on joints whose transmission gives a rotor inertia, plus *geared* (the
+    reflected rotor inertia of SDF gearbox closures); returns them."""
+    armature: dict[str, float] = {
+        name: d.armature for name, d in drives(robot).items() if d.armature is not None}
+    for name, extra in (geared or {}).items():
+        armature[name] = armature.get(name, 0.0) + extra
     if not armature:
         return {}
     for element in body_root.iter("joint"):
         value = armature.get(element.get("name", ""))
         if value is not None:
             element.set("armature", num(value))
-    return {k: v for k, v in armature.items() if v is not None}
+    return armature
 
 
 def write_actuators(root: etree._Element, robot: Robot, tree: KinematicTree, joints: Sequence[MjJoint],

@@ -102,10 +102,11 @@ def loop_sites(robot: Robot) -> dict[str, list[dict[str, str]]]:
 
 
 def write_equality(root: etree._Element, robot: Robot, joints: Sequence[MjJoint],
-                   diagnostics: list[Diagnostic]) -> None:
+                   diagnostics: list[Diagnostic]) -> dict[str, float]:
     """Mimic joints as ``<joint>`` equalities (follower = offset + multiplier · leader), loops as
     ``<connect>`` or ``<weld>`` between the sites of the cut joint; a revolute or continuous cut gets
-    a second ``connect`` (``NAME_axis``) :data:`AXIS_ARM` along its axis, so the axis stays aligned."""
+    a second ``connect`` (``NAME_axis``) :data:`AXIS_ARM` along its axis, so the axis stays aligned.
+    Returns the armature (kg·m²) that SDF gearbox closures add to their output joints."""
     exported = {mj.name for mj in joints}
     items: list[tuple[str, dict[str, str]]] = []
     for mj in joints:
@@ -125,7 +126,13 @@ def write_equality(root: etree._Element, robot: Robot, joints: Sequence[MjJoint]
                                 "joint2": mimic.joint,
                                 "polycoef": vec((mimic.offset, mimic.multiplier, 0, 0, 0)),
                                 "solref": "0.004 1"}))
+    geared: dict[str, float] = {}
     for closure in robot.loop_closures:
+        if closure.joint.type is JointType.GEARBOX:
+            gear = _gearbox(robot, closure.joint, exported, diagnostics)
+            if gear is not None:
+                geared[gear[0]] = geared.get(gear[0], 0.0) + gear[1]
+            continue
         item = _closure(closure, diagnostics)
         if item is None:
             continue
@@ -138,6 +145,59 @@ def write_equality(root: etree._Element, robot: Robot, joints: Sequence[MjJoint]
         section = etree.SubElement(root, "equality")
         for tag, attrs in items:
             etree.SubElement(section, tag, attrs)
+    return geared
+
+
+def _gearbox(robot: Robot, joint: Joint, exported: set[str],
+             diagnostics: list[Diagnostic]) -> tuple[str, float] | None:
+    """An SDF gearbox closure as the armature it gives its output joint: (joint, kg·m²).
+
+    SDFormat couples θ₂ = −ratio · θ₁ (θ₁ the parent's angle, θ₂ the child's, both relative to
+    ``gearbox_reference_body``). Where the parent is a motor rotor and the child the joint output,
+    each on one hinge hanging from the reference body (Cassie), the rotor's spin inertia I about
+    its hinge reaches the output as I / ratio², which is MuJoCo's ``armature``, the way MuJoCo
+    Menagerie models geared motors. A ``<joint>`` equality of coefficient 1/ratio (25 to 50) was
+    tried and is unstable at MuJoCo's 2 ms step. The rotor then spins free (nothing drives it)."""
+    where = f"joint[{joint.name}]"
+    fields = {e.tag: e.element for e in joint.extensions if e.element is not None}
+    ratio_element = fields.get("gearbox_ratio")
+    reference_element = fields.get("gearbox_reference_body")
+    ratio = _number(ratio_element.text or "") if ratio_element is not None else None
+    reference = (reference_element.text or "").strip() if reference_element is not None else ""
+    by_child = {j.child: j for j in robot.joints}
+    rotor, output = by_child.get(joint.parent), by_child.get(joint.child)
+    rotor_link = robot.link(joint.parent) if rotor is not None else None
+    if (ratio is None or ratio == 0.0 or rotor is None or output is None or rotor_link is None
+            or rotor.type not in _HINGED or output.type not in _HINGED
+            or rotor.parent != reference or output.parent != reference
+            or output.name not in exported or rotor_link.inertial is None):
+        diagnostics.append(ConversionDropped.diagnostic(
+            f"{where}: a gearbox closure is written only between a rotor and an output that each "
+            "hang from its reference body by a hinge; the loop is open", joint.span, element=where,
+            data={"element": where, "reason": "gearbox not between two hinges on its reference body"}))
+        return None
+    inertial = rotor_link.inertial
+    axis = np.asarray(rotor.axis, dtype=float)
+    axis = axis / (np.linalg.norm(axis) or 1.0)
+    offset = np.asarray(inertial.origin.xyz, dtype=float)  # centre of mass, rotor frame = hinge frame
+    spin = float(axis @ inertial.inertia_in_link_frame @ axis) + inertial.mass * float(
+        offset @ offset - (axis @ offset) ** 2)
+    armature = spin / ratio**2
+    diagnostics.append(ConversionDropped.diagnostic(
+        f"{where}: the gearbox (ratio {ratio:g}) is written as armature {armature:.4g} kg·m² on "
+        f"'{output.name}', the rotor '{rotor.name}' spinning free", joint.span, element=where,
+        severity=Severity.INFO,
+        data={"element": where, "reason": "gearbox written as reflected rotor inertia",
+              "joint": output.name, "armature": armature}))
+    return output.name, armature
+
+
+def _number(text: str) -> float | None:
+    try:
+        value = float(text.strip())
+    except ValueError:
+        return None
+    return value if math.isfinite(value) else None
 
 
 def _closure(closure: LoopClosure, diagnostics: list[Diagnostic]) -> tuple[str, dict[str, str]] | None:
