@@ -54,8 +54,8 @@ class Review:
     omitted: list[dict[str, Any]] = field(default_factory=list)
     known_false: list[dict[str, Any]] = field(default_factory=list)
     unexpected: list[dict[str, Any]] = field(default_factory=list)
-    #: (code, element) pairs the manifest expects that the check no longer reports
-    vanished: list[tuple[str, str]] = field(default_factory=list)
+    #: (code, element, what became of it) for expected errors the check no longer reports as errors
+    vanished: list[tuple[str, str, str]] = field(default_factory=list)
     #: why the model could not be checked (a crash, bad JSON), else None
     failure: str | None = None
 
@@ -98,6 +98,7 @@ def review(entry: Mapping[str, Any], found: Iterable[Mapping[str, Any]], corpus:
     expected = Counter((e["code"], e["element"]) for e in entry.get("expected") or ())
     known_false = Counter((e["code"], e["element"]) for e in entry.get("known_false") or ())
     omitted = set(entry.get("omitted_meshes") or ())
+    found = list(found)
     for d in found:
         if d.get("severity") != "error":
             continue
@@ -114,8 +115,19 @@ def review(entry: Mapping[str, Any], found: Iterable[Mapping[str, Any]], corpus:
             result.known_false.append(dict(d))
         else:
             result.unexpected.append(dict(d))
-    result.vanished = sorted(k for k, n in expected.items() for _ in range(n))
+    result.vanished = [(code, element, _became(code, element, found))
+                       for (code, element), n in sorted(expected.items()) for _ in range(n)]
     return result
+
+
+def _became(code: str, element: str, found: Sequence[Mapping[str, Any]]) -> str:
+    """What became of an expected error the check no longer reports as an error."""
+    for d in found:
+        if d["code"] == code and (d.get("element") or "") == element:
+            return f"now {d.get('severity')}"
+    if code in {"I001", "D001"} and any(d["code"] == "I011" for d in found):
+        return "kinematic model: one I011 instead"
+    return "gone"
 
 
 def check(entry: Mapping[str, Any], corpus: Path, dynamics: bool, save: Path | None) -> tuple[Review, list]:
@@ -145,7 +157,7 @@ def table(reviews: Sequence[Review]) -> str:
         unexpected = "<br>".join(
             f"{d['code']} `{d.get('element')}`: {d['message']}"
             + (" (known false: regression)" if d in r.known_false else "") for d in bad)
-        vanished = ", ".join(f"{c} `{e}`" for c, e in r.vanished)
+        vanished = ", ".join(f"{c} `{e}` ({why})" for c, e, why in r.vanished)
         rows.append(f"| `{r.model}` | {r.errors} | {len(r.expected)} | {len(r.omitted)} "
                     f"| {unexpected or '0'} | {vanished} |")
     return "\n".join(rows)
