@@ -106,7 +106,7 @@ def _mesh_robot(folder: Path, dae: bytes) -> Path:
 
 @pytest.mark.parametrize("lean", [True, False])
 def test_collada_with_nul_padding_and_an_old_tail_reads_as_assimp_does(tmp_path: Path, lean: bool) -> None:
-    # Assimp (RViz), TinyXML (Gazebo) and PyBullet read a file as a C string: the bytes after
+    # Assimp (RViz) and PyBullet read a COLLADA file as a C string: the bytes after
     # the first NUL are not there for them, so the file is a well-formed one-triangle mesh.
     from urdftool.backends import meshes
 

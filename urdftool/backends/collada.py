@@ -97,11 +97,11 @@ def read(path: str) -> ColladaScene:
 def before_nul(data: bytes) -> bytes:
     """The document as the C and C++ COLLADA readers see it: up to its first NUL byte.
 
-    Assimp (RViz, Pinocchio's hpp-fcl), TinyXML (Gazebo) and PyBullet's reader
-    take the file as a C string. A file overwritten in place by a shorter export
-    can keep NUL padding and the old file's tail after ``</COLLADA>`` (KUKA's
-    LBR iiwa base); those readers never see it, an XML parser reading every byte
-    does. UTF-16 text, where NUL bytes are part of the characters, is left alone.
+    Assimp (RViz; coal for Pinocchio) and PyBullet's reader take the file as a
+    C string. A file overwritten in place by a shorter export can keep NUL
+    padding and the old file's tail after ``</COLLADA>`` (KUKA's LBR iiwa base);
+    those readers never see the tail, an XML parser reading every byte does.
+    UTF-16 text, where NUL bytes are part of the characters, is left alone.
     """
     if b"\0" in data[:2] or data[:2] in (b"\xff\xfe", b"\xfe\xff"):
         return data
