@@ -119,3 +119,49 @@ def test_collada_with_an_old_tail_and_no_nul_is_still_unreadable(tmp_path: Path)
     # Without the NUL the tail is XML after the document: Assimp 5.2 refuses it ("malformed XML").
     urdf = _mesh_robot(tmp_path, TRIANGLE_DAE + OLD_TAIL)
     assert [e.split()[0] for e in errors(urdf)] == ["M003"]
+
+
+def _ament_package(root: Path, destination: str) -> Path:
+    """A package whose xacro includes a file at the path its CMake install rule gives it.
+
+    Derived from ros2_control_demos' example_1 (rrbot.urdf.xacro includes
+    $(find ros2_control_demo_example_1)/ros2_control/rrbot.ros2_control.xacro; the file is
+    description/ros2_control/ in the source tree, installed to share/<package>/ros2_control).
+    """
+    (root / "package.xml").write_text('<package format="3"><name>demo_arm</name></package>')
+    (root / "CMakeLists.txt").write_text(
+        "project(demo_arm)\n# description/ros2_control lands in share/demo_arm/ros2_control\n"
+        f"install(\n  DIRECTORY description/ros2_control description/urdf\n  DESTINATION {destination}\n)\n"
+    )
+    (root / "description" / "ros2_control").mkdir(parents=True)
+    (root / "description" / "urdf").mkdir()
+    (root / "description" / "ros2_control" / "arm.ros2_control.xacro").write_text(
+        '<robot xmlns:xacro="http://www.ros.org/wiki/xacro"><xacro:macro name="arm_control">'
+        '<ros2_control name="arm" type="system"><hardware><plugin>mock_components/GenericSystem</plugin>'
+        '</hardware><joint name="j"><command_interface name="position"/><state_interface name="position"/>'
+        "</joint></ros2_control></xacro:macro></robot>"
+    )
+    inertial = ('<inertial><mass value="1"/>'
+                '<inertia ixx="0.01" ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0.01"/></inertial>')
+    model = root / "description" / "urdf" / "arm.urdf.xacro"
+    model.write_text(
+        '<robot name="arm" xmlns:xacro="http://www.ros.org/wiki/xacro">'
+        '<xacro:include filename="$(find demo_arm)/ros2_control/arm.ros2_control.xacro"/>'
+        f'<link name="base">{inertial}</link><link name="tip">{inertial}</link>'
+        '<joint name="j" type="revolute"><parent link="base"/><child link="tip"/><axis xyz="0 0 1"/>'
+        '<limit lower="-1" upper="1" effort="10" velocity="1"/></joint><xacro:arm_control/></robot>'
+    )
+    return model
+
+
+def test_include_written_for_the_ament_install_layout_is_read_quietly(tmp_path: Path) -> None:
+    # In ROS 2, $(find demo_arm) is share/demo_arm, where install() put description/ros2_control.
+    report = urdftool.check(_ament_package(tmp_path, "share/${PROJECT_NAME}"))
+    assert [d.code for d in report.diagnostics if d.code.startswith("X")] == []
+    assert report.ok, errors(tmp_path / "description" / "urdf" / "arm.urdf.xacro")
+
+
+def test_include_that_no_ament_install_rule_explains_is_still_reported(tmp_path: Path) -> None:
+    # catkin: $(find) is the source folder in a devel space, so the include is broken there.
+    report = urdftool.check(_ament_package(tmp_path, "${CATKIN_PACKAGE_SHARE_DESTINATION}"))
+    assert [d.code for d in report.diagnostics if d.code.startswith("X")] == ["X003"]
