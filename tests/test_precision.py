@@ -71,3 +71,97 @@ def test_kinematics_only_model_gets_one_finding_and_one_refusal() -> None:
 def test_a_model_with_some_inertia_still_reports_each_missing_link() -> None:
     report = urdftool.check(RULES / "I011" / "good.urdf")
     assert [d.element for d in report.diagnostics if d.code == "I001"] == ["link[link_2]"]
+
+
+# A one-triangle COLLADA document written for this test. Derived from
+# kuka_experimental's kuka_lbr_iiwa_support/meshes/lbr_iiwa_14_r820/visual/base_link.dae, which
+# after </COLLADA> holds 75,560 NUL bytes and the tail of an older export.
+TRIANGLE_DAE = b"""<?xml version="1.0" encoding="utf-8"?>
+<COLLADA xmlns="http://www.collada.org/2005/11/COLLADASchema" version="1.4.1">
+  <library_geometries><geometry id="g"><mesh>
+    <source id="p"><float_array id="pa" count="9">0 0 0 0.1 0 0 0 0.1 0</float_array>
+      <technique_common><accessor source="#pa" count="3" stride="3">
+        <param name="X" type="float"/><param name="Y" type="float"/><param name="Z" type="float"/>
+      </accessor></technique_common></source>
+    <vertices id="v"><input semantic="POSITION" source="#p"/></vertices>
+    <triangles count="1"><input semantic="VERTEX" source="#v" offset="0"/><p>0 1 2</p></triangles>
+  </mesh></geometry></library_geometries>
+  <library_visual_scenes><visual_scene id="s"><node id="n"><instance_geometry url="#g"/></node>
+  </visual_scene></library_visual_scenes>
+  <scene><instance_visual_scene url="#s"/></scene>
+</COLLADA>"""
+OLD_TAIL = b"\n      </mesh>\n    </geometry>\n  </library_geometries>\n</COLLADA>\n"
+
+
+def _mesh_robot(folder: Path, dae: bytes) -> Path:
+    (folder / "base.dae").write_bytes(dae)
+    urdf = folder / "r.urdf"
+    urdf.write_text(
+        '<robot name="r"><link name="base"><visual><geometry><mesh filename="base.dae"/></geometry>'
+        '</visual><inertial><mass value="1"/><inertia ixx="0.01" ixy="0" ixz="0" iyy="0.01" iyz="0"'
+        ' izz="0.01"/></inertial></link></robot>'
+    )
+    return urdf
+
+
+@pytest.mark.parametrize("lean", [True, False])
+def test_collada_with_nul_padding_and_an_old_tail_reads_as_assimp_does(tmp_path: Path, lean: bool) -> None:
+    # Assimp (RViz) and PyBullet read a COLLADA file as a C string: the bytes after
+    # the first NUL are not there for them, so the file is a well-formed one-triangle mesh.
+    from urdftool.backends import meshes
+
+    urdf = _mesh_robot(tmp_path, TRIANGLE_DAE + b"\0" * 64 + OLD_TAIL)
+    assert errors(urdf) == []
+    assert len(meshes.load_trimesh(str(tmp_path / "base.dae"), lean).faces) == 1
+
+
+def test_collada_with_an_old_tail_and_no_nul_is_still_unreadable(tmp_path: Path) -> None:
+    # Without the NUL the tail is XML after the document: Assimp 5.2 refuses it ("malformed XML").
+    urdf = _mesh_robot(tmp_path, TRIANGLE_DAE + OLD_TAIL)
+    assert [e.split()[0] for e in errors(urdf)] == ["M003"]
+
+
+def _ament_package(root: Path, destination: str) -> Path:
+    """A package whose xacro includes a file at the path its CMake install rule gives it.
+
+    Derived from ros2_control_demos' example_1 (rrbot.urdf.xacro includes
+    $(find ros2_control_demo_example_1)/ros2_control/rrbot.ros2_control.xacro; the file is
+    description/ros2_control/ in the source tree, installed to share/<package>/ros2_control).
+    """
+    (root / "package.xml").write_text('<package format="3"><name>demo_arm</name></package>')
+    (root / "CMakeLists.txt").write_text(
+        "project(demo_arm)\n# description/ros2_control lands in share/demo_arm/ros2_control\n"
+        f"install(\n  DIRECTORY description/ros2_control description/urdf\n  DESTINATION {destination}\n)\n"
+    )
+    (root / "description" / "ros2_control").mkdir(parents=True)
+    (root / "description" / "urdf").mkdir()
+    (root / "description" / "ros2_control" / "arm.ros2_control.xacro").write_text(
+        '<robot xmlns:xacro="http://www.ros.org/wiki/xacro"><xacro:macro name="arm_control">'
+        '<ros2_control name="arm" type="system"><hardware><plugin>mock_components/GenericSystem</plugin>'
+        '</hardware><joint name="j"><command_interface name="position"/><state_interface name="position"/>'
+        "</joint></ros2_control></xacro:macro></robot>"
+    )
+    inertial = ('<inertial><mass value="1"/>'
+                '<inertia ixx="0.01" ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0.01"/></inertial>')
+    model = root / "description" / "urdf" / "arm.urdf.xacro"
+    model.write_text(
+        '<robot name="arm" xmlns:xacro="http://www.ros.org/wiki/xacro">'
+        '<xacro:include filename="$(find demo_arm)/ros2_control/arm.ros2_control.xacro"/>'
+        f'<link name="base">{inertial}</link><link name="tip">{inertial}</link>'
+        '<joint name="j" type="revolute"><parent link="base"/><child link="tip"/><axis xyz="0 0 1"/>'
+        '<limit lower="-1" upper="1" effort="10" velocity="1"/></joint><xacro:arm_control/></robot>'
+    )
+    return model
+
+
+def test_include_written_for_the_ament_install_layout_is_read_quietly(tmp_path: Path) -> None:
+    # In ROS 2, $(find demo_arm) is share/demo_arm, where install() put description/ros2_control.
+    report = urdftool.check(_ament_package(tmp_path, "share/${PROJECT_NAME}"))
+    assert [d.code for d in report.diagnostics if d.code.startswith("X")] == []
+    assert report.ok, errors(tmp_path / "description" / "urdf" / "arm.urdf.xacro")
+
+
+def test_include_that_no_ament_install_rule_explains_is_still_reported(tmp_path: Path) -> None:
+    # catkin: $(find) is the source folder in a devel space, so the include is broken there.
+    report = urdftool.check(_ament_package(tmp_path, "${CATKIN_PACKAGE_SHARE_DESTINATION}"))
+    assert [d.code for d in report.diagnostics if d.code.startswith("X")] == ["X003"]

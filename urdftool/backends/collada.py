@@ -94,7 +94,22 @@ def read(path: str) -> ColladaScene:
     return read_bytes(read_regular(path, "mesh"))
 
 
+def before_nul(data: bytes) -> bytes:
+    """The document as the C and C++ COLLADA readers see it: up to its first NUL byte.
+
+    Assimp (RViz; coal for Pinocchio) and PyBullet's reader take the file as a
+    C string. A file overwritten in place by a shorter export can keep NUL
+    padding and the old file's tail after ``</COLLADA>`` (KUKA's LBR iiwa base);
+    those readers never see the tail, an XML parser reading every byte does.
+    UTF-16 text, where NUL bytes are part of the characters, is left alone.
+    """
+    if b"\0" in data[:2] or data[:2] in (b"\xff\xfe", b"\xfe\xff"):
+        return data
+    return data.split(b"\0", 1)[0]
+
+
 def read_bytes(data: bytes) -> ColladaScene:
+    data = before_nul(data)
     if b"<!ENTITY" in data[: 1 << 16].upper() or b"<!DOCTYPE" in data[: 1 << 16].upper():
         raise Unsupported("the document has a DOCTYPE")
     try:

@@ -29,7 +29,7 @@ from pathlib import Path
 from typing import Any
 
 #: Bump when the stored facts change shape or meaning.
-SCHEMA = 1
+SCHEMA = 2  # 2: a COLLADA file is read up to its first NUL byte, as Assimp reads it
 
 
 @lru_cache(maxsize=1)

@@ -34,7 +34,7 @@ else:  # NumPy loads when a mesh is first read: a structural check never pays fo
 
 from urdftool.backends import collada, mesh_cache
 from urdftool.model.pose import Matrix, Vec3
-from urdftool.safe_files import check_regular, open_regular, read_head
+from urdftool.safe_files import check_regular, open_regular, read_head, read_regular
 
 
 class MeshError(Exception):
@@ -239,7 +239,9 @@ def load_trimesh(path: str, lean: bool = True):  # type: ignore[no-untyped-def]
         try:
             loaded = trimesh.load(path, force="mesh", process=True)
         except Exception as exc:  # trimesh raises many kinds for bad files
-            raise MeshError(f"{type(exc).__name__}: {exc}".strip().rstrip(":")) from exc
+            loaded = _collada_before_nul(path)
+            if loaded is None:
+                raise MeshError(f"{type(exc).__name__}: {exc}".strip().rstrip(":")) from exc
     if (
         not isinstance(loaded, trimesh.Trimesh) or len(loaded.faces) == 0
     ) and path.lower().endswith(".dae"):
@@ -298,6 +300,31 @@ def lean_collada(path: str) -> Any:
     if not isinstance(loaded, trimesh.Trimesh) or len(loaded.faces) == 0:
         return None
     return loaded
+
+
+def _collada_before_nul(path: str) -> Any:
+    """A ``.dae`` file read by trimesh up to its first NUL byte, as the C and C++ readers read it
+    (:func:`urdftool.backends.collada.before_nul`); ``None`` when that changes nothing or fails."""
+    import io
+
+    import trimesh
+
+    if not path.lower().endswith(".dae"):
+        return None
+    try:
+        data = read_regular(path, "mesh")
+    except OSError:
+        return None
+    document = collada.before_nul(data)
+    if len(document) == len(data):
+        return None
+    try:
+        return trimesh.load(
+            io.BytesIO(document), file_type="dae", force="mesh", process=True,
+            resolver=trimesh.resolvers.FilePathResolver(path),
+        )
+    except Exception:  # broken before the NUL too: the caller reports the file
+        return None
 
 
 def _collada_geometry_only(path: str) -> Any:

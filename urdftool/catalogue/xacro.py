@@ -80,7 +80,11 @@ class IncludeNotAtPath(_Xacro):
     ## What it does
     When `<xacro:include filename="$(find pkg)/x.xacro">` points at a missing
     file and exactly one file of that name exists inside the package, urdftool
-    reads that file and reports where it found it.
+    reads that file and reports where it found it. An include written for the
+    installed package is not reported: in ROS 2 `$(find pkg)` is `share/pkg`,
+    and the package's `CMakeLists.txt` rule
+    `install(DIRECTORY description/ros2_control DESTINATION share/${PROJECT_NAME})`
+    puts the file at `$(find pkg)/ros2_control/…`.
 
     ## Why it matters
     ROS's xacro fails on such an include. It usually means the file was moved

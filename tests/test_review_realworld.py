@@ -1,0 +1,58 @@
+"""scripts/review_realworld.py sorts a model's errors against its manifest entry.
+
+Only the sorting is tested, on made-up findings: the corpus itself is not in the
+repository, and the script that checks it is run by hand (docs/realworld.md).
+"""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+from tests.conftest import ROOT
+
+sys.path.insert(0, str(ROOT / "scripts"))
+import review_realworld
+
+CORPUS = Path("/corpus")
+ENTRY = {
+    "path": "arm/urdf/arm.xacro",
+    "xacro_args": {"gazebo": "true"},
+    "package_paths": ["arm"],
+    "omitted_meshes": ["arm/meshes/base.dae"],
+    "expected": [{"code": "I005", "element": "link[cam]/inertial/inertia", "reason": "A+B<C"},
+                 {"code": "G001", "element": "gazebo[stick]", "reason": "dead block"}],
+    "known_false": [{"code": "S017", "element": "link[free]"}],
+}
+
+
+def finding(code: str, element: str, severity: str = "error", **data: str) -> dict[str, object]:
+    names = {"M002": "mesh-not-found"}
+    return {"code": code, "name": names.get(code, code), "severity": severity, "element": element,
+            "message": f"{code} on {element}", "data": data}
+
+
+def test_each_error_is_expected_omitted_known_false_or_unexpected() -> None:
+    found = [
+        finding("I005", "link[cam]/inertial/inertia"),
+        finding("M002", "link[base]/visual/geometry/mesh", path="/corpus/arm/meshes/base.dae"),
+        finding("M002", "link[hand]/visual/geometry/mesh", path="/corpus/arm/meshes/hand.dae"),
+        finding("S017", "link[free]"),
+        finding("J001", "joint[j1]"),
+        finding("G001", "gazebo[stick]", severity="warning"),
+        finding("I006", "link[cam]/inertial", severity="warning"),
+    ]
+    review = review_realworld.review(ENTRY, found, CORPUS)
+    assert review.errors == 5
+    assert [d["code"] for d in review.expected] == ["I005"]
+    assert [d["element"] for d in review.omitted] == ["link[base]/visual/geometry/mesh"]
+    assert [d["code"] for d in review.known_false] == ["S017"]
+    assert [d["code"] for d in review.unexpected] == ["M002", "J001"]
+    assert review.vanished == [("G001", "gazebo[stick]", "now warning")]
+
+
+def test_the_check_runs_as_a_user_runs_it() -> None:
+    argv = review_realworld.command(ENTRY, CORPUS, dynamics=False)
+    assert argv[1:5] == ["-m", "urdftool", "check", "/corpus/arm/urdf/arm.xacro"]
+    assert {"--format", "json", "--isolated", "--no-dynamics", "gazebo:=true", "/corpus/arm"} <= set(argv)
+    assert review_realworld.label(ENTRY) == "arm/urdf/arm.xacro [gazebo:=true]"
