@@ -128,6 +128,17 @@ def test_a_capsule_beyond_the_tolerance_falls_back_to_the_hull(tmp_path: Path) -
     assert result.mode == "hull" and "capsule" in result.note
 
 
+def test_a_mesh_with_no_hull_is_kept_with_a_warning(tmp_path: Path) -> None:
+    # two triangles on three distinct points: qhull has no hull to give
+    sliver = trimesh.Trimesh([[0, 0, 0], [1, 0, 0], [2, 0, 0], [1, 1e-9, 0]], [[0, 1, 3], [1, 2, 3]])
+    write_shape(tmp_path, "sliver.stl", sliver)
+    source = tmp_path / "sliver.urdf"
+    source.write_text(URDF.format(mesh="sliver.stl"), encoding="utf-8")
+    output = convert(source, tmp_path / "out.urdf")
+    assert "kept as it is (no convex hull" in output
+    assert ET.parse(tmp_path / "out.urdf").getroot().find("link/collision/geometry/mesh") is not None
+
+
 # -- writers, read back by the engines ---------------------------------------------
 
 

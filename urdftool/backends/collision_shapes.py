@@ -132,7 +132,10 @@ def _det(scale: tuple[float, float, float]) -> float:
 def _compute(path: str, mode: str, scale: tuple[float, float, float], folder: Path,
              threshold: float, max_parts: int, tolerance: float) -> Simplified:
     mesh = load_trimesh(path)
-    hull = mesh.convex_hull
+    try:
+        hull = mesh.convex_hull
+    except Exception as exc:  # qhull: fewer than four distinct points
+        raise MeshError(f"no convex hull ({str(exc).splitlines()[0][:80]})") from exc
     det = _det(scale)
     mesh_volume = shape_facts(path).solid_volume * det
     hull_volume = abs(float(hull.volume)) * det
