@@ -228,6 +228,7 @@ def inside(vertices: np.ndarray, centre: np.ndarray, axis: np.ndarray, radius: f
     return bool((np.linalg.norm(vertices - centre - along[:, None] * axis, axis=1) <= radius + 1e-4).all())
 
 
+@pytest.mark.slow
 @needs_panda
 def test_panda_elbow_links_become_capsules_in_mujoco(tmp_path: Path) -> None:
     mujoco = pytest.importorskip("mujoco")
@@ -248,6 +249,7 @@ def test_panda_elbow_links_become_capsules_in_mujoco(tmp_path: Path) -> None:
         assert 0.3 < (capsule_volume(radius, 2 * half) - mesh_volume) / mesh_volume < 0.5
 
 
+@pytest.mark.slow
 @needs_panda
 def test_panda_elbow_capsules_in_pybullet(tmp_path: Path) -> None:
     pybullet = pytest.importorskip("pybullet")

@@ -274,7 +274,7 @@ def _capsules(hull: Any) -> list[tuple[Primitive, float]]:
         axis = axis / np.linalg.norm(axis)
         axis = axis if axis[int(np.argmax(np.abs(axis)))] > 0 else -axis  # one sign, every platform
         fitted = _capsule_along(np.asarray(hull.vertices, dtype=float), axis)
-        if fitted is not None and (best is None or fitted[1] < best[1]):
+        if fitted is not None and np.isfinite(fitted[1]) and (best is None or fitted[1] < best[1]):
             best = fitted
     return [best] if best is not None else []
 
