@@ -27,16 +27,18 @@ from urdftool.backends.meshes import MeshError, content_key, load_trimesh
 
 GENERATED_DIRNAME = "urdftool-collision"
 #: Bump when what is written changes.
-_VERSION = 3
+_VERSION = 4
 _TEMP: list[str] = []
 
 
 @dataclass(frozen=True)
 class Primitive:
-    """A shape fitted to a mesh, in the mesh's (scaled) frame: ``kind`` box, cylinder or sphere.
+    """A shape fitted to a mesh, in the mesh's (scaled) frame: ``kind`` box, cylinder, sphere or capsule.
 
-    ``size`` is the box's extents, (radius, length) for a cylinder along its
-    local z, (radius,) for a sphere; ``xyz``/``rpy`` place it.
+    ``size`` is the box's extents, (radius, length) for a cylinder or a
+    capsule along its local z (a capsule's length is that of its cylindrical
+    part, between the centres of its end caps), (radius,) for a sphere;
+    ``xyz``/``rpy`` place it.
     """
 
     kind: str
@@ -98,8 +100,8 @@ def simplify(
     """Simplify the collision mesh at *path* (``hull``, ``decompose`` or ``primitives``).
 
     ``decompose`` keeps near-convex meshes (filling 95 % of their hull) as one
-    hull; ``primitives`` falls back to the hull when no box, cylinder or
-    sphere is within *tolerance* (relative volume) of the mesh. Raises
+    hull; ``primitives`` falls back to the hull when no box, cylinder, sphere
+    or capsule is within *tolerance* (relative volume) of the mesh. Raises
     :class:`MeshError`.
     """
     try:
@@ -130,7 +132,10 @@ def _det(scale: tuple[float, float, float]) -> float:
 def _compute(path: str, mode: str, scale: tuple[float, float, float], folder: Path,
              threshold: float, max_parts: int, tolerance: float) -> Simplified:
     mesh = load_trimesh(path)
-    hull = mesh.convex_hull
+    try:
+        hull = mesh.convex_hull
+    except Exception as exc:  # qhull: fewer than four distinct points
+        raise MeshError(f"no convex hull ({str(exc).splitlines()[0][:80]})") from exc
     det = _det(scale)
     mesh_volume = shape_facts(path).solid_volume * det
     hull_volume = abs(float(hull.volume)) * det
@@ -140,7 +145,7 @@ def _compute(path: str, mode: str, scale: tuple[float, float, float], folder: Pa
         if fitted is not None:
             shape, volume = fitted
             return Simplified("primitive", primitive=shape, volume=volume, mesh_volume=mesh_volume)
-        note = f"no box, cylinder or sphere within {tolerance:.0%} of the volume: convex hull"
+        note = f"no box, cylinder, sphere or capsule within {tolerance:.0%} of the volume: convex hull"
         return Simplified("hull", (_write(folder, 0, hull),), volume=hull_volume, mesh_volume=mesh_volume,
                           note=note)
     if mode == "decompose" and mesh_volume < 0.95 * hull_volume:
@@ -228,7 +233,8 @@ def _union_volume(pieces: list[Any]) -> float:
 
 def _fit_primitive(mesh: Any, scale: tuple[float, float, float], mesh_volume: float,
                    tolerance: float) -> tuple[Primitive, float] | None:
-    """The smallest enclosing box, cylinder or sphere, if its volume is within *tolerance*."""
+    """The enclosing box, cylinder, sphere or capsule whose volume is nearest the mesh's, if
+    within *tolerance*."""
     import numpy as np
     import trimesh
 
@@ -251,10 +257,87 @@ def _fit_primitive(mesh: Any, scale: tuple[float, float, float], mesh_volume: fl
     centre, radius = trimesh.nsphere.minimum_nsphere(scaled.vertices)
     candidates.append((Primitive("sphere", (float(radius),), _vec(centre), (0.0, 0.0, 0.0)),
                        float(4 / 3 * np.pi * radius**3)))
-    best = min(candidates, key=lambda c: c[1])
+    with contextlib.suppress(Exception):  # a flat or degenerate mesh has no hull: no capsule
+        candidates.extend(_capsules(scaled.convex_hull))
+    best = min(candidates, key=lambda c: abs(c[1] - mesh_volume))
     if abs(best[1] - mesh_volume) / mesh_volume > tolerance:
         return None
     return best
+
+
+def _capsules(hull: Any) -> list[tuple[Primitive, float]]:
+    """The smallest capsule enclosing *hull* along its principal axes (the long one, in practice)."""
+    import numpy as np
+
+    best: tuple[Primitive, float] | None = None
+    for axis in np.asarray(hull.principal_inertia_vectors, dtype=float):
+        axis = axis / np.linalg.norm(axis)
+        axis = axis if axis[int(np.argmax(np.abs(axis)))] > 0 else -axis  # one sign, every platform
+        fitted = _capsule_along(np.asarray(hull.vertices, dtype=float), axis)
+        if fitted is not None and np.isfinite(fitted[1]) and (best is None or fitted[1] < best[1]):
+            best = fitted
+    return [best] if best is not None else []
+
+
+def _capsule_along(points: Any, axis: Any) -> tuple[Primitive, float] | None:
+    """The smallest capsule with its axis parallel to *axis* enclosing *points*.
+
+    The axis passes through the centre of the smallest circle holding the
+    points seen along it; for a radius r, point i at height t_i and distance
+    ρ_i from the axis is inside when the segment reaches t_i ± √(r² − ρ_i²),
+    which fixes the segment; the radius is searched between the largest ρ and
+    the radius at which the segment shrinks to a point (then a sphere fits
+    better: no capsule).
+    """
+    import numpy as np
+    import trimesh
+
+    helper = np.array([1.0, 0.0, 0.0]) if abs(axis[0]) < 0.9 else np.array([0.0, 1.0, 0.0])
+    u = np.cross(axis, helper)
+    u /= np.linalg.norm(u)
+    v = np.cross(axis, u)
+    heights = points @ axis
+    planar = np.column_stack([points @ u, points @ v])
+    middle, _ = trimesh.nsphere.minimum_nsphere(planar)
+    rho = np.linalg.norm(planar - middle, axis=1)
+
+    def ends(r: float) -> tuple[float, float]:
+        reach = np.sqrt(np.maximum(r * r - rho * rho, 0.0))
+        return float((heights + reach).min()), float((heights - reach).max())
+
+    def volume(r: float) -> float:
+        low, high = ends(r)
+        return float(np.pi * r * r * max(high - low, 0.0) + 4 / 3 * np.pi * r**3)
+
+    smallest = float(rho.max())
+    largest = float(np.hypot((heights.max() - heights.min()) / 2, smallest))
+    if not largest > 0:
+        return None
+    radii = np.linspace(smallest, largest, 65)
+    at = int(np.argmin([volume(r) for r in radii]))
+    low_r, high_r = float(radii[max(at - 1, 0)]), float(radii[min(at + 1, len(radii) - 1)])
+    for _ in range(48):  # golden-section search between the grid neighbours of the best radius
+        a, b = low_r + 0.382 * (high_r - low_r), low_r + 0.618 * (high_r - low_r)
+        if volume(a) < volume(b):
+            high_r = b
+        else:
+            low_r = a
+    radius = (low_r + high_r) / 2
+    low, high = ends(radius)
+    if high - low <= 1e-6 * radius:
+        return None
+    centre = (low + high) / 2 * axis + middle[0] * u + middle[1] * v
+    pose = np.eye(4)
+    pose[:3, :3] = _rotation_onto(axis)
+    pose[:3, 3] = centre
+    return (Primitive("capsule", (radius, high - low), *_xyz_rpy(pose)), volume(radius))
+
+
+def _rotation_onto(axis: Any) -> Any:
+    """A rotation taking local z onto *axis* (a unit vector)."""
+    import trimesh
+
+    return trimesh.geometry.align_vectors([0.0, 0.0, 1.0], axis)[:3, :3]
 
 
 def _vec(values: Any) -> tuple[float, float, float]:

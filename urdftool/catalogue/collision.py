@@ -13,8 +13,10 @@ class CollisionSimplified(Rule):
     ## What it does
     For each collision mesh that `convert --collision hull|decompose|primitives`
     replaced, says what it became (its convex hull, N convex parts, a box,
-    cylinder or sphere) and how far the new volume is from the mesh's (the
-    union of the parts, for a decomposition). Visual meshes are never changed.
+    cylinder, sphere or capsule) and how far the new volume is from the
+    mesh's (the union of the parts, for a decomposition). A capsule is
+    written as a cylinder and two spheres where the target has no capsule
+    (URDF, SDF 1.7); the note says so. Visual meshes are never changed.
 
     ## Why it matters
     A simplification trades accuracy for speed: a hull fills a bowl, a

@@ -24,14 +24,15 @@ from urdftool.export.write import OutputError, guard_inputs, is_stale, model_inp
 from urdftool.model import Robot
 from urdftool.parse import InputError, Loaded
 from urdftool.pipeline.check import CheckOptions
-from urdftool.pipeline.collision import MODES as COLLISION_MODES
 from urdftool.pipeline.collision import (
+    CAPSULE_TARGETS,
     CollisionOptions,
     Simplification,
     collision_meshes,
     simplify_collisions,
     with_collision_files,
 )
+from urdftool.pipeline.collision import MODES as COLLISION_MODES
 from urdftool.pipeline.convert import convert_robot, output_paths, write_conversion
 from urdftool.pipeline.load import load_models
 from urdftool.render.text import render_diagnostic
@@ -84,13 +85,14 @@ def _refuse_output(out: str, inputs: Sequence[str]) -> None:
               "composite inertia; the fused frames listed in OUT). Automatic above 127 joints.")
 @click.option("--collision", "collision_mode", type=click.Choice(list(COLLISION_MODES)), default="as-is",
               show_default=True, help="Replace collision meshes by their convex hulls, a convex "
-              "decomposition (CoACD) or fitted primitives; visual meshes are untouched.")
+              "decomposition (CoACD) or fitted primitives (box, cylinder, sphere, capsule); visual meshes "
+              "are untouched.")
 @click.option("--collision-threshold", type=click.FloatRange(0.01, 1.0), default=0.05, show_default=True,
               help="decompose: CoACD's concavity threshold (smaller: more, tighter parts).")
 @click.option("--collision-max-parts", type=click.IntRange(1, 256), default=16, show_default=True,
               help="decompose: at most this many convex parts per mesh.")
 @click.option("--collision-tolerance", type=click.FloatRange(0.0, 10.0), default=0.15, show_default=True,
-              help="primitives: largest relative volume error of a fitted box, cylinder or sphere.")
+              help="primitives: largest relative volume error of a fitted box, cylinder, sphere or capsule.")
 @click.option("-q", "--quiet", is_flag=True, help="Print errors only (not the loss report's warnings).")
 @model_options
 def convert_command(
@@ -183,7 +185,7 @@ def _convert_one(loaded: Loaded, source: str, out: str, target: str, export_opti
         return EXIT_FINDINGS
     inputs = model_inputs(loaded.robot, loaded.files or [source])
     _refuse_output(out, inputs)  # an included xacro file or a mesh
-    simplified = _simplify(loaded.robot, collision, quiet)
+    simplified = _simplify(loaded.robot, collision, quiet, target in CAPSULE_TARGETS)
     try:
         conversion = convert_robot(simplified.robot, target, out, export_options, inputs)
         if not conversion.refused:
@@ -230,10 +232,10 @@ def _convert_one(loaded: Loaded, source: str, out: str, target: str, export_opti
     return EXIT_OK if outcome.ok else EXIT_FINDINGS
 
 
-def _simplify(robot: Robot, options: CollisionOptions, quiet: bool) -> Simplification:
+def _simplify(robot: Robot, options: CollisionOptions, quiet: bool, capsules: bool) -> Simplification:
     """The robot with its collision meshes simplified; a progress bar on a terminal for many meshes."""
     count = len(collision_meshes(robot)) if options.mode != "as-is" else 0
     if count < 3 or quiet or not is_terminal():
-        return simplify_collisions(robot, options)
+        return simplify_collisions(robot, options, capsules=capsules)
     with click.progressbar(length=count, label=f"collision: {options.mode}", file=sys.stderr) as bar:
-        return simplify_collisions(robot, options, progress=lambda _name: bar.update(1))
+        return simplify_collisions(robot, options, progress=lambda _name: bar.update(1), capsules=capsules)

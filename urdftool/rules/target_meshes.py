@@ -166,7 +166,7 @@ class TargetCollisionBudget(_Targets):
 
     ## Fix
     `urdftool convert --collision hull` (convex parts), `decompose`
-    (concave parts) or `primitives` (boxes and cylinders).
+    (concave parts) or `primitives` (boxes, cylinders, spheres or capsules).
     """
 
     code = "T007"
