@@ -13,6 +13,7 @@ from urdftool.rules import (  # noqa: F401  (importing registers the rules)
     controllers,
     dynamics,
     gazebo,
+    gz_systems,
     inertia,
     inertia_fit,
     intent_consistency,
