@@ -25,6 +25,7 @@ from urdftool.rules import (  # noqa: F401  (importing registers the rules)
     mesh_contents,
     meshes,
     ros2_control,
+    ros2_control_sensors,
     runtime,
     self_collision,
     srdf,
