@@ -124,9 +124,10 @@ class SystemLinkMissing(_GzSim):
 
     ## What it does
     Checks the link parameters of gz-sim systems (`link_name` of LiftDrag,
-    AdvancedLiftDrag, BuoyancyEngine, Hydrodynamics, KineticEnergyMonitor
-    and TrajectoryFollower; `link` of TrackController; `body_link` of
-    TrackedVehicle; `parent_link` of DetachableJoint) against the model's
+    AdvancedLiftDrag, BuoyancyEngine, Hydrodynamics, KineticEnergyMonitor,
+    TrajectoryFollower and VelocityControl; `link` of TrackController;
+    `body_link` of TrackedVehicle; `parent_link` of DetachableJoint; the
+    `<wheel link_name>` of WheelSlip) against the model's
     links, with the closest name as a suggestion. In a URDF, a link attached
     by a fixed joint is merged into its parent by sdformat's converter
     unless the joint is preserved: reported as a warning.
@@ -158,7 +159,7 @@ class SystemLinkMissing(_GzSim):
         kept = gz.preserved_fixed_joints(ctx.robot)
         urdf = ctx.robot.format in ("urdf", "xacro")
         for system in systems(ctx):
-            for element, text in _children(system, system.params.links):
+            for element, text in _link_refs(system):
                 where = f"plugin[{system.name}]/{element.tag}[{text}]"
                 if text not in names and not any(n.endswith("::" + text) for n in names):
                     yield self.diagnostic(
@@ -183,6 +184,16 @@ class SystemLinkMissing(_GzSim):
                         "</preserveFixedJoint></gazebo>",
                         data={"link": text, "plugin": system.name, "fixed_joint": joint.name},
                     )
+
+
+def _link_refs(system: known.System) -> Iterator[tuple[Any, str]]:
+    """(element, link name) for each link a system's parameters name, in text or attribute."""
+    yield from _children(system, system.params.links)
+    for tag, attribute in system.params.link_attributes:
+        for child in system.element:
+            name = (child.get(attribute) or "").strip() if child.tag == tag else ""
+            if name and "$" not in name:
+                yield child, name
 
 
 def _gazebo_links(robot: Robot) -> set[str]:
@@ -444,8 +455,8 @@ class Ros2ControlPluginMismatch(_GzSim):
             element = next((c for c in block.element if c.tag == "hardware"), block.element)
             yield self.diagnostic(
                 f"ros2_control '{block.name}' uses hardware '{block.plugin}' of "
-                f"{'classic Gazebo' if other == 'classic' else 'gz-sim'}, but the robot's ros2_control "
-                f"plugin is {gz.plugin_label(plugin)}, which cannot load it",
+                f"{'classic Gazebo' if other == 'classic' else 'gz-sim'}, but the robot loads ros2_control "
+                f"with {gz.plugin_label(plugin)}, which cannot load that hardware",
                 span_of(element),
                 element=f"ros2_control[{block.name}]/hardware",
                 help=f"write <plugin>{right}</plugin>",

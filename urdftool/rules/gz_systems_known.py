@@ -142,6 +142,8 @@ class Params:
     """Which of a system's parameters name links, and which must read as numbers or flags."""
 
     links: frozenset[str] = frozenset()
+    #: (child tag, attribute) pairs whose attribute names a link (WheelSlip's ``<wheel link_name>``)
+    link_attributes: frozenset[tuple[str, str]] = frozenset()
     numbers: frozenset[str] = frozenset()
     integers: frozenset[str] = frozenset()
     flags: frozenset[str] = frozenset()
@@ -183,6 +185,8 @@ PARAMS: dict[str, Params] = {
     "TrackController": Params(links=frozenset({"link"})),
     "TrackedVehicle": Params(links=frozenset({"body_link"})),
     "DetachableJoint": Params(links=frozenset({"parent_link"})),
+    "VelocityControl": Params(links=frozenset({"link_name"})),
+    "WheelSlip": Params(link_attributes=frozenset({("wheel", "link_name")})),
 }
 
 
