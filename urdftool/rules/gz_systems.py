@@ -212,17 +212,18 @@ class SystemTopicInvalid(_GzSim):
     """A gz-sim system's topic is not a valid gz-transport topic name.
 
     ## What it does
-    Checks the `topic` and `*_topic` parameters of gz-sim systems against
+    Checks the `topic` and `*_topic` parameters of gz-sim's own systems against
     gz-transport's rules: no spaces, no `~`, `@`, `:=` or `//`, and not just
     `/`. ROS habits (`~/cmd_vel`, a topic with a space) are the usual cause.
 
     ## Why it matters
     gz-sim passes each topic through `TopicUtils::AsValidTopic`, which
-    silently rewrites it (spaces to `_`, the forbidden characters dropped) or,
-    when nothing valid remains, ignores it and uses the system's default
-    topic. The system then listens or publishes on a topic other than the one
-    written, and nothing written for the original name (it cannot even be
-    published to) reaches it.
+    silently rewrites it (spaces to `_`, the forbidden characters dropped; a
+    debug-level message is the only trace) or, when nothing valid remains,
+    ignores it: the system uses its default topic, or does not start. Either
+    way it listens or publishes on a topic other than the one written, and
+    nothing sent to the written name (gz-transport cannot even publish to
+    it) reaches it.
 
     ## Example
     ```xml
@@ -241,6 +242,8 @@ class SystemTopicInvalid(_GzSim):
 
     def check(self, ctx: CheckContext) -> Iterator[Diagnostic]:
         for system in systems(ctx):
+            if system.kind not in known.CLASSES:
+                continue  # a system of the user's own may read its topics another way (ROS names)
             for child in system.element:
                 if not isinstance(child.tag, str) or not known.is_topic_tag(child.tag) or len(child):
                     continue
@@ -252,7 +255,9 @@ class SystemTopicInvalid(_GzSim):
                 if fixed == topic:
                     continue
                 becomes = (
-                    f"gz-sim uses '{fixed}' instead" if fixed else "gz-sim ignores it and uses the default"
+                    f"gz-sim uses '{fixed}' instead"
+                    if fixed
+                    else "gz-sim ignores it (the system uses its default topic, or does not start)"
                 )
                 yield self.diagnostic(
                     f"{_label(system)}: <{child.tag}> '{topic}' is not a valid gz-transport topic; {becomes}",
