@@ -91,6 +91,7 @@ SLOW_MODULES = frozenset({
     "test_meshes_corpus",
     "test_meshes_engines",
     "test_mjcf_corpus",
+    "test_mjcf_stand",
     "test_pybullet_corpus",
     "test_sim_corpus",
     "test_static_checks",

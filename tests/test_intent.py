@@ -143,20 +143,30 @@ def test_intent_rules_report_the_unit_they_suspect() -> None:
     assert Path(grams.location.path).name == "bad.urdf"
 
 
-def test_provenance_of_a_property_and_a_macro_argument() -> None:
+def test_provenance_of_a_property_a_macro_argument_and_a_yaml_value() -> None:
     path = FIXTURES / "intent" / "provenance" / "robot.urdf.xacro"
-    found = {d.code: d for d in _intent(str(path))}
-    assert set(found) == {"N001", "N202"}
-    neck = found["N001"]
-    assert Path(neck.location.path).name == "robot.urdf.xacro" and neck.location.line == 12
+    findings = _intent(str(path))
+    assert sorted(d.code for d in findings) == ["N001", "N001", "N202"]
+    neck = next(d for d in findings if d.code == "N001" and "'neck'" in d.message)
+    assert Path(neck.location.path).name == "robot.urdf.xacro" and neck.location.line == 13
     [prop] = [r for r in neck.related if "property" in r.label]
     assert "`neck_max`" in prop.label
-    assert (Path(prop.span.path).name, prop.span.line) == ("robot.urdf.xacro", 5)
-    knee = found["N202"]
+    assert (Path(prop.span.path).name, prop.span.line) == ("robot.urdf.xacro", 6)
+    knee = next(d for d in findings if d.code == "N202")
     assert (Path(knee.location.path).name, knee.location.line) == ("legs.xacro", 8)
     [call] = [r for r in knee.related if "macro" in r.label]
     assert '`upper="0.24"`' in call.label
-    assert (Path(call.span.path).name, call.span.line) == ("robot.urdf.xacro", 18)
+    assert (Path(call.span.path).name, call.span.line) == ("robot.urdf.xacro", 19)
+    # the jaw's limits are read from limits.yaml by key, in both spellings xacro accepts
+    jaw = next(d for d in findings if d.code == "N001" and "'jaw'" in d.message)
+    assert jaw.location.line == 23
+    yaml_origins = {
+        (r.label.split("`")[1], Path(r.span.path).name, r.span.line, r.span.column)
+        for r in jaw.related
+        if ".yaml" in r.span.path
+    }
+    assert yaml_origins == {("jaw.lower", "limits.yaml", 6, 3), ("jaw.upper", "limits.yaml", 7, 3)}
+    assert any("`joint_limits`" in r.label for r in jaw.related)
 
 
 def test_text_output_prints_origins_as_notes() -> None:
@@ -164,6 +174,6 @@ def test_text_output_prints_origins_as_notes() -> None:
     from urdftool.source import SourceIndex
 
     path = FIXTURES / "intent" / "provenance" / "robot.urdf.xacro"
-    [neck] = [d for d in _intent(str(path)) if d.code == "N001"]
+    [neck] = [d for d in _intent(str(path)) if d.code == "N001" and "'neck'" in d.message]
     text = render_diagnostic(neck, SourceIndex(), excerpt=False)
     assert "note: the value comes from property `neck_max` at" in text

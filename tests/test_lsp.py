@@ -1,5 +1,6 @@
 """``urdftool lsp``: a real client (pygls's LanguageClient) talks to the server over pipes:
-diagnostics on open and change, xacro findings on the .xacro line, hover, quick fixes."""
+diagnostics on open and change, xacro findings on the .xacro line, hover, fixes and
+suppressions as quick fixes."""
 
 from __future__ import annotations
 
@@ -91,8 +92,19 @@ def test_open_publishes_findings_and_hover_and_quick_fix() -> None:
             text_document=types.TextDocumentIdentifier(uri), range=first.range,
             context=types.CodeActionContext(diagnostics=[first])))
         assert actions, "no quick fix offered"
-        action = actions[0]
-        assert isinstance(action, types.CodeAction) and action.edit is not None and action.edit.changes
+        # the finding's own fix first, the same edit as `check --fix` ("2.O" -> "2.0")
+        fix = actions[0]
+        assert isinstance(fix, types.CodeAction) and fix.title.startswith("Fix S005")
+        assert fix.is_preferred and fix.edit is not None and fix.edit.changes
+        (change,) = fix.edit.changes[uri]
+        line = NUMBERS.read_text(encoding="utf-8").splitlines()[5]
+        start, end = change.range.start, change.range.end
+        assert start.line == end.line == 5
+        assert line[: start.character] + change.new_text + line[end.character :] == line.replace(
+            '"2.O"', '"2.0"'
+        )
+        [action] = [a for a in actions if isinstance(a, types.CodeAction) and a.title.startswith("Ignore")]
+        assert action.edit is not None and action.edit.changes
         (edit,) = action.edit.changes[uri]
         assert edit.range.start == edit.range.end == types.Position(5, 0)
         indent = NUMBERS.read_text(encoding="utf-8").splitlines()[5]
@@ -165,3 +177,29 @@ def test_xacro_findings_land_on_the_xacro_line(tmp_path: Path) -> None:
 def test_suppression_edit(lines: list[str], line: int, expected: tuple[int, int, str]) -> None:
     edit = suppression_edit(lines, line, "S005")
     assert (edit.start, edit.end, edit.text) == expected
+
+
+def test_fix_of_an_edited_buffer_lands_in_the_buffer_text() -> None:
+    # unsaved edits above the finding shift it: the fix must be placed in the buffer, not the file
+    text = NUMBERS.read_text(encoding="utf-8").replace(
+        '<robot name="two_link_arm">',
+        '<robot name="two_link_arm">\n  <!-- a note typed in the editor -->'
+    )
+
+    async def session(client: LanguageClient, queues: Queues) -> None:
+        uri = open_document(client, NUMBERS, text)
+        found = await diagnostics_for(queues, uri)
+        mass = next(d for d in found if d.code == "S005" and d.range.start.line == 6)
+        actions = await client.text_document_code_action_async(types.CodeActionParams(
+            text_document=types.TextDocumentIdentifier(uri), range=mass.range,
+            context=types.CodeActionContext(diagnostics=[mass])))
+        assert actions
+        fix = actions[0]
+        assert isinstance(fix, types.CodeAction) and fix.edit is not None and fix.edit.changes
+        (change,) = fix.edit.changes[uri]
+        line = text.splitlines()[6]
+        assert change.range.start.line == 6
+        patched = line[: change.range.start.character] + change.new_text + line[change.range.end.character :]
+        assert patched == line.replace('"2.O"', '"2.0"')
+
+    run_session(session)

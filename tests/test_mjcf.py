@@ -167,7 +167,8 @@ def test_actuators_motor_and_position(tmp_path: Path) -> None:
     position = {p.get("joint"): p for p in root.iter("position")}
     kp, kv = float(position["slide"].get("kp")), float(position["slide"].get("kv"))
     moved = kv**2 / (4 * kp)  # critically damped: kv = 2 sqrt(kp I)
-    assert moved * (2 * np.pi * 10) ** 2 <= kp * (1 + 1e-9) and kp <= moved * 125.0**2 * (1 + 1e-9)
+    assert moved * (2 * np.pi * 10) ** 2 <= kp * (1 + 1e-9)
+    assert kv >= kp * 0.002  # stable at the 2 ms step with the damping integrated implicitly
     assert float(position["slide"].get("kv")) > 0 and position["slide"].get("ctrlrange") == "0.2 0.4"
     mujoco.MjModel.from_xml_path(str(out))
 

@@ -279,3 +279,32 @@ def test_report_equality_is_not_needed_by_renderers() -> None:
     d = Diagnostic("S005", "invalid-number", Severity.ERROR, "m", Span(str(NUMBERS), 1, 1))
     report = Report((FileReport(str(NUMBERS), "urdf", "r", (d, dataclasses.replace(d, message="n"))),))
     assert len(sarif_document(report)["runs"][0]["results"]) == 2
+
+
+def test_sarif_fixes_replay_to_what_check_fix_writes(
+    all_fixtures_sarif: dict[str, Any], tmp_path: Path
+) -> None:
+    (run_,) = all_fixtures_sarif["runs"]
+    with_fixes = [r for r in run_["results"] if "fixes" in r]
+    assert {r["ruleId"] for r in with_fixes} >= {"S005", "S009", "J007"}
+    # replay the S005 fixture's fixes (byte regions) and compare with `check --fix`'s file
+    source = ROOT / "fixtures" / "rules" / "S005" / "bad.urdf"
+    data = source.read_bytes()
+    replacements = [
+        rep
+        for r in with_fixes
+        if r["ruleId"] == "S005"
+        and r["locations"][0]["physicalLocation"]["artifactLocation"]["uri"].endswith("S005/bad.urdf")
+        and "(safe)" in r["fixes"][0]["description"]["text"]
+        for change in r["fixes"][0]["artifactChanges"]
+        for rep in change["replacements"]
+    ]
+    assert replacements
+    for rep in sorted(replacements, key=lambda x: -x["deletedRegion"]["byteOffset"]):
+        start = rep["deletedRegion"]["byteOffset"]
+        end = start + rep["deletedRegion"]["byteLength"]
+        data = data[:start] + rep["insertedContent"]["text"].encode() + data[end:]
+    fixed = tmp_path / "bad.urdf"
+    fixed.write_bytes(source.read_bytes())
+    result = run("check", "--fix", "--no-dynamics", str(fixed))
+    assert fixed.read_bytes() == data, result.output

@@ -262,6 +262,7 @@ def to_urdf(
     flavor: str = "urdf",
     repair_inertia: bool = False,
     copy_assets: bool = False,
+    fuse_fixed: bool = False,
 ) -> str:
     """A flattened URDF of a URDF, xacro or SDF model, as text; also written to *out* when given.
 
@@ -274,11 +275,12 @@ def to_urdf(
     all meshes are written to ``assets/`` beside it), an explicit inertial on
     every link, invalid inertia refused unless *repair_inertia*. Without *out*
     paths are relative to the working directory and no asset is written.
+    *fuse_fixed* (PyBullet) merges links on fixed joints into the links that carry them.
     """
     if flavor not in ("urdf", "pybullet"):
         raise ValueError(f"unknown URDF flavor '{flavor}' (choose urdf or pybullet)")
     robot, inputs = _robot_and_inputs(robot_or_path, xacro_args, packages, package_paths, model)
-    options = ExportOptions(repair_inertia=repair_inertia, copy_assets=copy_assets)
+    options = ExportOptions(repair_inertia=repair_inertia, copy_assets=copy_assets, fuse_fixed=fuse_fixed)
     return _converted(flavor, ".urdf", robot, inputs, out, options)
 
 

@@ -14,6 +14,7 @@ again in the re-parsed mutant.
 
 from __future__ import annotations
 
+import math
 import re
 from collections.abc import Callable
 
@@ -135,8 +136,18 @@ def link_without_inertial_dropped(text: str) -> Mutant | None:
 
 
 def _inertias(root: etree._Element) -> list[etree._Element]:
+    """Inertia elements of links that head a rigid body (the root, or the child of a moving
+    joint): a welded link's own tensor is lumped into its body by every consumer, so a
+    mistake there may change nothing anyone computes and would not count as a defect."""
+    welded = {
+        child.get("link")
+        for joint in root.findall("joint")
+        if joint.get("type") == "fixed" and (child := joint.find("child")) is not None
+    }
     out = []
     for link in root.findall("link"):
+        if link.get("name") in welded:
+            continue
         inertia = link.find("inertial/inertia")
         mass = link.find("inertial/mass")
         if inertia is None or mass is None or (_num(mass.get("value", "")) or 0.0) <= 0:
@@ -537,6 +548,88 @@ def mesh_format_not_accepted(text: str) -> Mutant | None:
     return _first(_meshes(root), edit)
 
 
+def revolute_limits_in_degrees(text: str) -> Mutant | None:
+    """Write one revolute joint's limits in degrees as a datasheet gives them (90 for pi/2,
+    rounded to 5 degrees).
+
+    Every consumer reads radians: the joint may turn 14 full turns, straight through the
+    robot's own body, and a position controller's goal of "90" winds it up forever."""
+    root = _tree(text)
+    if root is None:
+        return None
+
+    def edit(lim: etree._Element) -> Mutant | None:
+        lower, upper = _num(lim.get("lower", "")), _num(lim.get("upper", ""))
+        if lower is None or upper is None or not (0.5 < upper - lower <= 2 * math.pi):
+            return None
+        if max(abs(lower), abs(upper)) > math.pi + 1e-6:
+            return None
+        degrees = lambda v: f"{5 * round(math.degrees(float(v)) / 5):d}"  # noqa: E731
+        first = _set_attr(text, lim, "lower", degrees)
+        if first is None:
+            return None
+        second = _set_attr(first[0], lim, "upper", degrees)
+        return second
+
+    return _first(_limits(root, ("revolute",)), edit)
+
+
+def transmission_hardware_interface(text: str) -> Mutant | None:
+    """Move a ros_control transmission joint's <hardwareInterface> away (left only on the actuator).
+
+    ros_control's transmission parser skips the joint ("No valid hardware interface element
+    found in joint"): gazebo_ros_control never exports it and its controller waits forever."""
+    root = _tree(text)
+    if root is None or root.find("ros2_control") is not None:
+        return None
+    for transmission in root.findall("transmission"):
+        kind = transmission.find("type")
+        if kind is None or not (kind.text or "").strip().startswith("transmission_interface/"):
+            continue
+        for joint in transmission.findall("joint"):
+            interfaces = joint.findall("hardwareInterface")
+            name = joint.get("name")
+            if interfaces and name and '"' not in name:
+                return _removed(
+                    text, root, interfaces, f'//transmission/joint[@name="{name}"]'
+                )
+    return None
+
+
+def collision_visual_mismatch(text: str) -> Mutant | None:
+    """Scale one collision mesh by 10 while its link's visual uses the same mesh unscaled
+    (a CAD export in centimetres for the collision only).
+
+    The robot looks right in RViz but collides with a body ten times its size: it hovers on
+    its collision shapes, grippers cannot close on anything."""
+    root = _tree(text)
+    if root is None:
+        return None
+
+    def edit(mesh: etree._Element) -> Mutant | None:
+        collision = mesh.getparent().getparent()
+        link = collision.getparent()
+        if collision.tag != "collision" or link is None or link.tag != "link":
+            return None
+        twins = [
+            v for v in link.findall("visual/geometry/mesh")
+            if v.get("filename") == mesh.get("filename") and v.get("scale") == mesh.get("scale")
+        ]
+        if not twins:
+            return None
+        scale = mesh.get("scale")
+        if scale is not None:
+            values = [_num(v) for v in scale.split()]
+            if len(values) != 3 or any(v is None for v in values):
+                return None
+            return _set_attr(
+                text, mesh, "scale", lambda _: " ".join(f"{(v or 0) * 10:g}" for v in values)
+            )
+        return _line_sub(text, int(mesh.sourceline), r"<mesh\b", '<mesh scale="10 10 10"')
+
+    return _first(_meshes(root), edit)
+
+
 #: class id -> mutation; the classes with a rule and no mutation yet are listed in NOT_PLANTED
 MUTATIONS: dict[str, Mutation] = {
     "link-without-inertial-dropped": link_without_inertial_dropped,
@@ -561,6 +654,9 @@ MUTATIONS: dict[str, Mutation] = {
     "xml-malformed": xml_malformed,
     "mesh-uri-unresolvable": mesh_uri_unresolvable,
     "mesh-units-wrong": mesh_units_wrong,
+    "revolute-limits-in-degrees": revolute_limits_in_degrees,
+    "transmission-hardware-interface": transmission_hardware_interface,
+    "collision-visual-mismatch": collision_visual_mismatch,
 }
 
 #: classes with a rule that the harness does not plant yet, and why
@@ -579,4 +675,20 @@ NOT_PLANTED: dict[str, str] = {
     "overlapping-collision-geometry": "caught by the simulation rule R002; too slow for the harness",
     "initial-penetration": "caught by the simulation rule R002; too slow for the harness",
     "low-inertia-needs-armature": "caught by the dynamics rule D002; not planted yet",
+    "plugin-frame-not-in-model": "needs a gazebo_ros plugin naming a frame; no URDF of the corpus has one",
+    "base-footprint-not-on-ground": (
+        "needs a base_footprint joint; N102 checks its horizontal offset and tilt, and the corpus "
+        "has too few mobile bases with one (xacro planting would add the seeds')"
+    ),
+    "srdf-unknown-link": "the error is in the SRDF; SRDF planting not built yet",
+    "srdf-groups-inconsistent": "the error is in the SRDF; SRDF planting not built yet",
+    "controller-joint-not-in-urdf": (
+        "the error is in the controllers YAML; YAML planting not built yet"
+    ),
+    "ros2-control-block-misconfigured": "needs a <ros2_control> block; no URDF of the corpus has one",
+    "mimic-joint-sim-unsupported": "reported with check --target; the harness checks without a target",
+    "frame-link-without-inertial": "reported with check --target; the harness checks without a target",
+    "mesh-filename-case": (
+        "needs a mesh file on disk in the other case, which a mutation of the text cannot create"
+    ),
 }

@@ -79,6 +79,9 @@ def _refuse_output(out: str, inputs: Sequence[str]) -> None:
 )
 @click.option("--copy-assets", is_flag=True, help="Copy meshes into an assets folder beside OUT.")
 @click.option("--scene", is_flag=True, help="MJCF: add a ground plane and a light.")
+@click.option("--fuse-fixed", is_flag=True,
+              help="PyBullet: merge links on fixed joints into the links that carry them (exact "
+              "composite inertia; the fused frames listed in OUT). Automatic above 127 joints.")
 @click.option("--collision", "collision_mode", type=click.Choice(list(COLLISION_MODES)), default="as-is",
               show_default=True, help="Replace collision meshes by their convex hulls, a convex "
               "decomposition (CoACD) or fitted primitives; visual meshes are untouched.")
@@ -102,6 +105,7 @@ def convert_command(
     repair_inertia: bool,
     copy_assets: bool,
     scene: bool,
+    fuse_fixed: bool,
     quiet: bool,
     all_models: bool,
     collision_mode: str,
@@ -129,6 +133,7 @@ def convert_command(
         repair_inertia=repair_inertia,
         copy_assets=copy_assets,
         scene=scene,
+        fuse_fixed=fuse_fixed,
     )
     collision = CollisionOptions(
         collision_mode, collision_threshold, collision_max_parts, collision_tolerance

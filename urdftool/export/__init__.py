@@ -65,6 +65,8 @@ class ExportOptions:
     extra: Mapping[str, Any] = field(default_factory=dict)
     #: the model's findings, for targets that show them (the graph marks links and joints)
     findings: tuple[Diagnostic, ...] = ()
+    #: PyBullet: merge links on fixed joints into the links that carry them
+    fuse_fixed: bool = False
 
 
 @dataclass

@@ -11,6 +11,7 @@ behind the mapping are in ``docs/mjcf.md``; each part lives in its own module:
 * ``mjcf_geoms`` and ``mjcf_assets``: geoms, mesh assets and conversion;
 * ``mjcf_actuators``: actuators and armature;
 * ``mjcf_extras``: equality constraints, the home keyframe, the scene;
+* ``mjcf_keyframe``: the home keyframe solved for closed loops;
 * ``mjcf_dropped``: the loss report (``conversion-dropped``);
 * ``mjcf_verify``: MuJoCo against Pinocchio.
 """
@@ -44,12 +45,18 @@ from urdftool.export.mjcf_geoms import (
     GeomWriter,
 )
 from urdftool.export.mjcf_inertia import InertiaPlan
+from urdftool.export.mjcf_keyframe import close_loops
 from urdftool.export.numbers import num, vec
-from urdftool.export.placement import floor_lift
+from urdftool.export.placement import CLEARANCE, floor_lift, lowest_collision_point
 from urdftool.model import KinematicTree, Robot
 from urdftool.model.pose import Matrix
 from urdftool.physics.mobility import BasePlan, decide_base
 from urdftool.rules.syntax import MultipleRoots
+
+#: The ``<option>`` written: implicit damping (joint damping and the actuators' kv are integrated
+#: implicitly, so stiff servos stay stable at the default 2 ms step) and elliptic friction cones,
+#: as MuJoCo Menagerie writes them.
+OPTION = {"integrator": "implicitfast", "cone": "elliptic"}
 
 
 def export(robot: Robot, out: Path, options: ExportOptions) -> ExportResult:
@@ -80,13 +87,17 @@ def build(
     )
     root.append(etree.Comment(note.replace("--", "- -")))  # XML comments may not hold "--"
     etree.SubElement(root, "compiler", {"angle": "radian", "autolimits": "true", "inertiafromgeom": "false"})
+    etree.SubElement(root, "option", OPTION)
     _defaults(root)
     asset = etree.SubElement(root, "asset")
     worldbody = etree.SubElement(root, "worldbody")
     geoms = GeomWriter(robot, assets, diagnostics)
     bodies = BodyWriter(robot, tree, base, inertia.inertials, geoms, loop_sites(robot)).write(worldbody)
+    floor = 0.0
     if options.scene and base.kind == "free":
         place_on_floor(robot, tree, worldbody, bodies.joints)
+    elif options.scene:
+        floor = floor_under(robot, tree, bodies.joints)
     for mesh in assets.meshes:
         # Mesh inertia is never used (inertiafromgeom is off), but MuJoCo still computes it;
         # "shell" keeps flat visual meshes (zero volume) from failing the compile.
@@ -95,7 +106,7 @@ def build(
             attrs["scale"] = vec(mesh.scale)
         etree.SubElement(asset, "mesh", attrs)
     if options.scene:
-        write_scene(root, worldbody)
+        write_scene(root, worldbody, floor)
     if len(asset) == 0:
         root.remove(asset)
     write_equality(root, robot, bodies.joints, diagnostics)
@@ -103,6 +114,7 @@ def build(
     actuated = write_actuators(root, robot, tree, bodies.joints, inertia.inertials, options.actuators,
                                armature, free_base=base.kind == "free")
     write_keyframe(root, robot, bodies.joints)
+    close_loops(root, out_dir, assets.files, set(robot.home or {}) | set(actuated))
     write_excludes(root, worldbody, out_dir, assets.files)
     diagnostics.extend(dropped_extensions(robot, actuated))
     etree.indent(root, space="  ")
@@ -129,6 +141,15 @@ def place_on_floor(robot: Robot, tree: KinematicTree, worldbody: etree._Element,
     joints[free] = dataclasses.replace(joints[free], home=(x, y, stance, *quat))
     body.addprevious(etree.Comment(f" placed on the floor: root at z = {num(zero)} m "
                                    f"(zero pose), {num(stance)} m (home keyframe) "))
+
+
+def floor_under(robot: Robot, tree: KinematicTree, joints: list[MjJoint]) -> float:
+    """Height (m) of the floor under a robot that does not move: z = 0, or :data:`CLEARANCE` below
+    its lowest collision point at the zero or the home pose when that reaches below z = 0 (a UR5
+    at zero hangs its wrist 48 mm below its base)."""
+    home = {mj.name: mj.home[0] for mj in joints if mj.kind in ("hinge", "slide") and mj.name == mj.source}
+    lowest = [z for q in ({}, home) if (z := lowest_collision_point(robot, tree, q)) is not None]
+    return min(0.0, *(z - CLEARANCE for z in lowest))
 
 
 def _structure(robot: Robot, tree: KinematicTree) -> list[Diagnostic]:

@@ -16,11 +16,15 @@ Gains come from the joint's reflected inertia and a target bandwidth:
     ω  = 2π · f,  f = :data:`BANDWIDTH_HZ` (10 Hz)
     G  = g Σ mᵢ rᵢ, the largest gravity torque the joint can meet (rᵢ: distance of
          each moved link's centre of mass from the axis; for a slide G = g Σ mᵢ)
-         (a free robot adds its whole mass at the farthest point the joint moves:
-         it may stand on that limb)
-    position: kp = max(I ω², G / e) with e = :data:`HOLD_ERROR` (5 mrad, 1 mm),
-              capped at I ω_max² (ω_max = :data:`MAX_OMEGA`, stable at MuJoCo's
-              default 2 ms step); kv = 2 ζ √(kp I) with ζ = 1 (critically damped)
+         (a free robot adds its whole mass at the farthest point the joint moves
+         when the joint moves a link it stands on: a link whose collision geometry
+         reaches within :data:`STANCE_BAND` of the lowest point at home)
+    position: kp = max(I ω², G / e) with e = :data:`HOLD_ERROR` (5 mrad, 1 mm);
+              kv = max(2 ζ √(kp I), kp · dt) with ζ = 1 (critically damped) and
+              dt = :data:`TIMESTEP`: with the damping integrated implicitly
+              (``implicitfast``), symplectic Euler is stable when kp dt² < 4 I + 2 kv dt,
+              which kv ≥ kp dt guarantees for any I (a stiff servo on a light
+              link becomes overdamped, time constant kv / kp ≥ dt, instead of exploding)
     velocity: kv = I ω    (first order, time constant 1/ω)
     motor:    gear 1, ctrlrange = ±effort
 
@@ -42,6 +46,7 @@ from lxml import etree
 from urdftool.export.mjcf_bodies import MjJoint, unit_axis
 from urdftool.export.mjcf_extras import actuated_joints, moved_inertia
 from urdftool.export.numbers import num, vec
+from urdftool.export.placement import bounding_radius, lowest_point
 from urdftool.model import Inertial, Joint, JointType, KinematicTree, Robot
 from urdftool.physics.mobility import mobility
 
@@ -49,9 +54,12 @@ from urdftool.physics.mobility import mobility
 BANDWIDTH_HZ = 10.0
 #: Largest static error (rad, m) a position actuator may leave under gravity.
 HOLD_ERROR = {"hinge": 0.005, "slide": 0.001}
-#: Highest natural frequency (rad/s) a position actuator is given (ω·dt = 0.25 at dt = 2 ms).
-MAX_OMEGA = 125.0
+#: MuJoCo's default time step (s), which the exported models keep: kv ≥ kp · TIMESTEP keeps a
+#: servo stable under the implicit integrator however small the inertia it moves.
+TIMESTEP = 0.002
 GRAVITY = 9.81
+#: Links whose collision geometry reaches this close (m) to the robot's lowest point carry it.
+STANCE_BAND = 0.02
 #: Damping ratio of position actuators.
 DAMPING_RATIO = 1.0
 #: Floor (kg·m² or kg) under the reflected inertia, so a joint moving nothing still gets kp > 0.
@@ -139,7 +147,8 @@ def gravity_moment(tree: KinematicTree, inertials: Mapping[str, Inertial | None]
                    q: Mapping[str, float], carried: float = 0.0) -> float:
     """The largest gravity torque (N·m) or force (N) on *joint* from what it moves, over all
     orientations: g Σ mᵢ rᵢ for a hinge (rᵢ from the axis), g Σ mᵢ for a slide; plus a mass
-    *carried* at the farthest link origin it moves (a free robot standing on that limb)."""
+    *carried* at the farthest point it moves (link origins, and collision shapes by their bounding
+    spheres: a free robot standing on that limb)."""
     poses = tree.forward_kinematics(dict(q))
     frame = poses[joint.child]
     axis = frame[:3, :3] @ np.asarray(unit_axis(joint))
@@ -149,6 +158,10 @@ def gravity_moment(tree: KinematicTree, inertials: Mapping[str, Inertial | None]
     for _, link, _ in tree.walk(joint.child):
         tip = poses[link.name][:3, 3] - anchor
         reach = max(reach, float(np.linalg.norm(tip - float(tip @ axis) * axis)))
+        for collision in link.collisions:  # a foot stands on its collision shape, not its origin
+            centre = (poses[link.name] @ collision.origin.matrix)[:3, 3] - anchor
+            reach = max(reach, float(np.linalg.norm(centre - float(centre @ axis) * axis))
+                        + bounding_radius(collision.geometry))
         inertial = inertials.get(link.name)
         if inertial is None:
             continue
@@ -160,6 +173,33 @@ def gravity_moment(tree: KinematicTree, inertials: Mapping[str, Inertial | None]
     if carried:
         total += carried * (1.0 if joint.type is JointType.PRISMATIC else reach)
     return GRAVITY * total
+
+
+def stance_links(robot: Robot, tree: KinematicTree, q: Mapping[str, float]) -> set[str]:
+    """The links a free robot stands on at *q*: those whose collision geometry reaches within
+    :data:`STANCE_BAND` of the robot's lowest collision point, and the links a loop closure ties
+    to them."""
+    poses = tree.forward_kinematics(dict(q))
+    lowest: dict[str, float] = {}
+    for link in robot.links:
+        frame = poses.get(link.name)
+        if frame is None:
+            continue
+        for collision in link.collisions:
+            z = lowest_point(collision.geometry, frame @ collision.origin.matrix)
+            if z is not None:
+                lowest[link.name] = min(z, lowest.get(link.name, z))
+    if not lowest:
+        return set()
+    floor = min(lowest.values())
+    feet = {name for name, z in lowest.items() if z <= floor + STANCE_BAND}
+    grown = True
+    while grown:  # a link tied to a foot by a loop closure carries it too (Cassie's plantar rods)
+        ties = {c.joint.parent for c in robot.loop_closures if c.joint.child in feet}
+        ties |= {c.joint.child for c in robot.loop_closures if c.joint.parent in feet}
+        grown = not ties <= feet
+        feet |= ties
+    return feet
 
 
 def write_armature(body_root: etree._Element, robot: Robot) -> dict[str, float]:
@@ -190,6 +230,7 @@ def write_actuators(root: etree._Element, robot: Robot, tree: KinematicTree, joi
     omega = 2 * math.pi * BANDWIDTH_HZ
     # a free robot stands on its limbs: each joint may carry the whole robot at its tip
     carried = sum(i.mass for i in inertials.values() if i is not None) if free_base else 0.0
+    feet = stance_links(robot, tree, home) if carried else set()
     names = []
     for mj, joint, effort in actuated:
         kind = mode
@@ -198,18 +239,22 @@ def write_actuators(root: etree._Element, robot: Robot, tree: KinematicTree, joi
             kind = declared or ("velocity" if _is_wheel(robot, joint.name, wheels) else "position")
         reflected = moved_inertia(tree, inertials, joint, home) + armature.get(joint.name, 0.0)
         inertia = max(MIN_INERTIA, reflected)
-        force = vec((-effort, effort))
+        # an unlimited effort (SDF's default) gets no force range
+        force = {"forcerange": vec((-effort, effort))} if math.isfinite(effort) else {}
         names.append(mj.name)
         if kind == "motor":
-            etree.SubElement(section, "motor", {"name": mj.name, "joint": mj.name, "ctrlrange": force})
+            limits = {"ctrlrange": force["forcerange"]} if force else {}
+            etree.SubElement(section, "motor", {"name": mj.name, "joint": mj.name, **limits})
         elif kind == "velocity":
             etree.SubElement(section, "velocity", {"name": mj.name, "joint": mj.name,
-                                                   "kv": num(inertia * omega), "forcerange": force})
+                                                   "kv": num(inertia * omega), **force})
         else:
-            hold = gravity_moment(tree, inertials, joint, home, carried) / HOLD_ERROR[mj.kind]
-            kp = min(max(inertia * omega * omega, hold), inertia * MAX_OMEGA * MAX_OMEGA)
-            attrs = {"name": mj.name, "joint": mj.name, "kp": num(kp),
-                     "kv": num(2 * DAMPING_RATIO * math.sqrt(kp * inertia)), "forcerange": force}
+            stands = any(link.name in feet for _, link, _ in tree.walk(joint.child))
+            load = gravity_moment(tree, inertials, joint, home, carried if stands else 0.0)
+            hold = load / HOLD_ERROR[mj.kind]
+            kp = max(inertia * omega * omega, hold)
+            kv = max(2 * DAMPING_RATIO * math.sqrt(kp * inertia), kp * TIMESTEP)
+            attrs = {"name": mj.name, "joint": mj.name, "kp": num(kp), "kv": num(kv), **force}
             if mj.range is not None:
                 attrs["ctrlrange"] = vec(mj.range)
             etree.SubElement(section, "position", attrs)

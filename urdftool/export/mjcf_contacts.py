@@ -20,13 +20,12 @@ carry collision geoms:
 
 from __future__ import annotations
 
-import copy as copy_module
 import itertools
 from pathlib import Path
 
 from lxml import etree
 
-from urdftool.safe_files import read_regular
+from urdftool.export.mjcf_keyframe import compile_in_memory
 
 #: A welded group with more colliding bodies than this gets no pairwise excludes (their number
 #: grows as the square: a 5,000-link chain of fixed joints would need 12.5 million).
@@ -93,30 +92,11 @@ def touching_pairs(root: etree._Element, out_dir: Path | None,
                    files: dict[str, bytes]) -> list[tuple[str, str]]:
     """Pairs of robot bodies whose collision geoms overlap at ``qpos0`` or at each keyframe,
     as MuJoCo computes them; none when MuJoCo is missing or cannot compile the model."""
-    try:
-        import mujoco
-    except ImportError:
+    model = compile_in_memory(root, out_dir, files)
+    if model is None:
         return []
-    copy = copy_module.deepcopy(root)  # not a text round trip: lxml caps parsed depth at 256
-    assets: dict[str, bytes] = {}
-    for i, mesh in enumerate(copy.iter("mesh")):
-        file = mesh.get("file")
-        if not file:
-            continue
-        data = files.get(file)
-        if data is None:
-            path = Path(file) if Path(file).is_absolute() or out_dir is None else out_dir / file
-            try:
-                data = read_regular(path, "mesh")
-            except OSError:
-                return []
-        key = f"m{i}{Path(file).suffix.lower()}"
-        assets[key] = data
-        mesh.set("file", key)
-    try:
-        model = mujoco.MjModel.from_xml_string(etree.tostring(copy, encoding="unicode"), assets)
-    except Exception:  # MuJoCo raises ValueError for any compile error; the verifier reports it
-        return []
+    import mujoco
+
     data = mujoco.MjData(model)
     found: dict[frozenset[str], tuple[str, str]] = {}
     for keyframe in range(-1, model.nkey):

@@ -67,6 +67,25 @@ def lowest_point(geometry: Geometry | None, pose: Matrix) -> float | None:
     return None
 
 
+def bounding_radius(geometry: Geometry | None) -> float:
+    """The radius (m) of a sphere about *geometry*'s origin that holds it (0 when unknown)."""
+    if isinstance(geometry, Box):
+        return float(np.linalg.norm(np.asarray(geometry.size, dtype=float) / 2))
+    if isinstance(geometry, Sphere):
+        return float(geometry.radius)
+    if isinstance(geometry, Ellipsoid):
+        return float(max(geometry.radii))
+    if isinstance(geometry, Capsule):
+        return float(geometry.length / 2 + geometry.radius)
+    if isinstance(geometry, Cylinder):
+        return float(math.hypot(geometry.length / 2, geometry.radius))
+    if isinstance(geometry, Mesh) and geometry.resolved:
+        vertices = _hull_vertices(geometry.resolved)
+        if vertices is not None and len(vertices):
+            return float(np.max(np.linalg.norm(vertices * np.asarray(geometry.scale, dtype=float), axis=1)))
+    return 0.0
+
+
 def lowest_collision_point(robot: Robot, tree: KinematicTree, q: Mapping[str, float],
                            base: Matrix | None = None) -> float | None:
     """The lowest world z of the robot's collision geometry at joint values *q*."""

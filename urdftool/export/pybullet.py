@@ -14,9 +14,13 @@ the model:
   (``base_footprint``) is rooted at its heaviest fixed child instead, the old
   root kept as a massless fixed child, because PyBullet welds a base of mass 0
   to the world (:func:`plan_base`; reported as ``conversion-dropped`` info);
+* fixed joints fused (``--fuse-fixed``, and automatically for a body with
+  more joints than PyBullet can report): exact composite inertia, the fused
+  frames listed in a comment (:mod:`urdftool.export.pybullet_fuse`);
 * floating joints refused (PyBullet silently makes them fixed);
 * mimic joints kept in the file but reported: PyBullet ignores ``<mimic>``;
-  ``help`` gives the gear-constraint recipe.
+  ``help`` gives the gear-constraint recipe that holds them (as ``sim`` applies
+  it: :func:`urdftool.backends.pybullet.couple_mimics`).
 
 A comment at the top of OUT records the source and how to load the file.
 """
@@ -33,6 +37,7 @@ from urdftool.catalogue.syntax import EmptyRobot
 from urdftool.diagnostics import Diagnostic, Severity
 from urdftool.export import ExportOptions, ExportResult
 from urdftool.export.assets import relative_reference
+from urdftool.export.pybullet_fuse import Fusion, frames_comment, fuse_fixed
 from urdftool.export.pybullet_inertia import PyBulletInertia, plan_inertia
 from urdftool.export.pybullet_meshes import MeshPlan, mesh_key
 from urdftool.export.urdf import URDF_JOINT_TYPES, UrdfFlavor, refusals, robot_element, to_bytes
@@ -104,14 +109,78 @@ def plan_base(robot: Robot, options: ExportOptions) -> BasePlan:
     return BasePlan(rooted, (note,))
 
 
+@dataclasses.dataclass(frozen=True)
+class ExportPlan:
+    """The robot as written (re-rooted, fixed joints fused), the re-rooted robot before fusing
+    (every frame of the source), the fusion, and the findings that say so."""
+
+    robot: Robot
+    unfused: Robot
+    fusion: Fusion
+    diagnostics: tuple[Diagnostic, ...] = ()
+
+
+def plan_export(robot: Robot, options: ExportOptions) -> ExportPlan:
+    """:func:`plan_base`, then fixed joints fused when asked or when the body is too large for
+    PyBullet. The exporter writes, and the verifier compares against, the robot planned here."""
+    base = plan_base(robot, options)
+    rooted = base.robot
+    joints = len(rooted.links) - 1
+    if not options.fuse_fixed and joints <= MAX_JOINTS:
+        return ExportPlan(rooted, rooted, Fusion(rooted), base.diagnostics)
+    fusion = fuse_fixed(rooted, _anchor(rooted, options))
+    if not fusion.frames:
+        return ExportPlan(rooted, rooted, fusion, base.diagnostics)
+    left = len(fusion.robot.links) - 1
+    fused = len(fusion.frames)
+    what = (
+        f"{fused} link{'s' if fused != 1 else ''} on fixed joints merged into the links that carry "
+        f"them ({', '.join(f.link for f in fusion.frames[:3])}{', ...' if fused > 3 else ''}): "
+        "masses summed, centre of mass and inertia composed exactly, visuals and collisions "
+        "re-posed; each fused frame's pose is listed in a comment of the output"
+    )
+    if options.fuse_fixed:
+        message, severity = f"fuse fixed joints: {what}", Severity.INFO
+    else:
+        message = (
+            f"the robot has {joints} joints; PyBullet cannot report the state of a body with more "
+            f"than {MAX_JOINTS}, so {what} ({left} joints left)"
+        )
+        severity = Severity.WARNING
+    note = ConversionDropped.diagnostic(
+        message,
+        robot.span,
+        element="robot",
+        severity=severity,
+        help="nothing to do; read the fused frames' poses from the comment at the top of the output",
+        data={
+            "reason": "fused",
+            "fused": {f.link: f.into for f in fusion.frames},
+            "joints": joints,
+            "joints_left": left,
+        },
+    )
+    return ExportPlan(fusion.robot, rooted, fusion, (*base.diagnostics, note))
+
+
+def _anchor(robot: Robot, options: ExportOptions) -> str | None:
+    """The root, when it is massless and the robot is not free: PyBullet fixes it to the world
+    only while it has no mass, so nothing may be fused into it."""
+    tree = KinematicTree.of(robot)
+    root = robot.link(tree.root or "")
+    if root is None or (root.inertial is not None and root.inertial.mass > 0):
+        return None
+    return None if decide_base(robot, tree, options.floating_base).kind == "free" else root.name
+
+
 def export(robot: Robot, out: Path, options: ExportOptions) -> ExportResult:
     """The PyBullet URDF (key ``out.name``) and its assets; nothing when refused."""
     out = Path(out)
-    base = plan_base(robot, options)
-    robot = base.robot
+    plan = plan_export(robot, options)
+    robot = plan.robot
     tree = KinematicTree.of(robot)
     diagnostics = _structure(robot, tree) or _joint_refusals(robot)
-    diagnostics += list(base.diagnostics)
+    diagnostics += list(plan.diagnostics)
     inertia = plan_inertia(robot, tree, options.repair_inertia, options.floating_base)
     diagnostics += inertia.diagnostics + _mimic_reports(robot)
     if any(d.severity is Severity.ERROR for d in diagnostics):
@@ -122,6 +191,8 @@ def export(robot: Robot, out: Path, options: ExportOptions) -> ExportResult:
     diagnostics += meshes.diagnostics
     root, dropped = robot_element(prepared, PyBulletFlavor(filenames=meshes.filenames))
     root.insert(0, etree.Comment(_header(robot, out, inertia, options)))
+    if plan.fusion.frames:
+        root.insert(1, etree.Comment(frames_comment(plan.fusion.frames)))
     files = {out.name: to_bytes(root), **meshes.files.files}
     return ExportResult(
         dict(sorted(files.items())), sorted(diagnostics + dropped, key=Diagnostic.sort_key)
@@ -162,13 +233,14 @@ def _structure(robot: Robot, tree: KinematicTree) -> list[Diagnostic]:
     if len(robot.links) - 1 > MAX_JOINTS:
         return [
             ConversionDropped.diagnostic(
-                f"the robot has {len(robot.links) - 1} joints; PyBullet loads it but cannot report the "
+                f"the robot has {len(robot.links) - 1} joints with its fixed joints fused; PyBullet "
+                "loads it but cannot report the "
                 f"state of a body with more than {MAX_JOINTS} (getLinkState and "
                 "getBasePositionAndOrientation fail); not converted",
                 robot.span,
                 element="robot",
                 severity=Severity.ERROR,
-                help="remove links that only mark frames (fixed joints), or split the robot into bodies",
+                help="split the robot into bodies (PyBullet loads each with its own loadURDF)",
                 data={"reason": "size", "joints": len(robot.links) - 1, "limit": MAX_JOINTS},
             )
         ]
@@ -203,17 +275,15 @@ def _mimic_reports(robot: Robot) -> list[Diagnostic]:
             continue
         mimic = joint.mimic
         recipe = (
-            "PyBullet ignores <mimic>; couple the joints with a gear constraint after loading: "
+            "PyBullet ignores <mimic>; couple the joints with a gear constraint after loading "
+            "(urdftool.backends.pybullet.couple_mimics does this): "
             f"a = index of joint '{joint.name}', b = index of joint '{mimic.joint}'; "
             "c = p.createConstraint(robot, a, robot, b, jointType=p.JOINT_GEAR, jointAxis=[0, 0, 1], "
             "parentFramePosition=[0, 0, 0], childFramePosition=[0, 0, 0]); "
-            f"p.changeConstraint(c, gearRatio={-mimic.multiplier:g}, maxForce=...)"
-            + (
-                f"; the offset {mimic.offset:g} has no equivalent (set the joint with "
-                "resetJointState)"
-                if mimic.offset
-                else ""
-            )
+            f"p.changeConstraint(c, gearRatio={-mimic.multiplier:g}, "
+            f"relativePositionTarget={mimic.offset:g}, erp=1, maxForce=1e6); "
+            "p.setPhysicsEngineParameter(numSolverIterations=200) (PyBullet's defaults, erp 0 and "
+            "50 iterations, let followers drift by tenths of a radian)"
         )
         found.append(
             ConversionDropped.diagnostic(
@@ -248,6 +318,7 @@ def _header(robot: Robot, out: Path, inertia: PyBulletInertia, options: ExportOp
         for f, on in (
             ("repair inertia", options.repair_inertia),
             ("copy assets", options.copy_assets),
+            ("fuse fixed joints", options.fuse_fixed),
         )
         if on
     ]

@@ -26,7 +26,8 @@ from urdftool.backends.pybullet import EngineJoint, EngineLink, PyBulletLoad
 from urdftool.catalogue.conversion import EngineRejected
 from urdftool.diagnostics import Diagnostic
 from urdftool.export import ExportOptions, VerifyResult
-from urdftool.export.pybullet import plan_base
+from urdftool.export.pybullet import plan_export
+from urdftool.export.pybullet_fuse import frame_matrices, read_fused_frames
 from urdftool.export.pybullet_inertia import plan_inertia
 from urdftool.model import Inertial, Joint, JointType, KinematicTree, Link, Robot
 from urdftool.model.pose import Matrix
@@ -78,10 +79,18 @@ class Comparison:
         return worst
 
 
-def verify_pybullet(robot: Robot, out: Path, options: ExportOptions | None = None) -> VerifyResult:
-    """Load *out* in PyBullet with ``URDF_USE_INERTIA_FROM_FILE`` and compare it with *robot*."""
+def verify_pybullet(
+    robot: Robot, out: Path, options: ExportOptions | None = None, unfused: Robot | None = None
+) -> VerifyResult:
+    """Load *out* in PyBullet with ``URDF_USE_INERTIA_FROM_FILE`` and compare it with *robot*.
+
+    With fixed joints fused, *robot* is the fused robot (inertia and joints are compared with
+    it) and *unfused* the robot before fusing: every one of its link frames is compared, the
+    fused ones placed by the poses listed in *out*'s comment.
+    """
     options = options or ExportOptions()
     tree = KinematicTree.of(robot)
+    frames = frame_matrices(read_fused_frames(Path(out).read_text(encoding="utf-8", errors="replace")))
     expected = plan_inertia(robot, tree, options.repair_inertia, options.floating_base).inertials
     with PyBulletLoad(str(out)) as loaded:
         diagnostics = [_engine_message(robot, message) for message in loaded.messages]
@@ -95,7 +104,7 @@ def verify_pybullet(robot: Robot, out: Path, options: ExportOptions | None = Non
         comparison = Comparison(robot)
         compare_inertia(comparison, expected, loaded.links())
         compare_joints(comparison, loaded.joints(), loaded.links())
-        compare_poses(comparison, tree, loaded)
+        compare_poses(comparison, KinematicTree.of(unfused) if unfused else tree, loaded, frames)
     rows = [(w.quantity, w.error, w.tolerance, w.passed) for w in comparison.rows]
     for worst in comparison.rows:
         if not worst.passed:
@@ -218,18 +227,27 @@ def _limit_error(joint: Joint, built: EngineJoint) -> float:
     return max((abs(a - b) for a, b in pairs if a is not None), default=0.0)
 
 
-def compare_poses(comparison: Comparison, tree: KinematicTree, loaded: PyBulletLoad) -> None:
-    """World pose of every link frame, relative to the base, at zero and random configurations."""
+def compare_poses(
+    comparison: Comparison,
+    tree: KinematicTree,
+    loaded: PyBulletLoad,
+    fused: Mapping[str, tuple[str, Matrix]] | None = None,
+) -> None:
+    """World pose of every link frame, relative to the base, at zero and random configurations;
+    a *fused* frame (name -> link it was fused into, its pose there) is placed from that link."""
     position = comparison.row("link world position (m)")
     orientation = comparison.row("link world orientation (rad)")
     index = {joint.name: joint.index for joint in loaded.joints()}
-    spans = {link.name: link.span for link in comparison.robot.links}
+    spans = {link.name: link.span for link in tree.robot.links}
     for q in configurations(tree):
         source = tree.forward_kinematics(q)
         engine_q = {
             index[name]: value for name, value in _with_mimics(tree, q).items() if name in index
         }
         built = loaded.link_frames(engine_q)
+        for name, (into, pose) in (fused or {}).items():
+            if into in built and name not in built:
+                built[name] = built[into] @ pose
         root = tree.root
         if root is None or root not in built:
             return
@@ -302,5 +320,7 @@ def _with_mimics(tree: KinematicTree, q: Mapping[str, float]) -> dict[str, float
 
 def verify(robot: Robot, out: Path, options: ExportOptions) -> VerifyResult:
     """Load *out* in PyBullet (DIRECT) and compare it with the robot the export wrote
-    (*robot*, re-rooted as :func:`~urdftool.export.pybullet.plan_base` roots it)."""
-    return verify_pybullet(plan_base(robot, options).robot, Path(out), options)
+    (*robot*, re-rooted and fused as :func:`~urdftool.export.pybullet.plan_export` plans it)."""
+    plan = plan_export(robot, options)
+    unfused = plan.unfused if plan.fusion.frames else None
+    return verify_pybullet(plan.robot, Path(out), options, unfused)

@@ -1,5 +1,5 @@
 """The language server's logic without the protocol: check a buffer, place findings on lines,
-the hover text for a line, the suppression edit for a finding."""
+the hover text for a line, the suppression edit and the fix edits for a finding."""
 
 from __future__ import annotations
 
@@ -10,7 +10,7 @@ import tempfile
 from dataclasses import dataclass
 
 from urdftool.catalogue.syntax import InternalError
-from urdftool.diagnostics import Diagnostic, Severity
+from urdftool.diagnostics import Applicability, Diagnostic, Fix, Severity
 from urdftool.parse import InputError, detect_format
 from urdftool.pipeline.check import CheckOptions, check_file
 from urdftool.rules import lookup
@@ -77,6 +77,12 @@ def check_document(path: str, text: str | None, options: CheckOptions) -> list[D
 def _moved(d: Diagnostic, old: str, new: str) -> Diagnostic:
     import dataclasses
 
+    if d.fix is not None and any(_same(e.span.path, old) for e in d.fix.edits):
+        edits = tuple(
+            dataclasses.replace(e, span=e.span.with_path(new)) if _same(e.span.path, old) else e
+            for e in d.fix.edits
+        )
+        d = dataclasses.replace(d, fix=dataclasses.replace(d.fix, edits=edits))
     if d.location is None or not (d.location.path == old or os.path.abspath(d.location.path) == old):
         return d
     return dataclasses.replace(d, location=d.location.with_path(new),
@@ -149,6 +155,43 @@ def suppression_edit(lines: list[str], line: int, code: str) -> LineEdit:
     indent = current[: len(current) - len(current.lstrip(" \t"))]
     newline = "\r\n" if current.endswith("\r\n") else "\n"
     return LineEdit(line, line, indent + SUPPRESSION.format(codes=code) + newline)
+
+
+@dataclass(frozen=True)
+class TextEdit:
+    """Replace the text between two LSP positions (0-based line, UTF-16 character) of *path*."""
+
+    path: str
+    start: tuple[int, int]
+    end: tuple[int, int]
+    text: str
+
+
+def fix_edits(fix: Fix, document: str, buffer: str) -> list[TextEdit] | None:
+    """*fix* as editor edits: byte offsets turned into positions in the text the editor holds
+    (*buffer* for the open *document*, the file on disk for any other file, such as the
+    ``.xacro`` a value was written in). ``None`` when the fix cannot be applied: display-only,
+    or an edit without byte offsets."""
+    if fix.applicability is Applicability.DISPLAY_ONLY or not fix.edits:
+        return None
+    out = []
+    for edit in fix.edits:
+        span = edit.span
+        text = buffer if _same(span.path, document) else _disk_text(span.path)
+        if text is None or span.offset is None or span.end_offset is None:
+            return None
+        data = text.encode("utf-8")
+        out.append(TextEdit(span.path, _position(data, span.offset), _position(data, span.end_offset),
+                            edit.content))
+    return out
+
+
+def _position(data: bytes, offset: int) -> tuple[int, int]:
+    """The LSP position of byte *offset*: line, and UTF-16 code units into that line."""
+    before = data[: max(0, min(offset, len(data)))].decode("utf-8", errors="replace")
+    line = before.count("\n")
+    last = before[before.rfind("\n") + 1 :]
+    return line, len(last.encode("utf-16-le")) // 2
 
 
 def severity_rank(severity: Severity) -> int:

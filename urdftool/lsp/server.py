@@ -7,11 +7,12 @@ from typing import Any
 
 from lsprotocol import types
 from pygls.lsp.server import LanguageServer
-from pygls.uris import to_fs_path
+from pygls.uris import from_fs_path, to_fs_path
 
 from urdftool.lsp.analysis import (
     Placed,
     check_document,
+    fix_edits,
     hover_markdown,
     is_checkable,
     place,
@@ -104,13 +105,17 @@ def create_server(options: CheckOptions | None = None) -> UrdftoolServer:
     )
     def code_action(ls: UrdftoolServer, params: types.CodeActionParams) -> list[types.CodeAction]:
         uri = params.text_document.uri
-        lines = list(ls.workspace.get_text_document(uri).lines)
+        document = ls.workspace.get_text_document(uri)
+        lines = list(document.lines)
         actions = []
         for diagnostic in params.context.diagnostics:
             if diagnostic.source != SOURCE or not isinstance(diagnostic.code, str):
                 continue
             data: Any = diagnostic.data
             name = data.get("name", "") if isinstance(data, dict) else ""
+            fix = _fix_action(ls, uri, document.source, diagnostic)
+            if fix is not None:
+                actions.append(fix)
             edit = suppression_edit(lines, diagnostic.range.start.line, diagnostic.code)
             text_edit = types.TextEdit(
                 range=types.Range(types.Position(edit.start, 0), types.Position(edit.end, 0)),
@@ -125,6 +130,43 @@ def create_server(options: CheckOptions | None = None) -> UrdftoolServer:
         return actions
 
     return server
+
+
+def _fix_action(
+    ls: UrdftoolServer, uri: str, buffer: str, diagnostic: types.Diagnostic
+) -> types.CodeAction | None:
+    """The finding's own fix as a quick fix (the same edits as ``check --fix``), or ``None``."""
+    path = to_fs_path(uri)
+    start = diagnostic.range.start
+    placed = next(
+        (p for p in ls.placed.get(uri, [])
+         if p.diagnostic.code == diagnostic.code and p.line == start.line and p.start == start.character
+         and p.diagnostic.fix is not None),
+        None,
+    )
+    if path is None or placed is None or placed.diagnostic.fix is None:
+        return None
+    fix = placed.diagnostic.fix
+    edits = fix_edits(fix, path, buffer)
+    if not edits:
+        return None
+    changes: dict[str, list[types.TextEdit]] = {}
+    for edit in edits:
+        target = uri if os.path.abspath(edit.path) == os.path.abspath(path) else from_fs_path(edit.path)
+        if target is None:
+            return None
+        changes.setdefault(target, []).append(types.TextEdit(
+            range=types.Range(types.Position(*edit.start), types.Position(*edit.end)),
+            new_text=edit.text,
+        ))
+    safe = fix.applicability.value == "safe"
+    return types.CodeAction(
+        title=f"Fix {diagnostic.code}: {fix.message}" + ("" if safe else " (unsafe: changes physics)"),
+        kind=types.CodeActionKind.QuickFix,
+        diagnostics=[diagnostic],
+        is_preferred=safe,
+        edit=types.WorkspaceEdit(changes=changes),
+    )
 
 
 def serve(options: CheckOptions | None = None) -> None:

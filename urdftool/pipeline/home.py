@@ -62,7 +62,8 @@ def with_home(loaded: Loaded, resolver: PackageResolver) -> Loaded:
     robot = loaded.robot
     if robot is None or robot.home is not None:
         return loaded
-    joints = [j.name for j in robot.joints]
+    # a loop's cut joint is a joint of the robot too (Cassie's SRDF sets its spring cuts)
+    joints = [j.name for j in robot.joints] + [c.joint.name for c in robot.loop_closures]
     nearby = _nearby(loaded.path, robot.name, resolver)
     candidates = [loaded.srdf] if loaded.srdf is not None else list(nearby)
     states = [s for srdf in candidates if (s := choose_state(group_states(srdf), joints)) is not None]

@@ -12,8 +12,12 @@ related locations of the finding (the text output prints them as notes):
 * a parameter of the macro whose body holds the element: each call that
   passes it, "`NAME="…"` is passed to macro `M` here".
 
-It runs on the intent findings (``N``) located in ``.xacro`` files. YAML
-values (``xacro.load_yaml``) are not traced yet.
+* a property loaded from YAML (``value="${xacro.load_yaml('limits.yaml')}"``)
+  and read by key (``${limits['jaw']['upper']}`` or ``${limits.jaw.upper}``):
+  the key's line in the YAML file, "the value comes from `jaw.upper` in
+  limits.yaml", besides the property.
+
+It runs on the intent findings (``N``) located in ``.xacro`` files.
 """
 
 from __future__ import annotations
@@ -30,6 +34,9 @@ from urdftool.source import Span
 
 _EXPR = re.compile(r"\$\{([^}]*)\}")
 _NAME = re.compile(r"[A-Za-z_][A-Za-z0-9_]*")
+_LOAD_YAML = re.compile(r"load_yaml\(\s*['\"]([^'\"]+)['\"]\s*\)")
+_FIND = re.compile(r"\$\(find ([^)\s]+)\)")
+_KEYS = re.compile(r"\[\s*['\"]([^'\"]+)['\"]\s*\]|\.([A-Za-z_][A-Za-z0-9_]*)")
 _MACRO = re.compile(r"<xacro:macro\b[^>]*?\bname\s*=\s*\"([^\"]+)\"[^>]*?\bparams\s*=\s*\"([^\"]*)\"", re.S)
 #: at most this many call sites per parameter
 MAX_CALLS = 3
@@ -98,7 +105,8 @@ def origins(diagnostic: Diagnostic, robot: Robot) -> list[Related]:
     if text is None:
         return []
     offset = _offset(text, loc.line, loc.column)
-    names = [n for expr in _EXPR.findall(_start_tag(text, offset)) for n in _NAME.findall(expr)]
+    expressions = _EXPR.findall(_start_tag(text, offset))
+    names = [n for expr in expressions for n in _NAME.findall(expr)]
     if not names:
         return []
     out: list[Related] = []
@@ -115,8 +123,66 @@ def origins(diagnostic: Diagnostic, robot: Robot) -> list[Related]:
             if body and found:
                 label = f"the value comes from property `{name}`"
                 out.append(Related(_span(path, body, found.start()), label))
+                out.extend(_yaml_origins(path, _start_tag(body, found.start()), name, expressions))
                 break
     return out
+
+
+def _yaml_origins(path: str, property_tag: str, name: str, expressions: list[str]) -> list[Related]:
+    """The YAML keys that *expressions* read from property *name*, when it was loaded from YAML."""
+    loaded = _LOAD_YAML.search(property_tag)
+    if loaded is None:
+        return []
+    yaml_path = _yaml_file(path, loaded[1])
+    body = _text(yaml_path) if yaml_path else None
+    if yaml_path is None or body is None:
+        return []
+    out: list[Related] = []
+    for expr in expressions:
+        for access in re.finditer(rf"\b{re.escape(name)}((?:\[[^\]]*\]|\.[A-Za-z_][A-Za-z0-9_]*)+)", expr):
+            keys = [a or b for a, b in _KEYS.findall(access[1])]
+            span = _yaml_key_span(yaml_path, body, keys)
+            if span is not None:
+                label = f"the value comes from `{'.'.join(keys)}` in {Path(yaml_path).name}"
+                related = Related(span, label)
+                if related not in out:
+                    out.append(related)
+    return out
+
+
+def _yaml_file(xacro_path: str, spec: str) -> str | None:
+    """The file ``load_yaml`` reads: relative to the xacro file, or below a ``$(find PKG)``
+    that names a package folder above it (the common layout: the robot's own package)."""
+    found = _FIND.search(spec)
+    if found is None:
+        candidate = Path(spec) if Path(spec).is_absolute() else Path(xacro_path).parent / spec
+        return str(candidate) if candidate.is_file() else None
+    rest = spec[found.end() :].lstrip("/")
+    for folder in Path(xacro_path).resolve().parents:
+        manifest = folder / "package.xml"
+        if manifest.is_file() and f"<name>{found[1]}</name>" in (_text(str(manifest)) or ""):
+            candidate = folder / rest
+            return str(candidate) if candidate.is_file() else None
+    return None
+
+
+def _yaml_key_span(path: str, body: str, keys: list[str]) -> Span | None:
+    """Where the value at *keys* is written in the YAML text (line and column of its key)."""
+    import yaml  # type: ignore[import-untyped]  # loaded only when a traced value came from YAML
+
+    try:
+        node = yaml.compose(body, Loader=yaml.SafeLoader)
+    except yaml.YAMLError:
+        return None
+    mark = None
+    for key in keys:
+        if not isinstance(node, yaml.MappingNode):
+            return None
+        match = next(((k, v) for k, v in node.value if getattr(k, "value", None) == key), None)
+        if match is None:
+            return None
+        mark, node = match[0].start_mark, match[1]
+    return Span(path, mark.line + 1, mark.column + 1) if mark is not None else None
 
 
 def _element_name(diagnostic: Diagnostic) -> str:

@@ -84,11 +84,40 @@ def _result(d: Diagnostic, file_path: str, index: int, fingerprint: str) -> dict
     ]
     if related:
         result["relatedLocations"] = related
+    fixes = _fixes(d)
+    if fixes:
+        result["fixes"] = fixes
     properties: dict[str, Any] = {"name": d.name}
+    if d.fix is not None:
+        properties["fixApplicability"] = d.fix.applicability.value
     if d.data:
         properties["data"] = dict(d.data)
     result["properties"] = properties
     return result
+
+
+def _fixes(d: Diagnostic) -> list[dict[str, Any]]:
+    """The finding's fix as SARIF ``fixes`` (byte regions, one artifact change per file), so
+    code-scanning tools can offer it; display-only fixes and edits without offsets are left out."""
+    fix = d.fix
+    if fix is None or fix.applicability.value == "display-only" or not fix.edits:
+        return []
+    changes: dict[str, list[dict[str, Any]]] = {}
+    for edit in fix.edits:
+        span = edit.span
+        if span.offset is None or span.end_offset is None:
+            return []
+        changes.setdefault(span.path, []).append({
+            "deletedRegion": {"byteOffset": span.offset, "byteLength": span.end_offset - span.offset},
+            "insertedContent": {"text": edit.content},
+        })
+    return [{
+        "description": {"text": f"{fix.message} ({fix.applicability.value})"},
+        "artifactChanges": [
+            {"artifactLocation": artifact_location(path), "replacements": replacements}
+            for path, replacements in changes.items()
+        ],
+    }]
 
 
 def sarif_document(report: Report) -> dict[str, Any]:

@@ -13,6 +13,7 @@ from urdftool.rules import (  # noqa: F401  (importing registers the rules)
     controllers,
     dynamics,
     gazebo,
+    gazebo_frames,
     gz_systems,
     inertia,
     inertia_fit,
@@ -33,6 +34,7 @@ from urdftool.rules import (  # noqa: F401  (importing registers the rules)
     syntax,
     target_meshes,
     targets,
+    transmissions,
 )
 from urdftool.rules.registry import REGISTRY, Family, Rule, all_rules, lookup
 from urdftool.rules.selection import Selection, UnknownSelector

@@ -49,7 +49,10 @@ class UnresolvedPackage(_Meshes):
     way ROS and Gazebo would, without a ROS installation: `--package`,
     `--package-path`, `ROS_PACKAGE_PATH`, ament and cmeel prefixes, Gazebo
     resource paths and the folders around the file. Reports each package that
-    is found nowhere, once, listing the places searched.
+    is found nowhere, once, listing the places searched. When the file
+    exists where PyBullet looks for it (the URI's path relative to the
+    describing file, as pybullet_data's own robots are written), the finding
+    is a warning: one consumer loads the robot as it is, ROS tools do not.
 
     ## Why it matters
     Every loader that shows or collides the robot (RViz, Gazebo, PyBullet,
@@ -102,7 +105,9 @@ class UnresolvedPackage(_Meshes):
                     "uri": first.mesh.filename,
                     "tried": found.tried,
                     "uses": len(uses),
+                    "pybullet_finds": beside,
                 },
+                severity=Severity.WARNING if beside else None,
             )
 
 

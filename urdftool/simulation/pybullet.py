@@ -12,7 +12,9 @@ user gets it plus what "zero commands" needs:
   PyBullet joint damping, and the default linear/angular damping of links is
   0, so that, as in MuJoCo, joints are held by their own damping only;
 * a mobile robot whose root link has no mass (``base_footprint``) is
-  re-rooted at its heaviest fixed child, since PyBullet fixes massless bases.
+  re-rooted at its heaviest fixed child, since PyBullet fixes massless bases;
+* mimic joints are tied to what they follow by the gear constraints of
+  :func:`~urdftool.backends.pybullet.couple_mimics` (PyBullet ignores ``<mimic>``).
 
 Energy is computed from PyBullet's link states: ½ m v² + ½ ωᵀ I ω + m g z for
 the base and every link, at each link's centre of mass.
@@ -26,7 +28,7 @@ from typing import Any
 
 import numpy as np
 
-from urdftool.backends.pybullet import captured_output, import_pybullet
+from urdftool.backends.pybullet import captured_output, couple_mimics, import_pybullet
 from urdftool.catalogue.conversion import EngineRejected
 from urdftool.facts.simulation.record import EngineRun, Penetration, Recorder
 from urdftool.facts.simulation.scene import (
@@ -116,6 +118,9 @@ class _World:
             return str(exc)
         self._map_joints()
         self._zero_commands()
+        mimics = [(j.name, j.mimic.joint, j.mimic.multiplier, j.mimic.offset)
+                  for j in self.scene.robot.joints if j.mimic is not None and j.dof == 1]
+        couple_mimics(p, self.client, self.body, mimics)
         return None
 
     def _map_joints(self) -> None:

@@ -77,6 +77,9 @@ class EngineRun:
     base_late_distance: float = 0.0
     penetrations: list[Penetration] = field(default_factory=list)
     limit_violations: list[LimitViolation] = field(default_factory=list)
+    #: largest |q_follower - (multiplier · q_leader + offset)| (rad or m) over the run, and where
+    mimic_error: float = 0.0
+    mimic_joint: str | None = None
 
     @property
     def ran(self) -> bool:
@@ -111,6 +114,8 @@ class EngineRun:
             "penetrating_pairs": [[p.link_a, p.link_b, p.depth] for p in self.penetrations],
             "limit_violations": [{"joint": v.joint, "amount": v.amount, "time": v.time}
                                  for v in self.limit_violations],
+            **({"max_mimic_error": self.mimic_error, "worst_mimic_joint": self.mimic_joint}
+               if self.mimic_joint else {}),
             "wall_time": round(self.wall_time, 3),
         }
 
@@ -166,7 +171,20 @@ class Recorder:
         run.energy_final = float(self.energy[n - 1])
         self._base_motion(n)
         run.limit_violations = self._violations(n)
+        self._mimics(n)
         return run
+
+    def _mimics(self, n: int) -> None:
+        """How far each recorded mimic joint strays from what it follows (both recorded)."""
+        column = {joint.name: k for k, joint in enumerate(self.joints)}
+        for k, joint in enumerate(self.joints):
+            mimic = joint.mimic
+            if mimic is None or mimic.joint not in column:
+                continue
+            target = mimic.multiplier * self.positions[:n, column[mimic.joint]] + mimic.offset
+            error = float(np.max(np.abs(self.positions[:n, k] - target)))
+            if self.run.mimic_joint is None or error > self.run.mimic_error:
+                self.run.mimic_error, self.run.mimic_joint = error, joint.name
 
     def _base_motion(self, n: int) -> None:
         base = self.base[:n]
