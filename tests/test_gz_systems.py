@@ -104,3 +104,43 @@ def test_classic_hardware_under_both_plugins_is_not_reported(tmp_path: Path) -> 
 </robot>"""
     )
     assert not _codes(path, "G306")
+
+
+PACKAGES = Path(__file__).resolve().parents[1] / "fixtures" / "ros2_control"
+DIFFBOT = "diffbot_control/urdf/diffbot.urdf.xacro"
+DIFFBOT_MACRO = "diffbot_control/urdf/diffbot.ros2_control.xacro"
+
+
+@pytest.mark.parametrize(
+    ("old", "new", "code", "anchor"),
+    [
+        (
+            "<plugin>gz_ros2_control/GazeboSimSystem</plugin>",
+            "<plugin>gazebo_ros2_control/GazeboSystem</plugin>",
+            "G306",
+            "<hardware>",
+        ),
+        (
+            "    </ros2_control>",
+            '      <sensor name="imu"><state_interface name="orientation.x"/></sensor>\n    </ros2_control>',
+            "G107",
+            "    </ros2_control>",
+        ),
+    ],
+    ids=["hardware-of-classic-gazebo", "sensor-without-gz-sensor"],
+)
+def test_breakage_in_a_ros2_control_macro_is_found_in_the_macro(
+    tmp_path: Path, old: str, new: str, code: str, anchor: str
+) -> None:
+    import shutil
+
+    root = tmp_path / "pkgs"
+    shutil.copytree(PACKAGES, root)
+    macro = root / DIFFBOT_MACRO
+    text = macro.read_text()
+    assert text.count(old) == 1
+    macro.write_text(text.replace(old, new))
+    line = text[: text.index(anchor)].count("\n") + 1
+    options = CheckOptions(package_paths=(str(root),), select=(code,))
+    found = [d for r in check_file(str(root / DIFFBOT), options) for d in r.diagnostics if d.code == code]
+    assert [(Path(d.location.path).resolve(), d.location.line) for d in found] == [(macro.resolve(), line)]
