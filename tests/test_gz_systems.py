@@ -144,3 +144,16 @@ def test_breakage_in_a_ros2_control_macro_is_found_in_the_macro(
     options = CheckOptions(package_paths=(str(root),), select=(code,))
     found = [d for r in check_file(str(root / DIFFBOT), options) for d in r.diagnostics if d.code == code]
     assert [(Path(d.location.path).resolve(), d.location.line) for d in found] == [(macro.resolve(), line)]
+
+
+def test_a_world_system_is_not_judged_against_the_first_models_links(tmp_path: Path) -> None:
+    path = tmp_path / "w.sdf"
+    path.write_text(
+        """<sdf version="1.9"><world name="w">
+  <plugin filename="gz-sim-kinetic-energy-monitor-system" name="gz::sim::systems::KineticEnergyMonitor">
+    <link_name>rotor</link_name>
+  </plugin>
+  <model name="ground"><static>true</static><link name="plane"/></model>
+</world></sdf>"""
+    )
+    assert not _codes(path, "G302")

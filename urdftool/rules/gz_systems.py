@@ -158,7 +158,10 @@ class SystemLinkMissing(_GzSim):
         parents = {joint.child: joint for joint in ctx.robot.joints}
         kept = gz.preserved_fixed_joints(ctx.robot)
         urdf = ctx.robot.format in ("urdf", "xacro")
+        world = {id(e) for e in ctx.robot.world_plugins}
         for system in systems(ctx):
+            if id(system.element) in world:
+                continue  # a world's system names links of whichever model it means, not this one's
             for element, text in _link_refs(system):
                 where = f"plugin[{system.name}]/{element.tag}[{text}]"
                 if text not in names and not any(n.endswith("::" + text) for n in names):
