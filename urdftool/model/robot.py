@@ -268,6 +268,9 @@ class Robot:
     #: Root link -> its pose in the model frame, for formats where a model may hold several
     #: roots: SDF's free bodies (links no joint holds), which simulators give a free joint each.
     root_poses: Mapping[str, Pose] | None = field(default=None, compare=False)
+    #: The ``<plugin>`` elements of the SDF world, kept on the world's first model: systems such
+    #: as gz-sim's Sensors belong to the world, and a rule reads them once per world.
+    world_plugins: tuple[Any, ...] = field(default=(), compare=False, repr=False)
 
     def link(self, name: str) -> Link | None:
         """The first link of that name (as urdfdom keeps the first of a duplicate), in O(1)."""

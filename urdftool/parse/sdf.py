@@ -101,6 +101,7 @@ def _read_models(root: etree._Element, version: tuple[int, int], path: str,
     out: list[Loaded] = []
     containers = [root, *root.findall("world")]
     for container in containers:
+        start = len(out)
         for child in container:
             if child.tag == "model":
                 out.append(_model(child, version, path, resolver))
@@ -108,6 +109,10 @@ def _read_models(root: etree._Element, version: tuple[int, int], path: str,
                 loaded = _included(child, path, resolver)
                 if loaded is not None:
                     out.append(loaded)
+        plugins = tuple(c for c in container if c.tag == "plugin") if container.tag == "world" else ()
+        first = next((m for m in out[start:] if m.robot is not None), None)
+        if plugins and first is not None and first.robot is not None:
+            first.robot = dataclasses.replace(first.robot, world_plugins=plugins)
     return out
 
 
