@@ -165,3 +165,25 @@ def test_include_that_no_ament_install_rule_explains_is_still_reported(tmp_path:
     # catkin: $(find) is the source folder in a devel space, so the include is broken there.
     report = urdftool.check(_ament_package(tmp_path, "${CATKIN_PACKAGE_SHARE_DESTINATION}"))
     assert [d.code for d in report.diagnostics if d.code.startswith("X")] == ["X003"]
+
+
+def test_gz_sim_world_quirks_that_sdformat_reads_are_no_errors() -> None:
+    """gz-sim's own example worlds: `--` in comments, `<gz::system_priority>`, an undeclared
+    `gz:` attribute prefix and a Fuel mesh URL. 25 of its 131 worlds failed as xml-syntax and
+    5 reported mesh-not-found before."""
+    report = urdftool.check(FIXTURES / "precision" / "gz_world_quirks.sdf")
+    assert not report.errors, [d.message for d in report.errors]
+    infos = {(d.code, d.severity) for d in report.diagnostics if d.code in ("S001", "M002")}
+    assert infos == {("S001", Severity.INFO), ("M002", Severity.INFO)}
+    messages = " ".join(d.message for d in report.diagnostics)
+    assert "'--'" in messages and "'::'" in messages and "prefix gz" in messages
+    assert "web address" in messages
+
+
+def test_double_hyphen_comment_in_a_urdf_is_a_warning(tmp_path: Path) -> None:
+    path = tmp_path / "r.urdf"
+    path.write_text('<robot name="r"><!-- run: roslaunch --wait --><link name="a"/></robot>')
+    report = urdftool.check(path)
+    assert not report.errors
+    [found] = [d for d in report.diagnostics if d.code == "S001"]
+    assert found.severity is Severity.WARNING and "xacro" in found.message

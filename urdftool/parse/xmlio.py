@@ -222,19 +222,22 @@ _DECLARED_VERSION = re.compile(rb"^(\s*<\?xml[^>]*?version\s*=\s*[\"'])([^\"']*)
 
 
 _PREFIXED_TAG = re.compile(rb"</?([A-Za-z_][\w.-]*):[A-Za-z_]")
+#: a prefixed attribute (``gz:type="…"``) inside a start tag
+_PREFIXED_ATTRIBUTE = re.compile(rb"<[A-Za-z_][^<>]*?\s([A-Za-z_][\w.-]*):[A-Za-z_][\w.-]*\s*=")
 _DECLARED_PREFIX = re.compile(rb"xmlns:([A-Za-z_][\w.-]*)\s*=")
 
 
 def _declare_prefixes(data: bytes, path: str, warnings: list[Diagnostic]) -> bytes:
     """Declare namespace prefixes that elements use without a declaration (TinyXML ignores namespaces).
 
-    SDF files carry custom elements such as ``<my_ns:sensor>`` without
-    ``xmlns:my_ns``; libsdformat reads them. The missing declarations are
+    SDF files carry custom elements such as ``<my_ns:sensor>`` and attributes
+    such as ``gz:type="…"`` without ``xmlns:my_ns``; libsdformat reads them. The missing declarations are
     added on the root element, on its own line, so positions do not move.
     """
     if b":" not in data:
         return data
-    used = set(_PREFIXED_TAG.findall(data)) - set(_DECLARED_PREFIX.findall(data)) - {b"xml", b"xmlns"}
+    prefixes = set(_PREFIXED_TAG.findall(data)) | set(_PREFIXED_ATTRIBUTE.findall(data))
+    used = prefixes - set(_DECLARED_PREFIX.findall(data)) - {b"xml", b"xmlns"}
     if not used:
         return data
     root = re.search(rb"<[A-Za-z_][\w.:-]*", data[_first_element(data):])
@@ -255,9 +258,71 @@ def _declare_prefixes(data: bytes, path: str, warnings: list[Diagnostic]) -> byt
     return data[:at] + declarations + data[at:]
 
 
+_COMMENT = re.compile(rb"<!--(.*?)-->", re.S)
+_SCOPED_TAG = re.compile(rb"(</?[A-Za-z_][\w.-]*)::(?=[A-Za-z_])")
+
+
+def _scoped_tags(data: bytes, path: str, warnings: list[Diagnostic]) -> bytes:
+    """Element names with ``::`` (gz-sim's ``<gz::system_priority>``), read as ``__``.
+
+    TinyXML2 takes any name; for libxml2 a name holds at most one ``:``. The
+    two bytes keep their place, so no position moves.
+    """
+    found = _SCOPED_TAG.search(data)
+    if found is None:
+        return data
+    warnings.append(
+        XmlSyntax.diagnostic(
+            "element names with '::' (e.g. <gz::system_priority>) are not XML names; read with "
+            "'__' in their place, as sdformat reads them as written",
+            Span(path, line_of(data, found.start()), 1),
+            severity=Severity.INFO,
+        )
+    )
+    return _SCOPED_TAG.sub(lambda m: m.group(1) + b"__", data)
+
+
+def _hyphens_in_comments(data: bytes, path: str, warnings: list[Diagnostic]) -> bytes:
+    """Comments holding ``--`` (XML forbids it): the hyphens read as ``~``, byte for byte.
+
+    gz-sim's own example worlds write shell commands (``gz service --timeout``)
+    in comments; sdformat and urdfdom (TinyXML2) read them, libxml2 and Python's
+    expat (xacro, urdf_parser_py) refuse them. Only comment text changes, so no
+    position moves.
+    """
+    if b"--" not in data.replace(b"<!--", b"").replace(b"-->", b""):
+        return data
+    first: int | None = None
+
+    def mend(match: re.Match[bytes]) -> bytes:
+        nonlocal first
+        body = match.group(1)
+        mended = body.replace(b"--", b"~~")
+        if mended.endswith(b"-"):
+            mended = mended[:-1] + b"~"
+        if mended != body and first is None:
+            first = match.start()
+        return b"<!--" + mended + b"-->"
+
+    data = _COMMENT.sub(mend, data)
+    if first is not None:
+        sdf = path.lower().endswith((".sdf", ".world"))
+        warnings.append(
+            XmlSyntax.diagnostic(
+                "a comment holds '--', which XML forbids; read as if it did not"
+                + ("" if sdf else " (xacro and other expat-based tools refuse the file)"),
+                Span(path, line_of(data, first), 1),
+                severity=Severity.INFO if sdf else Severity.WARNING,
+                help="write the hyphens apart, or move the text out of the comment",
+            )
+        )
+    return data
+
+
 def _tolerate_quirks(data: bytes, path: str) -> tuple[bytes, list[Diagnostic]]:
     """Accept, with a warning, harmless defects that TinyXML-based loaders accept.
 
+    * ``--`` inside comments (an info in SDF, whose loaders all accept it);
     * blank lines before the XML declaration;
     * an XML declaration with a version other than 1.0/1.1 (``version="0.0"``,
       written by several exporters), read as 1.0;
@@ -290,7 +355,9 @@ def _tolerate_quirks(data: bytes, path: str) -> tuple[bytes, list[Diagnostic]]:
             )
         )
     if path.lower().endswith((".sdf", ".world")):
+        data = _scoped_tags(data, path, warnings)
         data = _declare_prefixes(data, path, warnings)
+    data = _hyphens_in_comments(data, path, warnings)
     stripped = data.rstrip(b"\0\r\n\t ")
     if b"\0" in data[len(stripped) :]:
         warnings.append(

@@ -131,7 +131,9 @@ class MeshNotFound(_Meshes):
     Reports each mesh file that resolves to a path where no file exists,
     once per robot, with the path looked for and, when the package holds a
     file of the same name elsewhere or with another case or extension, that
-    file.
+    file. A mesh given by web address (`https://fuel.gazebosim.org/…`, which
+    Gazebo downloads and caches) is one info per robot: it is not fetched, so
+    not checked.
 
     ## Why it matters
     RViz shows nothing, Gazebo and PyBullet drop the shape (the link falls
@@ -155,11 +157,27 @@ class MeshNotFound(_Meshes):
 
     def check(self, ctx: CheckContext) -> Iterator[Diagnostic]:
         groups: dict[str, list[survey.MeshUse]] = {}
+        remote: list[survey.MeshUse] = []
         for use in survey.mesh_uses(ctx):
             path = use.mesh.resolved
+            if use.mesh.filename.lower().startswith(("http://", "https://")):
+                remote.append(use)
+                continue
             if path is None or survey.has_substitution(use.mesh.filename) or os.path.isfile(path):
                 continue
             groups.setdefault(path, []).append(use)
+        if remote:
+            first = remote[0]
+            more = f" (and {len(remote) - 1} more)" if len(remote) > 1 else ""
+            yield self.diagnostic(
+                f"{first.describe} is a web address{more}; not checked offline",
+                first.location,
+                element=first.element,
+                help="Gazebo downloads and caches such meshes (Gazebo Fuel); urdftool does not "
+                "fetch them, so their shape and size are not checked",
+                data={"uri": first.mesh.filename, "uses": len(remote), "remote": True},
+                severity=Severity.INFO,
+            )
         for path, uses in groups.items():
             first = uses[0]
             found = survey.lookup(ctx, first)
