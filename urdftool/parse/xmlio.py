@@ -20,6 +20,7 @@ from dataclasses import dataclass
 from lxml import etree
 
 from urdftool.catalogue.syntax import XmlSyntax
+from urdftool.catalogue.xacro import XacroInUrdf
 from urdftool.diagnostics import Diagnostic, Severity
 from urdftool.safe_files import DEFAULT_LIMITS, human, limit, open_regular
 from urdftool.source import SRC_ATTRIBUTE, Span, element_starts
@@ -372,3 +373,20 @@ def read_up_to_cap(path: str, kind: str) -> bytes:
     can report an oversized file as a finding). Raises ``OSError``."""
     with open_regular(path, kind, check_size=False) as handle:
         return handle.read(limit(kind) + 1)
+
+
+def xacro_in_urdf(root: etree._Element) -> Diagnostic | None:
+    """A ``xacro-in-urdf`` finding when the URDF document *root* uses xacro elements."""
+    for element in root.iter():
+        tag = element.tag
+        # Only namespaced tags ("{uri}name") can be xacro; test the string before building a QName.
+        if isinstance(tag, str) and tag.startswith("{") and "wiki/xacro" in tag:
+            tag = etree.QName(element).localname
+            return XacroInUrdf.diagnostic(
+                f"this .urdf file uses xacro (<xacro:{tag}>); it was expanded with xacro, but "
+                "URDF loaders that read it directly will fail",
+                span_of(element),
+                help="rename it to .urdf.xacro, or ship the expanded URDF",
+                data={"element": f"xacro:{tag}"},
+            )
+    return None
