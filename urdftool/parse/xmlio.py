@@ -15,6 +15,7 @@ transformation (xacro expansion, extraction of ``<gazebo>`` blocks).
 from __future__ import annotations
 
 import re
+import sys
 from dataclasses import dataclass
 
 from lxml import etree
@@ -143,7 +144,8 @@ def encode_src(path: str, line: int, column: int) -> str:
 def decode_src(value: str) -> Span | None:
     try:
         line, column, path = value.split(":", 2)
-        return Span(path, int(line), int(column))
+        # One path object for every span of a file, not a copy per element of a 100k-link model.
+        return Span(sys.intern(path), int(line), int(column))
     except ValueError:
         return None
 
