@@ -127,7 +127,7 @@ class ValueReader:
                     )
                 )
             return None
-        if self.check_substitutions and _SUBSTITUTION.search(value):
+        if self.check_substitutions and "$" in value and _SUBSTITUTION.search(value):
             self.diagnostics.append(
                 UnexpandedSubstitution.diagnostic(
                     f"{where}: {attribute}=\"{value}\" contains an unexpanded substitution",

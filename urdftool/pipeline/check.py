@@ -65,7 +65,7 @@ def run_rules(
     found = [d for d in robot.diagnostics if selection.enabled_code(d.code)]
     options = dict(options or {})
     ctx = CheckContext(robot, KinematicTree.of(robot), options, simulator=_simulator(options))
-    for rule in model_rules(selection.enabled):
+    for rule in model_rules(lambda entry: selection.enabled_code(entry.code)):  # memoised per code
         try:
             found.extend(rule().check(ctx))
         except Exception as exc:  # a rule bug must not hide the other findings
