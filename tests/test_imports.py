@@ -79,3 +79,26 @@ def test_structural_check_does_not_import_numpy() -> None:
     done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
     assert done.returncode == 0, done.stderr
     assert done.stdout.strip().splitlines()[-1] == "False"
+
+
+def test_structural_check_imports_only_the_structural_rules_and_lxml() -> None:
+    """``check --select S`` imports the S rules' module and no other rule module (the generated
+    table in urdftool/rules/table.py names them all), and no heavy library besides lxml."""
+    path = FIXTURES / "rules" / "S011" / "bad.urdf"
+    code = (
+        "import sys\n"
+        "from urdftool.cli import main\n"
+        "try:\n"
+        f"    main(['check', '--isolated', '--select', 'S', {str(path)!r}])\n"
+        "except SystemExit as exc:\n"
+        "    assert exc.code == 1, exc.code\n"
+        "rules = sorted(m for m in sys.modules if m.startswith('urdftool.rules.'))\n"
+        "assert rules == ['urdftool.rules.registry', 'urdftool.rules.selection', 'urdftool.rules.syntax',\n"
+        "                 'urdftool.rules.table'], rules\n"
+        "assert 'lxml.etree' in sys.modules\n"
+    )
+    heavy = (*HEAVY, "numpy", "yaml", "scipy", "xacro", "urdftool.backends", "urdftool.simulation")
+    script = code + _REPORT.format(heavy=heavy)
+    done = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, timeout=120)
+    assert done.returncode == 0, done.stderr
+    assert json.loads(done.stdout.strip().splitlines()[-1]) == []

@@ -7,7 +7,7 @@ from pathlib import Path
 import pytest
 
 from urdftool.rules import Selection, UnknownSelector, all_rules, lookup
-from urdftool.rules.docs import pages
+from urdftool.rules.docs import TABLE_PATH, pages, table_source
 from urdftool.rules.registry import CODE_PATTERN, DOC_SECTIONS, NAME_PATTERN
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -85,3 +85,11 @@ def test_generated_rule_docs_are_current() -> None:
     wanted = pages()
     on_disk = {p.name: p.read_text() for p in folder.glob("*.md")}
     assert on_disk == wanted, "docs/rules/ drifted: run `python -m urdftool.rules.docs`"
+
+
+def test_generated_rule_table_is_current() -> None:
+    """The table a run selects rules from (without importing them) matches the rule modules."""
+    assert TABLE_PATH.read_text() == table_source(), (
+        "urdftool/rules/table.py drifted: run `python -m urdftool.rules.docs`"
+    )
+

@@ -34,3 +34,4 @@ class LazyModule(types.ModuleType):
 
 
 numpy = LazyModule("numpy")
+yaml = LazyModule("yaml")

@@ -87,7 +87,12 @@ def element_starts(data: bytes) -> list[tuple[int, int]]:
         positions.append((line, col))
 
     parser.StartElementHandler = start
-    parser.Parse(data, True)
+    try:
+        parser.Parse(data, True)
+    finally:
+        # The handler and the parser refer to each other: a cycle that would keep the list of
+        # positions alive while the collector is paused (urdftool.pipeline.check).
+        parser.StartElementHandler = None
     return positions
 
 

@@ -24,7 +24,7 @@ from urdftool.cli.output import emit_report, exit_code, output_options
 from urdftool.diagnostics import FileReport, Report
 from urdftool.export.write import OutputError
 from urdftool.facts.simulation import engine_names, rule_options_for
-from urdftool.facts.simulation.scene import SimOptions
+from urdftool.facts.simulation.options import SimOptions
 from urdftool.parse import InputError, detect_format
 from urdftool.pipeline import baseline
 from urdftool.pipeline.check import CheckOptions, check_files, default_jobs

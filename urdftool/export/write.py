@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import contextlib
 import os
-import tempfile
 from collections.abc import Iterable
 from pathlib import Path
 from typing import TYPE_CHECKING
@@ -12,7 +11,13 @@ from typing import TYPE_CHECKING
 from urdftool.safe_files import describe_path
 
 if TYPE_CHECKING:
+    import tempfile
+
     from urdftool.model import Robot
+else:  # a check that writes no file does not import it
+    from urdftool.lazy import LazyModule
+
+    tempfile = LazyModule("tempfile")
 
 
 class OutputError(Exception):

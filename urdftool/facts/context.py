@@ -8,6 +8,12 @@ from typing import Any
 
 from urdftool.model import KinematicTree, Robot
 
+#: Keys of :attr:`CheckContext.options` that the pipeline sets for the facts, here so that the
+#: pipeline names them without importing the facts (and their readers) a run may not need.
+SRDF_OPTION = "srdf"
+CONTROLLERS_OPTION = "controllers"
+SIM_OPTION = "sim"
+
 
 @dataclass
 class CheckContext:

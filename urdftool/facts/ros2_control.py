@@ -16,11 +16,11 @@ from collections.abc import Iterator
 from dataclasses import dataclass, field
 from typing import Any
 
-from urdftool.facts.context import CheckContext
+from urdftool.facts.context import CONTROLLERS_OPTION, CheckContext
 from urdftool.parse.controllers import Controllers
 
 #: Key of the run's options that holds the :class:`Controllers`.
-OPTION = "controllers"
+OPTION = CONTROLLERS_OPTION
 
 #: The interface names hardware_interface defines
 #: (``hardware_interface/types/hardware_interface_type_values.hpp``).

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
-from urdftool.facts.context import CheckContext
+from urdftool.facts.context import SRDF_OPTION, CheckContext
 from urdftool.model import JointType
 from urdftool.parse.srdf import Group, Srdf
 
@@ -20,7 +20,7 @@ from urdftool.parse.srdf import Group, Srdf
 PINOCCHIO_ROOT_JOINT = "root_joint"
 
 #: Key of the run's options that holds the :class:`~urdftool.parse.srdf.Srdf`.
-OPTION = "srdf"
+OPTION = SRDF_OPTION
 
 
 def srdf(ctx: CheckContext) -> Srdf | None:

@@ -112,8 +112,7 @@ def _finish(path: str, fmt: str, robot: Robot | None, diagnostics: list[Diagnost
 
 def _read_urdf(path: str, resolver: PackageResolver, args: Mapping[str, str]) -> Loaded:
     from urdftool.parse.urdf import UrdfReader
-    from urdftool.parse.xacro import xacro_in_urdf
-    from urdftool.parse.xmlio import read_file
+    from urdftool.parse.xmlio import read_file, xacro_in_urdf
 
     document, problems = read_file(path)
     if document is None:

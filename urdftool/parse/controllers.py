@@ -24,15 +24,19 @@ error becomes a ``controllers-yaml-invalid`` finding at its line.
 
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass, field
-from typing import Any
-
-import yaml  # type: ignore[import-untyped]  # no stubs in the runtime environment
+from typing import TYPE_CHECKING, Any
 
 from urdftool.catalogue.ros2_control import ControllersYamlInvalid
 from urdftool.diagnostics import Diagnostic
 from urdftool.safe_files import read_regular
 from urdftool.source import Span
+
+if TYPE_CHECKING:
+    import yaml  # type: ignore[import-untyped]  # no stubs in the runtime environment
+else:  # PyYAML costs more to import than a structural check: only a controllers file loads it
+    from urdftool.lazy import yaml
 
 
 @dataclass(frozen=True)
@@ -94,28 +98,35 @@ class ControllerConfig:
         return next((c for c in self.controllers if c.name == name), None)
 
 
-class LocatedLoader(yaml.SafeLoader):  # type: ignore[misc]
-    """PyYAML's safe loader building :class:`Value` trees that record each node's start mark."""
+@functools.cache
+def _located_loader() -> Any:
+    """PyYAML's safe loader building :class:`Value` trees (a class made on first use, as PyYAML is
+    imported then)."""
 
-    path = ""
+    class LocatedLoader(yaml.SafeLoader):  # type: ignore[misc]
+        """PyYAML's safe loader building :class:`Value` trees that record each node's start mark."""
 
-    def located(self, node: yaml.Node) -> Value:
-        span = Span(self.path, node.start_mark.line + 1, node.start_mark.column + 1)
-        if isinstance(node, yaml.MappingNode):
-            self.flatten_mapping(node)  # YAML merge keys (<<: *defaults)
-            out: dict[str, Value] = {}
-            for key_node, value_node in node.value:
-                key = self.construct_object(key_node, deep=True)
-                out[str(key)] = self.located(value_node)
-            return Value(out, span)
-        if isinstance(node, yaml.SequenceNode):
-            return Value([self.located(item) for item in node.value], span)
-        return Value(self.construct_object(node, deep=True), span)
+        path = ""
+
+        def located(self, node: yaml.Node) -> Value:
+            span = Span(self.path, node.start_mark.line + 1, node.start_mark.column + 1)
+            if isinstance(node, yaml.MappingNode):
+                self.flatten_mapping(node)  # YAML merge keys (<<: *defaults)
+                out: dict[str, Value] = {}
+                for key_node, value_node in node.value:
+                    key = self.construct_object(key_node, deep=True)
+                    out[str(key)] = self.located(value_node)
+                return Value(out, span)
+            if isinstance(node, yaml.SequenceNode):
+                return Value([self.located(item) for item in node.value], span)
+            return Value(self.construct_object(node, deep=True), span)
+
+    return LocatedLoader
 
 
 def load_located(text: str, path: str) -> Value | None:
     """The document in *text* as a :class:`Value` tree (``None`` for an empty document)."""
-    loader = LocatedLoader(text)
+    loader = _located_loader()(text)
     loader.path = path
     try:
         node = loader.get_single_node()

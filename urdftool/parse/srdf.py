@@ -25,7 +25,6 @@ from urdftool.catalogue.syntax import InvalidNumber, MissingAttribute, NotARobot
 from urdftool.diagnostics import Diagnostic
 from urdftool.parse.packages import PackageResolver
 from urdftool.parse.values import parse_number
-from urdftool.parse.xacro import expand
 from urdftool.parse.xmlio import read_file, span_of
 from urdftool.source import Span
 
@@ -152,6 +151,9 @@ def read_srdf(path: str, resolver: PackageResolver | None = None) -> Srdf:
     """
     path = os.fspath(path)
     if is_srdf_xacro(path):
+        # Function-level: the xacro processor (and its minidom) is needed only for an .srdf.xacro.
+        from urdftool.parse.xacro import expand
+
         result = expand(path, resolver or PackageResolver.create())
         found = [d for d in result.diagnostics if d.name != "macros-only"]
         if result.document is None:

@@ -60,8 +60,8 @@ from urdftool.parse.urdf_schema import (
     SDF_ISMS,
     SPHERICAL_NAMES,
     URDF_TYPES,
-    VENDOR_ATTRIBUTES,
     VENDOR_ELEMENTS,
+    attribute_verdict,
     is_extension_name,
 )
 from urdftool.parse.values import ValueReader
@@ -109,27 +109,23 @@ class UrdfReader:
         self.values.diagnostics.append(diagnostic)
 
     def _check_attributes(self, element: etree._Element, where: str) -> None:
-        allowed = ATTRIBUTES.get(element.tag)
-        if allowed is None:
+        tag = element.tag
+        if tag not in ATTRIBUTES:
             return
-        vendor: dict[str, list[str]] = {}
-        for name in element.attrib:
-            if name == SRC_ATTRIBUTE or name.startswith("{") or ":" in name or name.startswith("xmlns"):
-                continue
-            if (element.tag, name) in VENDOR_ATTRIBUTES:
-                vendor.setdefault(VENDOR_ATTRIBUTES[element.tag, name], []).append(name)
-            elif name not in allowed:
+        unknown, vendor = attribute_verdict(tag, tuple(element.keys()))
+        if unknown:
+            allowed = ATTRIBUTES[tag]
+            for name in unknown:
                 self._report(
                     UnknownAttribute.diagnostic(
-                        f"{where}: <{element.tag}> has no attribute '{name}'"
-                        + did_you_mean(name, allowed),
+                        f"{where}: <{tag}> has no attribute '{name}'" + did_you_mean(name, allowed),
                         self.values.attr_span(element, name),
                         element=where,
                         data={"attribute": name, "allowed": sorted(allowed)},
                     )
                 )
-        for reader, names in vendor.items():
-            self._vendor(element.tag, names, self.values.attr_span(element, names[0]), reader)
+        for reader, names in vendor:
+            self._vendor(tag, list(names), self.values.attr_span(element, names[0]), reader)
 
     def _children(self, element: etree._Element, where: str) -> dict[str, list[etree._Element]]:
         """Group child elements by tag, reporting unknown and repeated ones."""

@@ -6,7 +6,10 @@ following urdfdom's reading of the format.
 
 from __future__ import annotations
 
+import functools
+
 from urdftool.model import JointType
+from urdftool.source import SRC_ATTRIBUTE
 
 #: Attributes each URDF element may carry.
 ATTRIBUTES: dict[str, frozenset[str]] = {
@@ -104,3 +107,22 @@ SPHERICAL_NAMES = {"spherical", "ball"}
 def is_extension_name(tag: str) -> bool:
     """Namespaced elements (``drake:joint``, ``{ns}tag``) belong to their own tools."""
     return tag.startswith("{") or ":" in tag
+
+
+@functools.lru_cache(maxsize=1024)
+def attribute_verdict(
+    tag: str, names: tuple[str, ...]
+) -> tuple[tuple[str, ...], tuple[tuple[str, tuple[str, ...]], ...]]:
+    """The attributes of a ``<tag>`` with these attribute *names* that it does not have, and
+    the vendor attributes by reader (memoised: a file repeats a few attribute sets)."""
+    allowed = ATTRIBUTES[tag]
+    unknown: list[str] = []
+    vendor: dict[str, list[str]] = {}
+    for name in names:
+        if name == SRC_ATTRIBUTE or name.startswith("{") or ":" in name or name.startswith("xmlns"):
+            continue
+        if (tag, name) in VENDOR_ATTRIBUTES:
+            vendor.setdefault(VENDOR_ATTRIBUTES[tag, name], []).append(name)
+        elif name not in allowed:
+            unknown.append(name)
+    return tuple(unknown), tuple((reader, tuple(found)) for reader, found in vendor.items())

@@ -7,8 +7,10 @@ rest of the file is still read and checked.
 
 from __future__ import annotations
 
+import functools
 import re
 from dataclasses import dataclass, field
+from typing import cast
 
 from lxml import etree
 
@@ -46,11 +48,31 @@ def parse_number(text: str) -> float | None:
     commas or hex. What it refuses is reported as ``invalid-number`` by the
     readers and treated as unwritten, so no model object holds a non-finite value.
     """
+    # Robot descriptions repeat a few hundred number texts ("0", "1", "0.05") many times over.
+    return _parse_cached(text) if len(text) <= _CACHED_CHARS else _parse(text)
+
+
+#: Number texts up to this length are memoised (longer ones are rare, or hostile).
+_CACHED_CHARS = 40
+
+
+def _parse(text: str) -> float | None:
     text = text.strip()
     if len(text) > MAX_NUMBER_CHARS or not _NUMBER.match(text):
         return None
     value = float(text)
     return value if abs(value) <= MAX_MAGNITUDE else None
+
+
+_parse_cached = functools.lru_cache(maxsize=16384)(_parse)
+
+
+@functools.lru_cache(maxsize=16384)
+def _numbers(raw: str) -> tuple[tuple[str, ...], tuple[float | None, ...]]:
+    """The whitespace-separated parts of *raw* and each one's :func:`parse_number` (memoised:
+    ``xyz="0 0 0"`` is written thousands of times)."""
+    parts = tuple(raw.split())
+    return parts, tuple(parse_number(p) for p in parts)
 
 
 def parse_limit(text: str) -> float | Unbounded | None:
@@ -105,7 +127,7 @@ class ValueReader:
                     )
                 )
             return None
-        if self.check_substitutions and _SUBSTITUTION.search(value):
+        if self.check_substitutions and "$" in value and _SUBSTITUTION.search(value):
             self.diagnostics.append(
                 UnexpandedSubstitution.diagnostic(
                     f"{where}: {attribute}=\"{value}\" contains an unexpanded substitution",
@@ -146,9 +168,8 @@ class ValueReader:
         raw = self.text(element, attribute, where, required)
         if raw is None:
             return None
-        parts = raw.split()
-        values = [parse_number(p) for p in parts]
-        if any(v is None for v in values):
+        parts, values = _numbers(raw) if len(raw) <= _CACHED_CHARS * 4 else _numbers.__wrapped__(raw)
+        if None in values:
             bad = next(p for p, v in zip(parts, values, strict=True) if v is None)
             self._invalid(element, attribute, where, raw, bad)
             return None
@@ -163,7 +184,7 @@ class ValueReader:
                 )
             )
             return None
-        return tuple(v for v in values if v is not None)
+        return cast("tuple[float, ...]", values)  # no None in it (tested above)
 
     def _invalid(
         self, element: etree._Element, attribute: str, where: str, raw: str, bad: str | None = None

@@ -36,7 +36,6 @@ from urdftool.catalogue.xacro import (
     MacrosOnly,
     PackageMissing,
     XacroError,
-    XacroInUrdf,
     XacroWarning,
 )
 from urdftool.diagnostics import Diagnostic, Severity
@@ -467,25 +466,6 @@ def _locate_pattern(path: str, pattern: re.Pattern[str]) -> Span | None:
                     return Span(path, number, match.start() + 1)
     except OSError:
         pass
-    return None
-
-
-def xacro_in_urdf(root: Any) -> Diagnostic | None:
-    """A ``xacro-in-urdf`` finding when the URDF document *root* uses xacro elements."""
-    from lxml import etree
-
-    for element in root.iter():
-        tag = element.tag
-        # Only namespaced tags ("{uri}name") can be xacro; test the string before building a QName.
-        if isinstance(tag, str) and tag.startswith("{") and "wiki/xacro" in tag:
-            tag = etree.QName(element).localname
-            return XacroInUrdf.diagnostic(
-                f"this .urdf file uses xacro (<xacro:{tag}>); it was expanded with xacro, but "
-                "URDF loaders that read it directly will fail",
-                span_of(element),
-                help="rename it to .urdf.xacro, or ship the expanded URDF",
-                data={"element": f"xacro:{tag}"},
-            )
     return None
 
 

@@ -15,11 +15,13 @@ transformation (xacro expansion, extraction of ``<gazebo>`` blocks).
 from __future__ import annotations
 
 import re
+import sys
 from dataclasses import dataclass
 
 from lxml import etree
 
 from urdftool.catalogue.syntax import XmlSyntax
+from urdftool.catalogue.xacro import XacroInUrdf
 from urdftool.diagnostics import Diagnostic, Severity
 from urdftool.safe_files import DEFAULT_LIMITS, human, limit, open_regular
 from urdftool.source import SRC_ATTRIBUTE, Span, element_starts
@@ -142,7 +144,8 @@ def encode_src(path: str, line: int, column: int) -> str:
 def decode_src(value: str) -> Span | None:
     try:
         line, column, path = value.split(":", 2)
-        return Span(path, int(line), int(column))
+        # One path object for every span of a file, not a copy per element of a 100k-link model.
+        return Span(sys.intern(path), int(line), int(column))
     except ValueError:
         return None
 
@@ -414,17 +417,18 @@ def _first_element(data: bytes) -> int:
 
 
 def _stamp_positions(root: etree._Element, data: bytes, path: str) -> None:
-    elements = [e for e in root.iter() if isinstance(e.tag, str)]
+    elements = list(root.iter(etree.Element))  # elements only: no comments, PIs or entities
     try:
         starts = element_starts(data)
     except Exception:  # expat disagreeing with libxml2: fall back to lxml's lines
         starts = []
+    # encode_src, inlined: this runs once per element of every file read
     if len(starts) == len(elements):
         for element, (line, column) in zip(elements, starts, strict=True):
-            element.set(SRC_ATTRIBUTE, encode_src(path, line, column))
+            element.set(SRC_ATTRIBUTE, f"{line}:{column}:{path}")
     else:
         for element in elements:
-            element.set(SRC_ATTRIBUTE, encode_src(path, element.sourceline or 1, 1))
+            element.set(SRC_ATTRIBUTE, f"{element.sourceline or 1}:1:{path}")
 
 
 def read_file(path: str, kind: str = "model") -> tuple[XmlDocument | None, list[Diagnostic]]:
@@ -439,3 +443,20 @@ def read_up_to_cap(path: str, kind: str) -> bytes:
     can report an oversized file as a finding). Raises ``OSError``."""
     with open_regular(path, kind, check_size=False) as handle:
         return handle.read(limit(kind) + 1)
+
+
+def xacro_in_urdf(root: etree._Element) -> Diagnostic | None:
+    """A ``xacro-in-urdf`` finding when the URDF document *root* uses xacro elements."""
+    for element in root.iter():
+        tag = element.tag
+        # Only namespaced tags ("{uri}name") can be xacro; test the string before building a QName.
+        if isinstance(tag, str) and tag.startswith("{") and "wiki/xacro" in tag:
+            tag = etree.QName(element).localname
+            return XacroInUrdf.diagnostic(
+                f"this .urdf file uses xacro (<xacro:{tag}>); it was expanded with xacro, but "
+                "URDF loaders that read it directly will fail",
+                span_of(element),
+                help="rename it to .urdf.xacro, or ship the expanded URDF",
+                data={"element": f"xacro:{tag}"},
+            )
+    return None

@@ -8,15 +8,11 @@ import gc
 import os
 from collections.abc import Callable, Iterable, Iterator, Mapping, Sequence
 from dataclasses import dataclass, field
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from urdftool.catalogue.syntax import InternalError
 from urdftool.diagnostics import Diagnostic, FileReport, Report, Severity
-from urdftool.facts.context import CheckContext
-from urdftool.facts.ros2_control import OPTION as CONTROLLERS_OPTION
-from urdftool.facts.simulation import OPTION as SIM_OPTION
-from urdftool.facts.simulation import Simulator
-from urdftool.facts.srdf import OPTION as SRDF_OPTION
+from urdftool.facts.context import CONTROLLERS_OPTION, SIM_OPTION, SRDF_OPTION, CheckContext
 from urdftool.model import KinematicTree, Robot
 from urdftool.parse import Loaded, read
 from urdftool.parse.packages import PackageResolver
@@ -25,6 +21,9 @@ from urdftool.pipeline.provenance import trace
 from urdftool.rules import Selection
 from urdftool.rules.registry import model_rules
 from urdftool.safe_files import file_limits
+
+if TYPE_CHECKING:
+    from urdftool.facts.simulation import Simulator
 
 
 @dataclass(frozen=True)
@@ -66,9 +65,7 @@ def run_rules(
     found = [d for d in robot.diagnostics if selection.enabled_code(d.code)]
     options = dict(options or {})
     ctx = CheckContext(robot, KinematicTree.of(robot), options, simulator=_simulator(options))
-    for rule in model_rules():
-        if not selection.enabled(rule):
-            continue
+    for rule in model_rules(lambda entry: selection.enabled_code(entry.code)):  # memoised per code
         try:
             found.extend(rule().check(ctx))
         except Exception as exc:  # a rule bug must not hide the other findings

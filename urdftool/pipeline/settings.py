@@ -17,16 +17,22 @@ import sys
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from urdftool.catalogue.registry import Family
 from urdftool.catalogue.suggest import did_you_mean
 from urdftool.diagnostics import Severity
+from urdftool.lazy import LazyModule
 
-if sys.version_info >= (3, 11):
-    import tomllib
+if TYPE_CHECKING:
+    if sys.version_info >= (3, 11):
+        import tomllib
+    else:
+        import tomli as tomllib
+elif sys.version_info >= (3, 11):  # imported when a configuration file is read, not at start
+    tomllib = LazyModule("tomllib")
 else:  # pragma: no cover - Python 3.10
-    import tomli as tomllib
+    tomllib = LazyModule("tomli")
 
 CONFIG_FILES = ("urdftool.toml", "pyproject.toml")
 

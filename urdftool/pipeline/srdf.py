@@ -18,7 +18,6 @@ from urdftool.catalogue.syntax import XmlSyntax
 from urdftool.diagnostics import Diagnostic
 from urdftool.parse import Loaded
 from urdftool.parse.packages import PackageResolver
-from urdftool.parse.srdf import Srdf, read_srdf
 from urdftool.source import Span
 
 #: Model suffixes stripped to get the stem an SRDF shares, longest first.
@@ -88,6 +87,9 @@ def attach(loaded: Loaded, srdf_path: str | None, resolver: PackageResolver, dis
     path = srdf_path or (find_srdf(loaded.path, loaded.robot.name) if discover else None)
     if path is None:
         return loaded
+    # Function-level: the SRDF reader brings the xacro processor, which a plain URDF never needs.
+    from urdftool.parse.srdf import Srdf, read_srdf
+
     try:
         srdf = read_srdf(path, resolver)
     except OSError as exc:

@@ -10,7 +10,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from urdftool.diagnostics import Diagnostic, Severity
-from urdftool.rules import lookup
+from urdftool.rules.registry import info
 from urdftool.source import Span
 
 #: the project's home; rule pages live under ``docs/rules/`` there
@@ -37,11 +37,11 @@ def rule_help_uri(code: str) -> str:
 def rule_meta(diagnostic: Diagnostic) -> RuleMeta:
     """The registered rule behind *diagnostic*, or what the diagnostic itself says when the
     code is not in the catalogue."""
-    rule = lookup(diagnostic.code)
+    rule = info(diagnostic.code)  # the generated table: no rule module is imported to describe one
     if rule is None:
         return RuleMeta(diagnostic.code, diagnostic.name, diagnostic.name.replace("-", " "),
                         diagnostic.severity, rule_help_uri(diagnostic.code))
-    return RuleMeta(rule.code, rule.name, rule.summary(), rule.severity, rule_help_uri(rule.code))
+    return RuleMeta(rule.code, rule.name, rule.summary, rule.severity, rule_help_uri(rule.code))
 
 
 def relative_path(path: str) -> str:

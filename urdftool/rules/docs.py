@@ -1,7 +1,9 @@
-"""Rule documentation pages, generated from the docstrings.
+"""Rule documentation pages and the rule table, generated from the registered rules.
 
 ``python -m urdftool.rules.docs [DIR]`` writes ``docs/rules/`` (one page per
-rule and an index); the test suite fails when the committed pages drift.
+rule and an index) and ``urdftool/rules/table.py`` (each rule's code, name,
+severity, kind and module, read by :mod:`urdftool.rules.registry` so that a run
+imports only the rule modules it selects); the test suite fails when either drifts.
 """
 
 from __future__ import annotations
@@ -63,6 +65,28 @@ def pages() -> dict[str, str]:
     return out
 
 
+TABLE_PATH = Path(__file__).with_name("table.py")
+
+
+def table_source() -> str:
+    """The text of :mod:`urdftool.rules.table`, from every registered rule."""
+    lines = [
+        '"""Every rule\'s code, name, severity, kind, default, module and summary.',
+        "",
+        "Generated from the registered rules by ``python -m urdftool.rules.docs``; do not edit.",
+        "tests/test_registry.py fails when it drifts from the rule modules.",
+        '"""',
+        "",
+        "RULES: tuple[tuple[str, str, str, str, bool, str, str], ...] = (",
+    ]
+    for rule in all_rules():
+        row = (rule.code, rule.name, rule.severity.value, rule.kind, rule.default_enabled,
+               rule.__module__, rule.summary())
+        lines.append(f"    {row!r},")
+    lines.append(")")
+    return "\n".join(lines) + "\n"
+
+
 def write(directory: Path) -> None:
     directory.mkdir(parents=True, exist_ok=True)
     wanted = pages()
@@ -71,6 +95,7 @@ def write(directory: Path) -> None:
             stale.unlink()
     for name, text in wanted.items():
         (directory / name).write_text(text, encoding="utf-8")
+    TABLE_PATH.write_text(table_source(), encoding="utf-8")
 
 
 if __name__ == "__main__":

@@ -16,9 +16,23 @@ import functools
 import re
 from collections.abc import Iterable
 from dataclasses import dataclass
+from typing import Protocol
 
-from urdftool.catalogue.registry import REGISTRY
-from urdftool.rules.registry import REDIRECTS, Rule, all_rules
+from urdftool.rules.registry import INDEX, REDIRECTS
+
+
+class Named(Protocol):
+    """A rule class or its table entry (:class:`~urdftool.rules.registry.RuleInfo`): all a
+    selection reads."""
+
+    @property
+    def code(self) -> str: ...
+
+    @property
+    def name(self) -> str: ...
+
+    @property
+    def default_enabled(self) -> bool: ...
 
 #: specificity of an exact code or a rule name
 EXACT = 100
@@ -29,7 +43,7 @@ class UnknownSelector(ValueError):
     """A selector that names no rule, code or prefix."""
 
 
-def _specificity(selector: str, rule: type[Rule]) -> int | None:
+def _specificity(selector: str, rule: Named) -> int | None:
     """How specifically *selector* names *rule*, or ``None`` when it does not."""
     sel = REDIRECTS.get(selector, selector)
     if sel.lower() == rule.name or sel.upper() == rule.code:
@@ -49,13 +63,13 @@ class Selection:
         """Build a selection, splitting comma-separated lists and validating every selector."""
         sel = _split(select) if select is not None else None
         ign = _split(ignore) if ignore is not None else ()
-        rules = all_rules()
+        rules = INDEX.values()
         for s in (*(sel or ()), *ign):
             if not any(_specificity(s, r) is not None for r in rules):
                 raise UnknownSelector(f"'{s}' matches no rule code, prefix or name")
         return cls(sel if sel else None, ign)
 
-    def enabled(self, rule: type[Rule]) -> bool:
+    def enabled(self, rule: Named) -> bool:
         best_select = 0 if self.select is None else None
         for s in self.select or ():
             spec = _specificity(s, rule)
@@ -78,7 +92,7 @@ class Selection:
 
 @functools.lru_cache(maxsize=4096)
 def _enabled_code(selection: Selection, code: str) -> bool:
-    rule = REGISTRY.get(code)
+    rule = INDEX.get(code)
     return rule is not None and selection.enabled(rule)
 
 

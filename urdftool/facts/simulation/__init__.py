@@ -12,18 +12,21 @@ from __future__ import annotations
 
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
-from urdftool.facts.context import CheckContext
-from urdftool.facts.simulation.record import EngineRun
-from urdftool.facts.simulation.scene import ENGINES, Scene, SimOptions
+from urdftool.facts.context import SIM_OPTION, CheckContext
+from urdftool.facts.simulation.options import ENGINES, SimOptions
 from urdftool.model import Robot
+
+if TYPE_CHECKING:  # the scene and the records load physics code a run without --sim never needs
+    from urdftool.facts.simulation.record import EngineRun
+    from urdftool.facts.simulation.scene import Scene
 
 #: engine -> (module to import, display name)
 ENGINE_INFO = {"mujoco": ("mujoco", "MuJoCo"), "pybullet": ("pybullet", "PyBullet")}
 
 #: Rule options that carry the simulation switches through ``check``.
-OPTION = "sim"
+OPTION = SIM_OPTION
 
 
 @dataclass

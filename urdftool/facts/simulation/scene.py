@@ -19,12 +19,12 @@ from typing import Any
 
 from urdftool.facts.dynamics.configurations import zero_configuration
 from urdftool.facts.dynamics.coverage import floating_base
+from urdftool.facts.simulation.options import DURATION as DURATION
+from urdftool.facts.simulation.options import ENGINES as ENGINES
+from urdftool.facts.simulation.options import SimOptions as SimOptions
 from urdftool.model import Joint, JointType, KinematicTree, Robot
 from urdftool.physics.bodies import body_of, rigid_bodies
 
-ENGINES = ("mujoco", "pybullet")
-#: Default length of a run (s).
-DURATION = 2.0
 #: Height (m) of the lowest collision point above the ground when a mobile robot is dropped.
 DROP_CLEARANCE = 0.002
 #: Natural frequency (rad/s) of the ``--hold`` PD controller at every joint: slow enough
@@ -34,23 +34,6 @@ HOLD_FREQUENCY = 25.0
 PENETRATION_TOLERANCE = 0.001
 #: Standard gravity (m/s²) in both engines.
 GRAVITY = 9.81
-
-
-@dataclass(frozen=True)
-class SimOptions:
-    """How to run the smoke simulation.
-
-    ``timestep`` (s) ``None`` keeps each engine's default (MuJoCo 2 ms, PyBullet
-    1/240 s), the step users get; ``hold`` adds a PD controller at the start pose
-    (torques clipped at each joint's effort limit); ``repair_inertia`` lets the
-    exporters repair invalid inertia instead of refusing the model.
-    """
-
-    engines: tuple[str, ...] = ENGINES
-    duration: float = DURATION
-    timestep: float | None = None
-    hold: bool = False
-    repair_inertia: bool = False
 
 
 @dataclass
