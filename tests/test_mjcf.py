@@ -289,3 +289,27 @@ def test_verify_catches_a_different_robot(tmp_path: Path) -> None:
     assert not verdict.ok and "total mass (relative)" in failed
     assert "joint-space mass matrix (relative)" in failed
     assert all(d.code == "C005" for d in verdict.diagnostics)
+
+
+def test_gazebo_friction_reaches_the_collision_geoms(tmp_path: Path) -> None:
+    """`<gazebo reference><mu1>/<mu2>` become MuJoCo's sliding friction on that link's collision
+    geoms: the smaller of the two, at most MU_MAX (learning_ros's mobot writes 100000)."""
+    robot = read(SEEDS / "learning_ros" / "mobot_urdf" / "urdf" / "mobot_w_lidar.urdf")[0].robot
+    assert robot is not None
+    out, _root = exported(robot, tmp_path)
+    model = mujoco.MjModel.from_xml_path(str(out))
+    wheel = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_BODY, "left_wheel")
+    geoms = [i for i in range(model.ngeom) if model.geom_bodyid[i] == wheel and model.geom_group[i] == 3]
+    assert geoms and all(model.geom_friction[i][0] == pytest.approx(3.0) for i in geoms)
+    base = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_BODY, robot.links[0].name)
+    others = [i for i in range(model.ngeom) if model.geom_bodyid[i] == base and model.geom_group[i] == 3]
+    assert all(model.geom_friction[i][0] == pytest.approx(1.0) for i in others)  # MuJoCo's default
+    source = tmp_path / "pair.urdf"
+    source.write_text(
+        '<robot name="r"><link name="a"><inertial><mass value="1"/><inertia ixx="0.01" ixy="0" '
+        'ixz="0" iyy="0.01" iyz="0" izz="0.01"/></inertial><collision><geometry><sphere radius="0.1"/>'
+        '</geometry></collision></link><gazebo reference="a"><mu1>0.8</mu1><mu2 value="0.6"/></gazebo>'
+        '</robot>')
+    out, _root = exported(read(source)[0].robot, tmp_path / "pair")
+    model = mujoco.MjModel.from_xml_path(str(out))
+    assert model.geom_friction[0][0] == pytest.approx(0.6)

@@ -8,6 +8,7 @@ for boxes, radius and half length for cylinders and capsules.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable
 
 from lxml import etree
@@ -71,6 +72,37 @@ def _degenerate(geometry: Geometry) -> bool:
     return False
 
 
+#: Sliding friction written to MJCF at most: Gazebo files write 1e5 for "never slips", which makes
+#: MuJoCo's friction cone stiff to solve; 3 is beyond any rubber on concrete (about 1) and slips
+#: no more in practice.
+MU_MAX = 3.0
+
+
+def gazebo_friction(robot: Robot) -> dict[str, float]:
+    """Sliding friction per link from ``<gazebo reference="LINK"><mu1>/<mu2>``: the smaller of the
+    two (MuJoCo's friction is isotropic; Gazebo's ODE reads mu1 along ``fdir1`` and mu2 across it,
+    so the smaller is the one a wheel or foot can rely on in every direction)."""
+    found: dict[str, float] = {}
+    for extension in robot.extensions:
+        element = extension.element
+        reference = element.get("reference") if element is not None else None
+        if extension.tag != "gazebo" or not reference:
+            continue
+        values = []
+        for tag in ("mu1", "mu2"):
+            child = element.find(tag)
+            text = (child.get("value") or child.text or "") if child is not None else ""
+            try:
+                value = float(text.strip())
+            except ValueError:
+                continue
+            if math.isfinite(value) and value >= 0.0:
+                values.append(value)
+        if values:
+            found[reference] = min(values)
+    return found
+
+
 class GeomWriter:
     """Writes a link's geoms into its body, collecting what could not be carried."""
 
@@ -78,6 +110,7 @@ class GeomWriter:
         self.assets = assets
         self.diagnostics = diagnostics
         self.materials = {m.name: m for m in robot.materials if m.name}
+        self.friction = gazebo_friction(robot)
 
     def write(self, body: etree._Element, link: Link, moving: bool) -> None:
         for index, visual in enumerate(link.visuals):
@@ -93,6 +126,9 @@ class GeomWriter:
             where = f"link[{link.name}]/collision[{index}]"
             attrs = self._shape(collision.geometry, collision.origin, where, moving, collision.span)
             if attrs is not None:
+                mu = self.friction.get(link.name)
+                if mu is not None:  # MuJoCo's default torsional and rolling friction are kept
+                    attrs["friction"] = f"{min(mu, MU_MAX):g} 0.005 0.0001"
                 etree.SubElement(body, "geom", {"class": COLLISION_CLASS, **attrs})
 
     def _shape(self, geometry: Geometry | None, origin: Pose, where: str, moving: bool,
