@@ -8,6 +8,8 @@ for them are in ``docs/inertia.md``.
 
 from __future__ import annotations
 
+import dataclasses
+import math
 from collections.abc import Iterator
 from typing import TYPE_CHECKING
 
@@ -18,7 +20,7 @@ else:
     from urdftool.lazy import numpy as np
 
 from urdftool.catalogue.registry import register
-from urdftool.diagnostics import Diagnostic, Severity
+from urdftool.diagnostics import Diagnostic, Related, Severity
 from urdftool.facts.context import CheckContext
 from urdftool.model import Link
 from urdftool.physics.bodies import MIN_VALUE
@@ -458,6 +460,8 @@ class ExtremeMassRatio(_Inertia):
     severity = Severity.WARNING
 
     def check(self, ctx: CheckContext) -> Iterator[Diagnostic]:
+        masses = sorted(b.mass for b in bodies(ctx) if b.mass > MIN_VALUE)
+        typical = masses[len(masses) // 2] if masses else 1.0
         for body in bodies(ctx):
             if not body.moves or body.mass <= MIN_VALUE:
                 continue
@@ -470,12 +474,24 @@ class ExtremeMassRatio(_Inertia):
                 continue
             lighter = "lighter" if ratio < 1 else "heavier"
             factor = 1 / ratio if ratio < 1 else ratio
-            yield self.diagnostic(
+            # The finding points at the mass that is out of line with the robot's typical body
+            # (the median): a link made 1e4 times heavier is the one to check, not its neighbours.
+            suspect = max((body, parent), key=lambda b: abs(math.log(b.mass / typical)))
+            link = ctx.robot.link(suspect.head)
+            inertial = link.inertial if link is not None else None
+            location = (inertial.mass_span or inertial.span) if inertial is not None else None
+            finding = self.diagnostic(
                 f"joint '{joint.name}' carries {fmt(body.mass)} kg ('{body.head}'), {fmt(factor)}× "
-                f"{lighter} than the {fmt(parent.mass)} kg it hangs from ('{parent.head}')",
-                joint.span,
+                f"{lighter} than the {fmt(parent.mass)} kg it hangs from ('{parent.head}'); "
+                f"'{suspect.head}' is the one out of line with the robot's typical "
+                f"{fmt(typical)} kg body",
+                location or joint.span,
                 element=f"joint[{joint.name}]",
-                help="check the masses of "
-                + (f"'{body.head}'" if ratio < 1 else f"'{parent.head}'"),
-                data={"child_mass": body.mass, "parent_mass": parent.mass, "ratio": ratio},
+                help=f"check the mass of '{suspect.head}'",
+                data={"child_mass": body.mass, "parent_mass": parent.mass, "ratio": ratio,
+                      "suspect": suspect.head},
             )
+            if joint.span is not None:
+                joint_note = Related(joint.span, f"joint '{joint.name}'")
+                finding = dataclasses.replace(finding, related=(joint_note,))
+            yield finding
