@@ -187,3 +187,36 @@ def test_double_hyphen_comment_in_a_urdf_is_a_warning(tmp_path: Path) -> None:
     assert not report.errors
     [found] = [d for d in report.diagnostics if d.code == "S001"]
     assert found.severity is Severity.WARNING and "xacro" in found.message
+
+
+def test_controllers_yaml_written_for_the_ament_install_layout_is_read(tmp_path: Path) -> None:
+    """ros2_control_demos' example_9 names `$(find pkg)/config/rrbot_controllers.yaml`, which its
+    CMake install rule takes from bringup/config: G106 reported it missing in the source tree.
+    Read from there, its controllers are checked (a wrong joint in it is found)."""
+    (tmp_path / "package.xml").write_text('<package format="3"><name>demo_bot</name></package>')
+    (tmp_path / "CMakeLists.txt").write_text(
+        "project(demo_bot)\ninstall(\n  DIRECTORY bringup/config description/urdf\n"
+        "  DESTINATION share/${PROJECT_NAME}\n)\n")
+    (tmp_path / "bringup" / "config").mkdir(parents=True)
+    (tmp_path / "bringup" / "config" / "controllers.yaml").write_text(
+        "controller_manager:\n  ros__parameters:\n    update_rate: 100\n"
+        "    arm_controller:\n      type: forward_command_controller/ForwardCommandController\n"
+        "arm_controller:\n  ros__parameters:\n    joints:\n      - jj\n    interface_name: position\n")
+    (tmp_path / "description" / "urdf").mkdir(parents=True)
+    inertial = ('<inertial><mass value="1"/>'
+                '<inertia ixx="0.01" ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0.01"/></inertial>')
+    model = tmp_path / "description" / "urdf" / "bot.urdf.xacro"
+    model.write_text(
+        '<robot name="bot" xmlns:xacro="http://www.ros.org/wiki/xacro">'
+        f'<link name="base">{inertial}</link><link name="tip">{inertial}</link>'
+        '<joint name="j" type="revolute"><parent link="base"/><child link="tip"/><axis xyz="0 0 1"/>'
+        '<limit lower="-1" upper="1" effort="10" velocity="1"/></joint>'
+        '<ros2_control name="bot" type="system"><hardware><plugin>gz_ros2_control/GazeboSimSystem</plugin>'
+        '</hardware><joint name="j"><command_interface name="position"/><state_interface name="position"/>'
+        '</joint></ros2_control>'
+        '<gazebo><plugin filename="gz_ros2_control-system" name="gz_ros2_control::GazeboSimROS2ControlPlugin">'
+        '<parameters>$(find demo_bot)/config/controllers.yaml</parameters></plugin></gazebo></robot>')
+    report = urdftool.check(model)
+    codes = [d.code for d in report.errors]
+    assert "G106" not in codes
+    assert "G201" in codes  # the YAML was read: its joint 'jj' is not declared

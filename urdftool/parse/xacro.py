@@ -180,6 +180,25 @@ def _installed_at(package: str, root: Path, relative: str) -> str | None:
     return None
 
 
+def installed_source(path: str) -> str | None:
+    """For a missing *path* below a package folder (what ``$(find pkg)/…`` becomes): the source
+    file the package's ament install rule puts there, when it exists; else ``None``."""
+    target = Path(os.path.abspath(path))
+    for root in target.parents:
+        manifest = root / "package.xml"
+        if not manifest.is_file():
+            continue
+        try:
+            text = read_up_to_cap(str(manifest), "include").decode("utf-8", "replace")
+        except OSError:
+            return None
+        name = re.search(r"<name>\s*([^<\s]+)\s*</name>", text)
+        if name is None:
+            return None
+        return _installed_at(name.group(1), root, target.relative_to(root).as_posix())
+    return None
+
+
 @contextlib.contextmanager
 def _patched(session: _Session) -> Iterator[None]:
     import xacro

@@ -24,6 +24,7 @@ from urdftool.model import Robot
 from urdftool.parse import Loaded
 from urdftool.parse.controllers import ControllerConfig, Controllers, read_controllers
 from urdftool.parse.packages import PackageResolver
+from urdftool.parse.xacro import installed_source
 from urdftool.parse.xmlio import span_of
 from urdftool.safe_files import is_regular
 from urdftool.source import Span
@@ -50,6 +51,10 @@ def _resolve(
     if text.startswith(("package://", "file://")) or os.path.isabs(text):
         lookup = resolver.resolve_uri(text, model_path)
         path = lookup.path if lookup.path and is_regular(lookup.path) else None
+        if path is None and lookup.path:
+            # `$(find pkg)` is the installed share folder: in a source tree the file sits where the
+            # package's ament install rule takes it from (config/ installed from description/config)
+            path = installed_source(lookup.path)
         return path, tuple(lookup.tried), True
     candidate = os.path.join(os.path.dirname(os.path.abspath(model_path)), text)
     return (candidate if is_regular(candidate) else None), (candidate,), False

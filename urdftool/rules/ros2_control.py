@@ -449,7 +449,9 @@ class ParametersMissing(_Ros2Control):
     Resolves the `<parameters>` of `gazebo_ros2_control`, `gz_ros2_control`
     and `ign_ros2_control` plugins (`package://` URIs and absolute paths,
     which is what `$(find pkg)` becomes) and reports those that name no file.
-    Relative paths are read by Gazebo from its working directory, which a
+    A `$(find pkg)/…` path that does not exist in a source tree is looked for
+    where the package's ament install rule takes it from (`bringup/config`
+    installed as `config`). Relative paths are read by Gazebo from its working directory, which a
     static check cannot know, so they are not reported.
 
     ## Why it matters
