@@ -214,7 +214,8 @@ def test_controllers_yaml_written_for_the_ament_install_layout_is_read(tmp_path:
         '<ros2_control name="bot" type="system"><hardware><plugin>gz_ros2_control/GazeboSimSystem</plugin>'
         '</hardware><joint name="j"><command_interface name="position"/><state_interface name="position"/>'
         '</joint></ros2_control>'
-        '<gazebo><plugin filename="gz_ros2_control-system" name="gz_ros2_control::GazeboSimROS2ControlPlugin">'
+        '<gazebo><plugin filename="gz_ros2_control-system"'
+        ' name="gz_ros2_control::GazeboSimROS2ControlPlugin">'
         '<parameters>$(find demo_bot)/config/controllers.yaml</parameters></plugin></gazebo></robot>')
     report = urdftool.check(model)
     codes = [d.code for d in report.errors]
