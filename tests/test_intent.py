@@ -45,6 +45,7 @@ REVIEWED: dict[str, list[tuple[str, int]]] = {
     "pr2_description/urdf/pr2.urdf": [("N303", 1851), ("N303", 2715)],
     "biped/biped2d_pybullet.urdf": [("N202", 146), ("N204", 191)],
     "husky/husky.urdf": [("N302", 115), ("N302", 166), ("N302", 217), ("N302", 268)],
+    "aliengo/aliengo.urdf": [("N304", 85), ("N304", 194), ("N304", 302), ("N304", 411)],
     "r2d2.urdf": [("N103", 96), ("N103", 123), ("N103", 201), ("N103", 228)],
     "racecar/racecar.urdf": [("N105", 457), ("N202", 174)],
     "hyundai_ngv/m_robot_description/urdf/m_robot.xacro": [("N105", 70)],
