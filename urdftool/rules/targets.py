@@ -15,7 +15,7 @@ from urdftool.catalogue.registry import Family, Rule, register
 from urdftool.diagnostics import Diagnostic, Severity
 from urdftool.facts.companions import srdf_files
 from urdftool.facts.context import CheckContext
-from urdftool.model import Box, Joint, JointType, Link, Sphere
+from urdftool.model import Box, Joint, JointType, Link, Mesh, Sphere
 from urdftool.physics.inertia import principal_moments
 from urdftool.physics.massprops import geometry_properties
 from urdftool.targets import TARGETS, Target
@@ -92,6 +92,17 @@ def _collision_volume(link: Link) -> float | None:
     return total
 
 
+def _open_collision_mesh(link: Link) -> str | None:
+    """The file name of the first collision mesh of *link* that is not a closed surface (its
+    volume was measured by its convex hull), else ``None``."""
+    for item in link.collisions:
+        if isinstance(item.geometry, Mesh):
+            solid = geometry_properties(item.geometry)
+            if solid is not None and solid.approximate:
+                return item.geometry.filename
+    return None
+
+
 def _link_at(link: Link) -> tuple[object, str]:
     return link.span, f"link[{link.name}]"
 
@@ -103,7 +114,9 @@ class TargetDefaultMass(_Targets):
     ## What it does
     For each target of `--target`, reports links without `<inertial>` (or
     with zero mass) and what the consumer gives them: PyBullet 1 kg; MuJoCo
-    and Isaac Sim the mass of the collision geometry at 1000 kg/m³; Pinocchio,
+    and Isaac Sim the mass of the collision geometry at 1000 kg/m³ (when a
+    collision mesh is not closed, no number: the volume of an open mesh is not
+    the part's; MuJoCo gives a lidless 2 kg box 1.61 kg); Pinocchio,
     KDL and Drake zero; Gazebo (classic and gz-sim) leaves the link out, with
     every link below it, when the link is not attached by a fixed joint.
     Drake also floats a root link that is not welded to the world, and stops
@@ -200,6 +213,16 @@ class TargetDefaultMass(_Targets):
             return None
         if kind == "zero":
             return self._zero(ctx, target, link, what, data)
+        open_mesh = _open_collision_mesh(link)
+        if open_mesh is not None:
+            return self.diagnostic(
+                f"{target.label} will give link '{link.name}' a mass computed from its collision "
+                f"mesh '{open_mesh}', which is not closed: the volume of an open mesh is not the "
+                f"part's, so neither is the mass (it {what})",
+                link.span, element=f"link[{link.name}]",
+                help="give the link an <inertial>, or close the mesh",
+                data={**data, "mass": None, "open_mesh": open_mesh},
+            )
         volume = _collision_volume(link)
         if volume is None or volume <= 0:
             return None
