@@ -13,6 +13,7 @@ import pytest
 import urdftool
 from tests.conftest import FIXTURES
 from urdftool.diagnostics import Severity
+from urdftool.pipeline.check import CheckOptions, check_file
 
 RULES = FIXTURES / "rules"
 
@@ -221,3 +222,28 @@ def test_controllers_yaml_written_for_the_ament_install_layout_is_read(tmp_path:
     codes = [d.code for d in report.errors]
     assert "G106" not in codes
     assert "G201" in codes  # the YAML was read: its joint 'jj' is not declared
+
+
+def test_closed_mesh_with_reversed_triangles_is_a_solid(tmp_path: Path) -> None:
+    """A closed box whose first six triangles face inward (CAD exports write such meshes):
+    MuJoCo reads it as the 0.2 m box it is (8 kg at 1000 kg/m³ for a link without inertial);
+    urdftool measured 0 m³ (the signed volumes cancel) and called it flat (M008, an error)."""
+    import trimesh
+
+    box = trimesh.creation.box(extents=(0.2, 0.2, 0.2))
+    faces = box.faces.copy()
+    faces[:6] = faces[:6, ::-1]
+    trimesh.Trimesh(box.vertices, faces, process=False).export(str(tmp_path / "flipped.obj"))
+    model = tmp_path / "r.urdf"
+    model.write_text(
+        '<robot name="r"><link name="base"/><joint name="j" type="revolute"><parent link="base"/>'
+        '<child link="a"/><axis xyz="0 0 1"/><limit lower="-1" upper="1" effort="1" velocity="1"/>'
+        '</joint><link name="a"><collision><geometry><mesh filename="flipped.obj"/></geometry>'
+        "</collision></link></robot>")
+    report = urdftool.check(model)
+    assert not report.errors, [d.message for d in report.errors]
+    options = CheckOptions(select=("T",), rule_options={"targets": ("mujoco",)})
+    found = [d for r in check_file(str(model), options) for d in r.diagnostics]
+    [mass] = [d for d in found if d.code == "T001"]
+    assert mass.data["mass"] == pytest.approx(8.0, rel=1e-6)
+    assert not [d for d in found if d.code == "T003"]

@@ -29,7 +29,8 @@ from pathlib import Path
 from typing import Any
 
 #: Bump when the stored facts change shape or meaning.
-SCHEMA = 2  # 2: a COLLADA file is read up to its first NUL byte, as Assimp reads it
+SCHEMA = 3  # 2: a COLLADA file is read up to its first NUL byte, as Assimp reads it;
+#            3: a closed mesh with some triangles reversed is measured with its winding fixed
 
 
 @lru_cache(maxsize=1)

@@ -19,7 +19,7 @@ from dataclasses import asdict, dataclass
 from typing import Any
 
 from urdftool.backends import mesh_cache
-from urdftool.backends.meshes import MeshError, content_key, load_trimesh
+from urdftool.backends.meshes import MeshError, consistently_wound, content_key, load_trimesh
 
 #: Bump when the stored facts change.
 _VERSION = "shape-v1"
@@ -117,7 +117,7 @@ def _measure(path: str) -> ShapeFacts:
     hull_volume = abs(float(hull.volume)) if hull is not None else 0.0
     watertight = bool(mesh.is_watertight)
     if watertight:
-        solid = abs(float(mesh.volume))
+        solid = abs(float(consistently_wound(mesh).volume))
     objects = object_meshes(path)
     object_hulls = sum(_hull_volume(o) for o in objects) if len(objects) > 1 else hull_volume
     if not watertight:

@@ -381,7 +381,7 @@ def quiet_numerics() -> Iterator[None]:
 
 def _measure(path: str, mesh: Any) -> MeshFacts:
     watertight = bool(mesh.is_watertight)
-    solid = mesh if watertight else _convex_hull(mesh)
+    solid = consistently_wound(mesh) if watertight else _convex_hull(mesh)
     lo, hi = mesh.bounds
     if solid is None or not abs(float(solid.volume)) > 0:
         # Flat or empty: no solid to measure (a plane, a single triangle).
@@ -405,6 +405,23 @@ def _measure(path: str, mesh: Any) -> MeshFacts:
         bounds_max=_vec3(hi),
         unit=collada_unit(path),
     )
+
+
+def consistently_wound(mesh: Any) -> Any:
+    """*mesh*, or a copy whose triangles all face one way when some were written reversed.
+
+    A closed surface with some triangles reversed (CAD exports write them) encloses the same
+    solid, but their signed volumes cancel in trimesh's integrals: a 0.2 m box measured 0 m³
+    and was called flat, while MuJoCo reads it as the 8-litre box it is. ``fix_winding`` makes
+    the triangles agree (the result may face inward; callers take the absolute volume).
+    """
+    if mesh.is_winding_consistent:
+        return mesh
+    import trimesh
+
+    fixed = mesh.copy()
+    trimesh.repair.fix_winding(fixed)
+    return fixed
 
 
 def _convex_hull(mesh: Any) -> Any:
