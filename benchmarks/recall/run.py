@@ -12,6 +12,8 @@ in-process with the class's rule and counted:
     python benchmarks/recall/run.py                       # print the table
     python benchmarks/recall/run.py --write docs/recall.md  # and record it (+ recorded.json)
     python benchmarks/recall/run.py --per-class 12        # the CI slice's sample
+    python benchmarks/recall/run.py --realworld --write docs/recall-realworld.md
+                                  # the URDF models of the real-world corpus, where it is present
 """
 
 from __future__ import annotations
@@ -91,10 +93,11 @@ def _mirror(original: str, work: Path) -> Path:
 
 
 def _findings(
-    path: Path, codes: Iterable[str], packages: dict[str, str]
+    path: Path, codes: Iterable[str], packages: dict[str, str], package_paths: tuple[str, ...] = ()
 ) -> list[tuple[str, str, int | None, str]]:
     options = CheckOptions(
-        select=tuple(codes), rule_options={"dynamics": False}, packages=packages, discover_srdf=False
+        select=tuple(codes), rule_options={"dynamics": False}, packages=packages,
+        package_paths=package_paths, discover_srdf=False,
     )
     try:
         reports = check_file(str(path), options)
@@ -135,9 +138,10 @@ class Counts:
     noisy_models: set[str] = field(default_factory=set)
 
 
-def run_model(args: tuple[str, str | None, tuple[str, ...], int]) -> list[dict[str, Any]]:
+def run_model(args: tuple[Any, ...]) -> list[dict[str, Any]]:
     """Every mutant of one model: [{class, found, located, noisy}]."""
-    path, erd, classes, _ = args
+    path, erd, classes, _ = args[:4]
+    package_paths: tuple[str, ...] = args[4] if len(args) > 4 else ()
     codes = rule_codes()
     text = Path(path).read_text(errors="replace")
     packages = {"example-robot-data": erd} if erd else {}
@@ -148,7 +152,7 @@ def run_model(args: tuple[str, str | None, tuple[str, ...], int]) -> list[dict[s
         twin = folder / name
         twin.write_text(text)
         wanted = sorted({codes[c] for c in classes})
-        twin_findings = _findings(twin, wanted, packages)
+        twin_findings = _findings(twin, wanted, packages, package_paths)
         mutant = folder / ("planted_" + name)
         for cls in classes:
             planted = MUTATIONS[cls](text)
@@ -159,7 +163,7 @@ def run_model(args: tuple[str, str | None, tuple[str, ...], int]) -> list[dict[s
             mutant.write_text(mutated)
             before = collections.Counter((c, m) for c, m, _, _ in twin_findings if c == code)
             new = []
-            for c, m, at, _ in _findings(mutant, [code], packages):
+            for c, m, at, _ in _findings(mutant, [code], packages, package_paths):
                 if c != code:
                     continue
                 if before[(c, m)]:
@@ -188,13 +192,33 @@ def run_model(args: tuple[str, str | None, tuple[str, ...], int]) -> list[dict[s
 SLICE_STRIDE = 4
 
 
+def realworld_corpus() -> list[tuple[str, tuple[str, ...]]]:
+    """The URDF models of the real-world corpus (docs/realworld-manifest.yaml) present on this
+    machine under fixtures/realworld, with their package folders; empty on a bare clone (the
+    corpus cannot be committed). Xacro models are left out: the harness plants into the file it
+    checks, and theirs are expanded from several."""
+    root = ROOT / "fixtures" / "realworld"
+    manifest = yaml.safe_load((ROOT / "docs" / "realworld-manifest.yaml").read_text())["models"]
+    out = []
+    for entry in manifest:
+        path = root / entry["path"]
+        if path.suffix == ".urdf" and path.is_file() and not entry.get("xacro_args"):
+            out.append((str(path), tuple(str(root / p) for p in entry.get("package_paths") or ())))
+    return out
+
+
 def measure(
-    per_class: int | None = None, jobs: int = 2, classes: Iterable[str] | None = None, stride: int = 1
+    per_class: int | None = None, jobs: int = 2, classes: Iterable[str] | None = None, stride: int = 1,
+    realworld: bool = False,
 ) -> dict[str, Counts]:
     codes = rule_codes()
     chosen = tuple(c for c in (classes or MUTATIONS) if c in codes)
-    models = corpus()[::stride]
-    work = [(p, str(erd) if erd else None, chosen, i) for i, (p, erd) in enumerate(models)]
+    if realworld:
+        work: list[tuple[Any, ...]] = [
+            (p, None, chosen, i, paths) for i, (p, paths) in enumerate(realworld_corpus()[::stride])]
+    else:
+        models = corpus()[::stride]
+        work = [(p, str(erd) if erd else None, chosen, i) for i, (p, erd) in enumerate(models)]
     if jobs > 1:
         with ProcessPoolExecutor(jobs) as pool:
             rows = [r for part in pool.map(run_model, work, chunksize=4) for r in part]
@@ -324,15 +348,26 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--per-class", type=int, default=None, help="at most this many mutants per class")
     parser.add_argument("--jobs", type=int, default=2)
     parser.add_argument("--misses", action="store_true", help="list the mutants not found at their line")
+    parser.add_argument("--realworld", action="store_true",
+                        help="plant into the URDF models of fixtures/realworld (local only; with --write, "
+                        "only the table is written, recorded.json is the vendored corpus's)")
     args = parser.parse_args(argv)
-    counts = measure(args.per_class, args.jobs)
+    counts = measure(args.per_class, args.jobs, realworld=args.realworld)
     text = table(counts)
+    if args.realworld:
+        title = "# Recall on planted defects"
+        text = text.replace(title, title + ": the real-world corpus", 1).replace(
+            "`python benchmarks/recall/run.py --write docs/recall.md`",
+            "`python benchmarks/recall/run.py --realworld --write docs/recall-realworld.md` on a "
+            "machine with the corpus beside the tree (docs/realworld.md; its URDF models)", 1)
     print(text)
     if args.misses:
         for cls, k in sorted(counts.items()):
             for miss in k.misses:
                 print(f"miss {cls} {miss}")
-    if args.write:
+    if args.write and args.realworld:
+        Path(args.write).write_text(text)
+    elif args.write:
         Path(args.write).write_text(text)
         ci = measure(jobs=args.jobs, stride=SLICE_STRIDE)
         record = {"full": figures(counts), "slice": {"stride": SLICE_STRIDE, **figures(ci)}}
