@@ -22,9 +22,9 @@ from urdftool.catalogue.ros2_control import ControllersYamlInvalid
 from urdftool.diagnostics import Diagnostic
 from urdftool.model import Robot
 from urdftool.parse import Loaded
+from urdftool.parse.ament import installed_source
 from urdftool.parse.controllers import ControllerConfig, Controllers, read_controllers
 from urdftool.parse.packages import PackageResolver
-from urdftool.parse.xacro import installed_source
 from urdftool.parse.xmlio import span_of
 from urdftool.safe_files import is_regular
 from urdftool.source import Span
