@@ -10,6 +10,7 @@ re-encoded (UTF-16/32 with or without a byte-order mark or declaration).
 from __future__ import annotations
 
 import re
+from copy import deepcopy
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -90,7 +91,9 @@ def _structural(data: bytes, index: int, op: str) -> tuple[bytes, str]:
     element = elements[1 + index % (len(elements) - 1)]
     parent = element.getparent()
     assert parent is not None
-    copy = etree.fromstring(etree.tostring(element), parser)
+    # deepcopy, not a text round trip: an element's text alone need not parse (a namespaced
+    # attribute whose prefix an earlier mutation left undeclared made the 2026-11-25 run stop)
+    copy = deepcopy(element)
     copy.tail = None
     tag = etree.QName(element).localname
     if op == "duplicate":
