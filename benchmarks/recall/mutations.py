@@ -509,6 +509,18 @@ def mesh_uri_unresolvable(text: str) -> Mutant | None:
     return _first(_meshes(root), edit)
 
 
+def _rescaled(text: str, mesh: etree._Element, factor: float) -> Mutant | None:
+    """*mesh*'s ``scale`` multiplied by *factor* (written when the mesh has none)."""
+    scale = mesh.get("scale")
+    if scale is None:
+        written = " ".join([f"{factor:g}"] * 3)
+        return _line_sub(text, int(mesh.sourceline), r"<mesh\b", f'<mesh scale="{written}"')
+    values = [_num(v) for v in scale.split()]
+    if len(values) != 3 or any(v is None for v in values):
+        return None
+    return _set_attr(text, mesh, "scale", lambda _: " ".join(f"{(v or 0) * factor:g}" for v in values))
+
+
 def mesh_units_wrong(text: str) -> Mutant | None:
     """Multiply a mesh's scale by 1000 (millimetres read as metres, or the reverse fix doubled).
 
@@ -521,15 +533,7 @@ def mesh_units_wrong(text: str) -> Mutant | None:
     def edit(mesh: etree._Element) -> Mutant | None:
         if mesh.getparent().getparent().tag != "collision":
             return None
-        scale = mesh.get("scale")
-        if scale is not None:
-            values = [_num(v) for v in scale.split()]
-            if len(values) != 3 or any(v is None for v in values):
-                return None
-            return _set_attr(
-                text, mesh, "scale", lambda _: " ".join(f"{(v or 0) * 1000:g}" for v in values)
-            )
-        return _line_sub(text, int(mesh.sourceline), r"<mesh\b", '<mesh scale="1000 1000 1000"')
+        return _rescaled(text, mesh, 1000)
 
     return _first(_meshes(root), edit)
 
@@ -617,15 +621,7 @@ def collision_visual_mismatch(text: str) -> Mutant | None:
         ]
         if not twins:
             return None
-        scale = mesh.get("scale")
-        if scale is not None:
-            values = [_num(v) for v in scale.split()]
-            if len(values) != 3 or any(v is None for v in values):
-                return None
-            return _set_attr(
-                text, mesh, "scale", lambda _: " ".join(f"{(v or 0) * 10:g}" for v in values)
-            )
-        return _line_sub(text, int(mesh.sourceline), r"<mesh\b", '<mesh scale="10 10 10"')
+        return _rescaled(text, mesh, 10)
 
     return _first(_meshes(root), edit)
 

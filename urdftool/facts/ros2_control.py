@@ -27,31 +27,26 @@ OPTION = CONTROLLERS_OPTION
 STANDARD_INTERFACES = frozenset({"position", "velocity", "effort", "acceleration"})
 #: Further interface names that ros2_control's own components and broadcasters export
 #: (IMU and force/torque semantic components, GPIO and mock hardware conventions).
-KNOWN_INTERFACES = STANDARD_INTERFACES | frozenset(
-    {
-        "force.x",
-        "force.y",
-        "force.z",
-        "torque.x",
-        "torque.y",
-        "torque.z",
-        "orientation.x",
-        "orientation.y",
-        "orientation.z",
-        "orientation.w",
-        "angular_velocity.x",
-        "angular_velocity.y",
-        "angular_velocity.z",
-        "linear_acceleration.x",
-        "linear_acceleration.y",
-        "linear_acceleration.z",
-        "jerk",
-        "current",
-        "temperature",
-        "voltage",
-        "mechanical_power",
-        "torque_current",
-    }
+#: The state interfaces of ros2_control's IMU and force/torque semantic components, which
+#: gz_ros2_control binds for its gz sensors (``GazeboSimSystem::registerSensors``).
+IMU_INTERFACES = (
+    "orientation.x",
+    "orientation.y",
+    "orientation.z",
+    "orientation.w",
+    "angular_velocity.x",
+    "angular_velocity.y",
+    "angular_velocity.z",
+    "linear_acceleration.x",
+    "linear_acceleration.y",
+    "linear_acceleration.z",
+)
+FORCE_TORQUE_INTERFACES = ("force.x", "force.y", "force.z", "torque.x", "torque.y", "torque.z")
+KNOWN_INTERFACES = (
+    STANDARD_INTERFACES
+    | frozenset(IMU_INTERFACES)
+    | frozenset(FORCE_TORQUE_INTERFACES)
+    | frozenset({"jerk", "current", "temperature", "voltage", "mechanical_power", "torque_current"})
 )
 #: Interfaces the Gazebo ros2_control systems (gazebo_ros2_control's GazeboSystem,
 #: gz_ros2_control's GazeboSimSystem / IgnitionSystem) bind to a simulated joint;

@@ -20,6 +20,8 @@ import re
 from dataclasses import dataclass
 from typing import Any
 
+from urdftool.facts import ros2_control as rc
+
 #: Library stem -> the classes that library registers.
 LIBRARIES: dict[str, tuple[str, ...]] = {
     "ackermann-steering": ("AckermannSteering",),
@@ -121,19 +123,8 @@ RENDER_ENGINES = frozenset({"ogre", "ogre2", "optix"})
 
 #: The state interfaces gz_ros2_control binds for each gz sensor type
 #: (``GazeboSimSystem::registerSensors``); any other name makes it throw.
-IMU_INTERFACES = (
-    "orientation.x",
-    "orientation.y",
-    "orientation.z",
-    "orientation.w",
-    "angular_velocity.x",
-    "angular_velocity.y",
-    "angular_velocity.z",
-    "linear_acceleration.x",
-    "linear_acceleration.y",
-    "linear_acceleration.z",
-)
-FORCE_TORQUE_INTERFACES = ("force.x", "force.y", "force.z", "torque.x", "torque.y", "torque.z")
+IMU_INTERFACES = rc.IMU_INTERFACES
+FORCE_TORQUE_INTERFACES = rc.FORCE_TORQUE_INTERFACES
 SENSOR_INTERFACES = {"imu": frozenset(IMU_INTERFACES), "force_torque": frozenset(FORCE_TORQUE_INTERFACES)}
 
 
