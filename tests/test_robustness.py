@@ -317,3 +317,31 @@ def test_fuzz_regressions_check_without_an_exception() -> None:
     for case in cases:
         report = urdftool.check(case)
         assert not [d for d in report.diagnostics if d.code == "S000"], case
+
+
+def test_a_vanishing_gearbox_ratio_is_reported_not_a_division_by_zero(tmp_path: Path) -> None:
+    """An SDF gearbox ratio of 1e-200 squared underflows to 0; the MJCF export divided by it.
+    Now the closure is reported as left open, like any gearbox it cannot write."""
+    from urdftool.api import load
+    from urdftool.export import ExportOptions
+    from urdftool.export.mjcf import export
+
+    sdf = tmp_path / "geared.sdf"
+    inertial = ("<inertial><mass>1</mass><inertia><ixx>0.01</ixx><iyy>0.01</iyy><izz>0.01</izz>"
+                "</inertia></inertial>")
+    sdf.write_text(
+        '<sdf version="1.7"><model name="g">'
+        f'<link name="base">{inertial}</link><link name="rotor">{inertial}</link>'
+        f'<link name="out">{inertial}</link>'
+        '<joint name="rotor_joint" type="revolute"><parent>base</parent><child>rotor</child>'
+        "<axis><xyz>0 0 1</xyz></axis></joint>"
+        '<joint name="out_joint" type="revolute"><parent>base</parent><child>out</child>'
+        "<axis><xyz>0 0 1</xyz></axis></joint>"
+        '<joint name="gear" type="gearbox"><parent>rotor</parent><child>out</child>'
+        "<gearbox_reference_body>base</gearbox_reference_body><gearbox_ratio>1e-200</gearbox_ratio>"
+        "<axis><xyz>0 0 1</xyz></axis><axis2><xyz>0 0 1</xyz></axis2></joint>"
+        "</model></sdf>")
+    robot = load(sdf)
+    assert any(c.joint.type.value == "gearbox" for c in robot.loop_closures)
+    conversion = export(robot, tmp_path / "g.xml", ExportOptions())
+    assert any("gearbox" in d.message and "open" in d.message for d in conversion.diagnostics)

@@ -148,6 +148,11 @@ def write_equality(root: etree._Element, robot: Robot, joints: Sequence[MjJoint]
     return geared
 
 
+#: Gearbox ratios written as armature: beyond 1e6 either way the reflected inertia (I / ratio²)
+#: is no number MuJoCo can integrate, and such a ratio is a typo.
+MIN_GEAR_RATIO = 1e-6
+
+
 def _gearbox(robot: Robot, joint: Joint, exported: set[str],
              diagnostics: list[Diagnostic]) -> tuple[str, float] | None:
     """An SDF gearbox closure as the armature it gives its output joint: (joint, kg·m²).
@@ -167,7 +172,8 @@ def _gearbox(robot: Robot, joint: Joint, exported: set[str],
     by_child = {j.child: j for j in robot.joints}
     rotor, output = by_child.get(joint.parent), by_child.get(joint.child)
     rotor_link = robot.link(joint.parent) if rotor is not None else None
-    if (ratio is None or ratio == 0.0 or rotor is None or output is None or rotor_link is None
+    usable_ratio = ratio is not None and MIN_GEAR_RATIO <= abs(ratio) <= 1.0 / MIN_GEAR_RATIO
+    if (not usable_ratio or rotor is None or output is None or rotor_link is None
             or rotor.type not in _HINGED or output.type not in _HINGED
             or rotor.parent != reference or output.parent != reference
             or output.name not in exported or rotor_link.inertial is None):
@@ -182,6 +188,7 @@ def _gearbox(robot: Robot, joint: Joint, exported: set[str],
     offset = np.asarray(inertial.origin.xyz, dtype=float)  # centre of mass, rotor frame = hinge frame
     spin = float(axis @ inertial.inertia_in_link_frame @ axis) + inertial.mass * float(
         offset @ offset - (axis @ offset) ** 2)
+    assert ratio is not None  # usable_ratio says so
     armature = spin / ratio**2
     diagnostics.append(ConversionDropped.diagnostic(
         f"{where}: the gearbox (ratio {ratio:g}) is written as armature {armature:.4g} kg·m² on "

@@ -172,7 +172,7 @@ def _yaml_key_span(path: str, body: str, keys: list[str]) -> Span | None:
 
     try:
         node = yaml.compose(body, Loader=yaml.SafeLoader)
-    except yaml.YAMLError:
+    except (yaml.YAMLError, RecursionError):  # nesting deep enough to exhaust the stack
         return None
     mark = None
     for key in keys:
