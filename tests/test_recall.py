@@ -57,3 +57,19 @@ def test_recall_slice_does_not_regress() -> None:
     assert now["overall"]["recall"] >= recorded["overall"]["recall"] - 1e-9
     assert now["overall"]["located"] >= recorded["overall"]["located"] - 1e-9
     assert now["overall"]["noisy_twins"] <= recorded["overall"]["noisy_twins"]
+
+
+def test_reviewed_twins_name_real_models_and_rules() -> None:
+    """Every model the review excludes from planting exists in the corpus the tests install (the
+    real-world corpus is local only), under a rule that the harness plants."""
+    run = _harness()
+    import yaml
+
+    codes = set(run.rule_codes().values())
+    keys = {run.model_key(p) for p, _ in run.corpus()}
+    review = yaml.safe_load(run.REVIEWED.read_text())
+    for code, entry in review.items():
+        assert code in codes, code
+        assert entry["verdict"].startswith("genuine"), (code, entry["verdict"])
+        for model in entry["models"]:
+            assert model.startswith("realworld/") or model in keys, (code, model)
