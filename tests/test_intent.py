@@ -182,3 +182,11 @@ def test_text_output_prints_origins_as_notes() -> None:
     [neck] = [d for d in _intent(str(path)) if d.code == "N001" and "'neck'" in d.message]
     text = render_diagnostic(neck, SourceIndex(), excerpt=False)
     assert "note: the value comes from property `neck_max` at" in text
+
+
+def test_serial_axes_named_by_letter_are_not_a_mirrored_pair() -> None:
+    """Motoman names its axes S, L, E, U, R, B, T: `joint_l`/`joint_r` and `link_l`/`link_r` lie on
+    one chain, so no symmetry rule compares them (a real-world false warning before)."""
+    path = FIXTURES / "rules" / "N202" / "good_serial_axes.urdf"
+    reports = check_file(str(path), CheckOptions(select=("N201", "N202", "N203", "N204")))
+    assert [d.code for r in reports for d in r.diagnostics] == []

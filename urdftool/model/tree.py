@@ -100,6 +100,11 @@ class KinematicTree:
             return False
         return outer[0] <= inside[0] < outer[1]
 
+    def lineal(self, a: str, b: str) -> bool:
+        """True when one of the links *a*, *b* lies on the other's path to the root (or they
+        are the same link): a serial chain, never two sides of a robot."""
+        return self._is_ancestor(a, b) or self._is_ancestor(b, a)
+
     @cached_property
     def _subtree_spans(self) -> dict[str, tuple[int, int]]:
         """link -> (its depth-first index, one past its last descendant's index)."""

@@ -223,6 +223,23 @@ def _lost_in_body(ctx: CheckContext, link: Link, comparison: InertiaComparison) 
     return max(declared / fitted, fitted / declared) < INERTIA_FACTOR
 
 
+#: A welded link's share of its body's mass below which its density is not judged.
+TRACE_SHARE = 0.01
+
+
+def _trace_in_body(ctx: CheckContext, link: Link) -> bool:
+    """Whether *link* is welded below another link and carries under 1 % of that body's mass.
+
+    Every consumer weighs and pushes the welded body, not the link: Baxter's 0.1 g
+    `display` and `sonar_ring` frames welded into a 100 kg torso change nothing anyone
+    computes, whatever their shapes' volumes. A body's head is always judged on its own.
+    """
+    body = body_of_link(ctx, link.name)
+    if body is None or body.head == link.name or link.inertial is None:
+        return False
+    return link.inertial.mass < TRACE_SHARE * body.mass
+
+
 def _wrong_axes(link: Link, comparison: InertiaComparison) -> float | None:
     """The off-axis factor when the principal moments match the geometry's but their axes do not."""
     assert link.inertial is not None
@@ -244,7 +261,9 @@ class ImplausibleDensity(_Inertia):
     Divides the declared mass by the volume of the link's collision geometry
     and of its visual geometry, and reports when every one is below
     10 kg/m³ (lighter than structural foam) or above 22,600 kg/m³ (denser
-    than osmium, the densest element).
+    than osmium, the densest element). A link welded below another one that
+    carries under 1 % of that rigid body's mass is not judged: consumers weigh
+    and push the body, not the trace.
 
     ## Why it matters
     The mass is usually a placeholder (`1e-6`, `0.001`, `1`) or the geometry
@@ -272,7 +291,7 @@ class ImplausibleDensity(_Inertia):
     def check(self, ctx: CheckContext) -> Iterator[Diagnostic]:
         low, high = DENSITY_RANGE
         for link in ctx.robot.links:
-            if link.inertial is None or link.inertial.mass <= MIN_VALUE:
+            if link.inertial is None or link.inertial.mass <= MIN_VALUE or _trace_in_body(ctx, link):
                 continue
             found: list[tuple[float, str, SolidProperties]] = []
             for source, solid in geometry_sources(link):

@@ -34,15 +34,22 @@ def _is_ros_camera_plugin(plugin: Any) -> bool:
     return "gazebo_ros" in filename and any(k in filename for k in ("camera", "openni", "depth"))
 
 
-def _sensor_rotation(sensor: Any) -> Any:
-    """The rotation of a ``<sensor><pose>`` (identity when absent or unreadable)."""
-    pose = sensor.find("pose")
+def _pose_rotation(element: Any) -> Any:
+    """The rotation of an element's ``<pose>`` child (identity when absent or unreadable)."""
+    pose = element.find("pose") if element is not None else None
     values = (pose.text or "").split() if pose is not None else []
     rpy = (0.0, 0.0, 0.0)
     if len(values) == 6:
         with contextlib.suppress(ValueError):
             rpy = (float(values[3]), float(values[4]), float(values[5]))
     return rpy_to_matrix(rpy)  # non-finite angles count as 0
+
+
+def _sensor_rotation(sensor: Any) -> Any:
+    """The rotation of the camera that takes the images, in the reference link's frame: the
+    ``<sensor><pose>``, then the ``<camera><pose>`` inside it (SDF: relative to the sensor;
+    Baxter turns its head camera there)."""
+    return _pose_rotation(sensor) @ _pose_rotation(sensor.find("camera"))
 
 
 @register
@@ -52,8 +59,9 @@ class CameraFrameNotOptical(IntentRule):
     ## What it does
     For every `<gazebo reference="LINK"><sensor type="camera|depth|rgbd">` whose
     `gazebo_ros` camera plugin names a frame (`frameName`, `frame_name`),
-    compares the orientation of that frame with the sensor's own (the
-    reference link, turned by the sensor's `<pose>`). When they are the same
+    compares the orientation of that frame with the camera's own (the
+    reference link, turned by the sensor's `<pose>` and then by the
+    `<camera><pose>` inside it). When they are the same
     (within the intent angle tolerance, 2° by default), the frame is in the
     body convention: x forward, z up.
 

@@ -3,7 +3,8 @@
 Pairs are found by name: one token swapped between ``left``/``right``
 (``left_knee``, ``arm_left_2_joint``, ``panda_leftfinger``), ``l``/``r``
 (``l_elbow``, ``hip_r``) or the side letter of a leg code (``FL``/``FR``,
-``RL``/``RR``, ``LF``/``RF``, ``LH``/``RH``). A pair's two members are judged
+``RL``/``RR``, ``LF``/``RF``, ``LH``/``RH``), on different branches of the tree
+(names on one chain are axis letters, not sides). A pair's two members are judged
 against each other two ways, and a rule fires only when both disagree:
 
 * *as written*: the absolute values of the components (a mirror flips signs
@@ -163,10 +164,12 @@ def _mount(ctx: CheckContext, joint: Joint) -> bool:
 
 
 def _joint_pairs(ctx: CheckContext) -> list[tuple[Joint, Joint]]:
+    """Joints named as mirrors that sit on different branches: a joint that moves the other
+    is the next axis of one chain (Motoman's `joint_l` and `joint_r` are its L and R axes)."""
     out = []
     for a, b in pairs([j.name for j in ctx.robot.joints]):
         ja, jb = ctx.robot.joint(a), ctx.robot.joint(b)
-        if ja is not None and jb is not None:
+        if ja is not None and jb is not None and not ctx.tree.lineal(ja.child, jb.child):
             out.append((ja, jb))
     return out
 
@@ -268,7 +271,9 @@ class MirroredJointMismatch(IntentRule):
     axis whose components differ in absolute value as written **and** in
     the robot at home; or limits that are neither equal nor mirrored
     (`[l, u]` against `[-u, -l]`), or different `effort`/`velocity`, beyond
-    5 % (option `mirror_relative_tolerance`) plus 0.01.
+    5 % (option `mirror_relative_tolerance`) plus 0.01. The effort and
+    velocity of a pair where one joint mimics the other are not compared:
+    the follower is driven through its leader.
 
     ## Why it matters
     A limit edited on one side only lets one knee bend backwards; a
@@ -308,8 +313,11 @@ class MirroredJointMismatch(IntentRule):
                 b = (lb.lower or 0.0, lb.upper or 0.0)
                 if not (_near_pair(a, b, rel) or _near_pair(a, (-b[1], -b[0]), rel)):
                     problems.append(f"limits {fmt(b[0])} .. {fmt(b[1])} against {fmt(a[0])} .. {fmt(a[1])}")
+                # a mimic follower is driven through its leader: its effort and velocity are
+                # not a second actuator's (Kinova's Gen3 Lite finger: 1000 against 50)
+                follower = ja.mimic is not None or jb.mimic is not None
                 for label, x, y in (("effort", la.effort, lb.effort), ("velocity", la.velocity, lb.velocity)):
-                    if x is not None and y is not None and not _near(x, y, rel):
+                    if not follower and x is not None and y is not None and not _near(x, y, rel):
                         problems.append(f"{label} {fmt(y)} against {fmt(x)}")
             if not problems:
                 return None
@@ -351,10 +359,11 @@ def _near_pair(a: tuple[float, float], b: tuple[float, float], rel: float) -> bo
 
 
 def _link_pairs(ctx: CheckContext) -> list[tuple[Link, Link]]:
+    """Links named as mirrors that sit on different branches (see :func:`_joint_pairs`)."""
     out = []
     for a, b in pairs([link.name for link in ctx.robot.links]):
         la, lb = ctx.robot.link(a), ctx.robot.link(b)
-        if la is not None and lb is not None:
+        if la is not None and lb is not None and not ctx.tree.lineal(a, b):
             out.append((la, lb))
     return out
 
