@@ -122,14 +122,22 @@ def compare_inertia(link: Link, source: str, solid: SolidProperties) -> InertiaC
     return InertiaComparison(source, solid, computed, declared_trace / computed_trace, worst)
 
 
+#: Diagonal (m) of a shape's bounds below which it stands in for a part instead of shaping it.
+MARKER_SIZE = 0.005
+
+
 def compare_with_geometry(link: Link) -> InertiaComparison | None:
     """The declared inertia against the collision geometry, or the visual one when the
     collision geometry cannot be measured.
 
     One source only, never the better of two: then a link whose inertia is
     accepted is always caught when that inertia is made 10× larger or smaller.
+    A shape under MARKER_SIZE across is a marker, not the part (Baxter's 0.55 kg
+    head collides as a 1 mm sphere): the next source is used.
     """
     for source, solid in geometry_sources(link):
+        if bounds_diagonal(solid) < MARKER_SIZE:
+            continue
         comparison = compare_inertia(link, source, solid)
         if comparison is not None:
             return comparison
