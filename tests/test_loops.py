@@ -82,6 +82,21 @@ def test_cassie_achilles_loop_is_cut_at_the_passive_ball_joint() -> None:
     assert cut["left-pitch-rod-joint"] is JointType.SPHERICAL
 
 
+def test_cassie_knee_spring_loop_keeps_the_slider_and_cuts_the_hinge() -> None:
+    """The knee-spring loop (knee → spring by a hinge; knee → shin → spring by a slider) is cut at
+    the hinge, which MJCF closes with two connects; the slider stays in the tree."""
+    robot = read(CASSIE[0])[0].robot  # cassie.sdf
+    assert Path(CASSIE[0]).name == "cassie.sdf"
+    cut = {lc.joint.name: lc.joint.type for lc in robot.loop_closures}
+    kept = {j.name: j for j in robot.joints}
+    for side in ("left", "right"):
+        assert cut[f"{side}-knee-spring-joint"] is JointType.CONTINUOUS
+        slider = kept[f"{side}-shin-spring-joint"]
+        assert slider.type is JointType.PRISMATIC
+        assert (slider.parent, slider.child) == (f"{side}-shin", f"{side}-knee-spring")
+    assert not any(t is JointType.PRISMATIC for t in cut.values())
+
+
 def _joint(name: str, parent: str, child: str, jtype: JointType = JointType.REVOLUTE,
            effort: float | None = None) -> Joint:
     limit = Limit(-1, 1, effort, 1) if effort is not None else None
@@ -105,6 +120,29 @@ def test_spanning_tree_prefers_shortest_path_then_actuated_joints() -> None:
     joints[3] = _joint("c_d", "c", "d", effort=10)
     tree, cut = spanning_tree(links, joints)
     assert "c_d" in [j.name for j in tree] and "b_d" in [j.name for j in cut]
+
+
+def test_spanning_tree_keeps_a_slider_and_cuts_the_hinge_reaching_the_same_link() -> None:
+    # a -> c by a hinge (depth 1) and a -> b -> c with b -> c a slider (depth 2): breadth-first
+    # cuts the slider, which no MJCF equality closes; the hinge is cut instead.
+    links = ["a", "b", "c", "d"]
+    joints = [_joint("a_b", "a", "b"), _joint("a_c", "a", "c", JointType.CONTINUOUS),
+              _joint("b_c", "b", "c", JointType.PRISMATIC), _joint("c_d", "c", "d")]
+    tree, cut = spanning_tree(links, joints)
+    assert [j.name for j in tree] == ["a_b", "b_c", "c_d"] and [j.name for j in cut] == ["a_c"]
+    # an actuated hinge (effort limit) is kept over a passive slider
+    joints[1] = _joint("a_c", "a", "c", effort=10)
+    tree, cut = spanning_tree(links, joints)
+    assert [j.name for j in cut] == ["b_c"]
+    # a slider whose parent hangs below its child would close a cycle: the slider stays cut
+    joints = [_joint("a_c", "a", "c"), _joint("c_b", "c", "b"), _joint("b_c", "b", "c", JointType.PRISMATIC)]
+    tree, cut = spanning_tree(["a", "b", "c"], joints)
+    assert [j.name for j in cut] == ["b_c"]
+    # a fixed joint reaching the link is cut too (MJCF closes it with a weld)
+    joints = [_joint("a_b", "a", "b"), _joint("a_c", "a", "c", JointType.FIXED),
+              _joint("b_c", "b", "c", JointType.PRISMATIC)]
+    tree, cut = spanning_tree(["a", "b", "c"], joints)
+    assert [j.name for j in cut] == ["a_c"]
 
 
 def test_spanning_tree_of_a_closed_ring_without_root_is_deterministic() -> None:

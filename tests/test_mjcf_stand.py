@@ -117,7 +117,31 @@ def test_scene_with_auto_actuators_holds_home_for_five_seconds(case: Case, tmp_p
     assert tilt <= TILT_TOLERANCE, f"{case.name}: the base tilted {tilt:.4f} rad"
     assert gap <= LOOP_GAP and angle <= LOOP_ANGLE, f"{case.name}: loops {gap:.5f} m, {angle:.5f} rad"
     if case.name == "cassie":
-        assert loops and model.neq == 6  # 2 Achilles (hinge cut: 2 connects each) + 2 plantar
+        # 2 Achilles and 2 knee-spring loops (hinge cut: 2 connects each) + 2 plantar (ball cut)
+        names = {model.eq(e).name for e in range(model.neq)}
+        assert loops and model.neq == 10 and {f"{side}-knee-spring-joint_axis"
+                                              for side in ("left", "right")} <= names
+
+
+def test_cassie_closes_every_loop_and_keeps_its_knee_spring_sliders(tmp_path: Path) -> None:
+    """No loop closure of Cassie is dropped: the knee-spring sliders are tree ``slide`` joints
+    (the spanning tree cuts the hinge beside them, docs/sdf.md) and the gearboxes become armature."""
+    loaded = load_one(str(ERD / "cassie_description/robots/cassie.sdf"), CheckOptions())
+    robot = loaded.robot
+    assert robot is not None
+    options = ExportOptions(scene=True, actuators="auto", repair_inertia=True)
+    conversion = convert_robot(robot, "mjcf", tmp_path / "robot.xml", options)
+    closures = {f"joint[{closure.joint.name}]" for closure in robot.loop_closures}
+    dropped = [d.message for d in conversion.diagnostics
+               if d.code == "C001" and d.data.get("element") in closures and d.severity.value != "info"]
+    assert len(closures) == 16 and not dropped, dropped
+    write_conversion(conversion)
+    model = mujoco.MjModel.from_xml_path(str(tmp_path / "robot.xml"))
+    for side in ("left", "right"):
+        joint = model.joint(f"{side}-shin-spring-joint")
+        assert joint.type == mujoco.mjtJoint.mjJNT_SLIDE
+        assert model.body(int(joint.bodyid[0])).name == f"{side}-knee-spring"
+        assert model.body(int(model.body(f"{side}-knee-spring").parentid[0])).name == f"{side}-shin"
 
 
 def test_cassie_gearboxes_become_the_reflected_rotor_inertia(tmp_path: Path) -> None:

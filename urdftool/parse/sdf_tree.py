@@ -11,7 +11,12 @@ The rule (documented in docs/sdf.md):
    likely driven is kept: single-DOF joints with an effort limit, then other
    single-DOF and fixed joints, then ball/universal/revolute2, then gearbox
    couplings; ties go to the joint written first.
-4. Every other joint between known links is a loop closure. Joints that name
+4. A prismatic joint left out by points 2 and 3 takes the place of the fixed,
+   hinge or ball joint that reaches the same link, when that joint is no more
+   likely driven and the slider's parent does not hang below the link: MJCF
+   closes a cut fixed joint with a ``weld`` and a hinge or ball with
+   ``connect`` constraints, a cut slider with nothing it has.
+5. Every other joint between known links is a loop closure. Joints that name
    an unknown link or the same link twice stay in the joint list for the
    structural rules to report.
 """
@@ -23,6 +28,8 @@ from collections.abc import Sequence
 from urdftool.model import Joint, JointType
 
 _PASSIVE_MULTI = {JointType.SPHERICAL, JointType.UNIVERSAL, JointType.REVOLUTE2}
+#: Joints whose cut MJCF closes completely (``weld``; ``connect``, two for a hinge), unlike a slider.
+_CLOSABLE = {JointType.FIXED, JointType.REVOLUTE, JointType.CONTINUOUS, JointType.SPHERICAL}
 
 
 def keep_rank(joint: Joint) -> int:
@@ -61,6 +68,7 @@ def spanning_tree(
         if not rest:
             break
         frontier = [rest[0]]
+    _keep_sliders(usable, kept)
     tree_ids = {id(j) for j in kept.values()}
     usable_ids = {id(j) for j in usable}
     tree = [j for j in joints if id(j) in tree_ids or id(j) not in usable_ids]
@@ -82,6 +90,35 @@ def _next_level(
             best[joint.child] = joint
     kept.update(best)
     return sorted(best, key=lambda name: order[id(best[name])])
+
+
+def _keep_sliders(joints: list[Joint], kept: dict[str, Joint]) -> None:
+    """Point 4 of the module docstring: swap each cut prismatic joint (in file order) into the
+    tree for the fixed, hinge or ball joint that reaches its child, when that is allowed.
+
+    Both joints name the same child, so no joint is reversed and the child's subtree moves
+    with it; the tree stays a tree as long as the slider's parent is not in that subtree."""
+    for joint in joints:
+        current = kept.get(joint.child)
+        if (joint.type is not JointType.PRISMATIC or current is None or current is joint
+                or current.type not in _CLOSABLE or keep_rank(current) < keep_rank(joint)
+                or _below(joint.parent, joint.child, kept)):
+            continue
+        kept[joint.child] = joint
+
+
+def _below(link: str, ancestor: str, kept: dict[str, Joint]) -> bool:
+    """Whether *link* is *ancestor* or hangs below it in the tree *kept* (child -> joint)."""
+    seen: set[str] = set()
+    while link not in seen:
+        if link == ancestor:
+            return True
+        seen.add(link)
+        joint = kept.get(link)
+        if joint is None:
+            return False
+        link = joint.parent
+    return False
 
 
 def _root_of(link: str, joints: list[Joint]) -> str:

@@ -46,6 +46,8 @@ class MissingJointLimit(_Joints):
 
     ## What it does
     Reports `revolute` and `prismatic` joints without a `<limit>` element.
+    URDF only: in SDF an unwritten limit means unlimited (a revolute joint
+    without one is read as continuous).
 
     ## Why it matters
     urdfdom refuses the model ("joint is of type REVOLUTE but it does not
@@ -72,6 +74,8 @@ class MissingJointLimit(_Joints):
     severity = Severity.ERROR
 
     def check(self, ctx: CheckContext) -> Iterator[Diagnostic]:
+        if ctx.robot.format == "sdf":
+            return  # SDFormat's defaults: lower -1e16, upper 1e16, i.e. unlimited
         for joint in ctx.robot.joints:
             if joint.type not in LIMITED or joint.limit is not None:
                 continue
