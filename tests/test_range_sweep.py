@@ -85,7 +85,7 @@ def test_thresholds_are_intent_options(tmp_path: Path) -> None:
     assert not _findings(path, sweep_share=0.95)
     assert not _findings(path, sweep_depth_min=0.5)
     [coarse] = _findings(path, sweep_step_deg=10)
-    assert coarse.data["step"] == pytest.approx(1.2 / math.ceil(1.2 / math.radians(10)))
+    assert coarse.data["step"] == pytest.approx(1.2 / math.ceil(1.2 / math.radians(10)), abs=1e-6)
 
 
 def test_the_lower_limit_is_judged_on_its_own(tmp_path: Path) -> None:
@@ -116,6 +116,19 @@ def test_the_step_widens_to_fit_the_budget(tmp_path: Path) -> None:
 def test_the_finding_points_at_the_limit_attribute() -> None:
     path = Path(__file__).parent.parent / "fixtures" / "rules" / "N305" / "bad_upper.urdf"
     [finding] = _findings(path)
-    assert (finding.location.line, finding.location.column) == (29, 12)
+    assert (finding.location.line, finding.location.column) == (28, 25)  # upper="…"
     assert finding.element == "joint[elbow_joint]/limit/upper"
     assert [r.label for r in finding.related] == ["the collision of link 'upper_arm_link'"]
+
+
+def test_an_attribute_on_a_later_line_of_the_tag_is_reported_at_the_limit(tmp_path: Path) -> None:
+    path = _rod(tmp_path)
+    text = path.read_text(encoding="utf-8").replace(' upper="1.2"', '\n           upper="1.2"')
+    path.write_text(text, encoding="utf-8")
+    [finding] = _findings(path)
+    limit_line = next(n for n, line in enumerate(text.splitlines(), 1) if "<limit" in line)
+    assert (finding.location.line, finding.location.column) == (limit_line, 5)
+    # so the comment before the <limit> silences it
+    ignored = text.replace("    <limit", "    <!-- urdftool: ignore[N305] -->\n    <limit")
+    path.write_text(ignored, encoding="utf-8")
+    assert not _findings(path)

@@ -113,7 +113,10 @@ class RangePassesThroughParent(IntentRule):
     ## Fix
     Set the limit to the hardware's range (the datasheet's, or where the
     links meet). If the collision geometry is what is wrong (a box far
-    larger than the part), fix the geometry instead.
+    larger than the part), fix the geometry instead. The finding points at
+    the `lower` or `upper` attribute (at the `<limit>` when the attribute is
+    on a later line of the tag), so `<!-- urdftool: ignore[N305] -->` on the
+    line before the `<limit>` silences it.
     """
 
     code = "N305"
@@ -136,13 +139,16 @@ class RangePassesThroughParent(IntentRule):
 
             for passing in passings(sweep, share, share_min, depth_min, margin, home_share_max):
                 span = joint.limit.lower_span if passing.side == "lower" else joint.limit.upper_span
+                if span is None or joint.limit.span is None or span.line != joint.limit.span.line:
+                    # an attribute on a later line of the tag could carry no ignore comment
+                    span = joint.limit.span
                 finding = self.diagnostic(
                     f"joint '{joint.name}' range [{fmt(sweep.lower)}, {fmt(sweep.upper)}] rad: "
                     f"beyond {fmt(passing.start)} rad the link '{sweep.child}' passes "
                     f"{fmt(passing.depth * 1000)} mm into '{sweep.parent}' (at {fmt(passing.fullest)} rad, "
                     f"with {fmt(passing.share * 100)} % of its collision volume inside it against "
                     f"{fmt(passing.home_share * 100)} % at home)",
-                    span or joint.limit.span or joint.span,
+                    span or joint.span,
                     element=where_joint(joint, "limit", passing.side),
                     help=f"set the {passing.side} limit to the hardware's range; the links collide "
                     f"from {fmt(passing.start)} rad on",
