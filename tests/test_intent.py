@@ -43,7 +43,8 @@ REVIEWED: dict[str, list[tuple[str, int]]] = {
     "human_description/robots/human.urdf": [
         ("N201", 359), ("N202", 458), ("N202", 496), ("N202", 504), ("N202", 561)],
     "pr2_description/urdf/pr2.urdf": [("N303", 1851), ("N303", 2715)],
-    "biped/biped2d_pybullet.urdf": [("N202", 146), ("N204", 191)],
+    "biped/biped2d_pybullet.urdf": [("N202", 146), ("N204", 191), ("N305", 238)],
+    "humanoid/humanoid.urdf": [("N305", 97), ("N305", 153), ("N305", 209), ("N305", 265)],
     "husky/husky.urdf": [("N302", 115), ("N302", 166), ("N302", 217), ("N302", 268)],
     "aliengo/aliengo.urdf": [("N304", 85), ("N304", 194), ("N304", 302), ("N304", 411)],
     "r2d2.urdf": [("N103", 96), ("N103", 123), ("N103", 201), ("N103", 228)],

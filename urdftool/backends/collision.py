@@ -108,6 +108,16 @@ class CollisionScene:
         pin.computeDistances(self.pin.model, self._data, self.geometry, self._gdata, q)
         return [float(self._gdata.distanceResults[k].min_distance) for k in range(len(self._pairs))]
 
+    def placement(self, k: int) -> tuple[Any, Any]:
+        """Piece *k*'s rotation (3 × 3) and position (m) in the world frame, as placed by the last
+        :meth:`distances` or :meth:`colliding` call."""
+        placed = self._gdata.oMg[k]
+        return np.asarray(placed.rotation, dtype=float), np.asarray(placed.translation, dtype=float)
+
+    def shape(self, k: int) -> Any:
+        """Piece *k*'s coal shape (a mesh's convex hull), in the piece's own frame."""
+        return self.geometry.geometryObjects[k].geometry
+
     def surfaces_meet(self, i: int, j: int) -> bool:
         """Whether pieces *i* and *j* still touch when meshes are their triangles, not their hulls,
         at the placements of the last :meth:`distances` or :meth:`colliding` call. A mesh wholly
@@ -225,7 +235,10 @@ def _read_hull(path: str, scale: tuple[float, float, float]) -> Any:
     bvh.addVertices(vertices)
     bvh.addTriangles(faces)
     bvh.endModel()
-    bvh.buildConvexRepresentation(False)
+    try:
+        bvh.buildConvexRepresentation(False)
+    except RuntimeError as exc:  # coal caps a hull vertex's neighbours ("Too many neighbors")
+        return MeshError(f"no convex hull: coal refused it ({str(exc).strip().splitlines()[-1]})")
     return bvh.convex
 
 

@@ -105,6 +105,8 @@ def scene_of(ctx: CheckContext, limit: int = MAX_GEOMETRIES) -> CollisionScene |
             result = build_scene(ctx.robot, paths)
         except ValueError as exc:  # joint types Pinocchio has no model for here
             result = NotChecked(str(exc))
+        except RuntimeError as exc:  # Pinocchio refuses the model (a non-positive inertia)
+            result = NotChecked(f"Pinocchio refused the model: {exc}")
     ctx.cache[key] = result
     return result
 
@@ -184,11 +186,12 @@ def _configuration(robot: Robot, scene: CollisionScene, values: dict[str, float]
     q = scene.neutral()
     for joint, idx in _one_dof(robot, scene):
         q[idx] = values.get(joint.name, 0.0)
-    _apply_mimics(robot, scene, q)
+    apply_mimics(robot, scene, q)
     return q
 
 
-def _apply_mimics(robot: Robot, scene: CollisionScene, q: Any) -> None:
+def apply_mimics(robot: Robot, scene: CollisionScene, q: Any) -> None:
+    """Set every mimic follower of *q* (one configuration or a stack of them) from its leader."""
     for joint, idx in _one_dof(robot, scene):
         mimic = joint.mimic
         if mimic is not None and mimic.joint in scene.pin.joints:
@@ -252,7 +255,7 @@ def sample_configurations(robot: Robot, scene: CollisionScene, samples: int, see
     for joint, idx in _one_dof(robot, scene):
         lo, hi = _bounds(joint)
         qs[:, idx] = rng.uniform(lo, hi, size=samples) if hi > lo else lo
-    _apply_mimics(robot, scene, qs)
+    apply_mimics(robot, scene, qs)
     return qs
 
 

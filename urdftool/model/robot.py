@@ -138,6 +138,9 @@ class Limit:
     effort: float | None = None
     velocity: float | None = None
     span: Span | None = field(default=None, compare=False)
+    #: where ``lower`` and ``upper`` were written (the attribute in URDF, the element in SDF)
+    lower_span: Span | None = field(default=None, compare=False)
+    upper_span: Span | None = field(default=None, compare=False)
 
 
 @dataclass(frozen=True)

@@ -38,6 +38,7 @@ from urdftool.model import (
 from urdftool.parse.packages import PackageResolver
 from urdftool.parse.sdf_values import SdfValues
 from urdftool.parse.xmlio import span_of
+from urdftool.source import Span
 
 #: SDF joint type -> model type (``ball`` is the model's SPHERICAL)
 JOINT_TYPES: dict[str, JointType] = {
@@ -318,7 +319,14 @@ def _limit(values: SdfValues, axis: etree._Element | None, where: str) -> Limit 
         effort=effort if effort is not None and 0 <= effort < NO_LIMIT else None,
         velocity=velocity if velocity is not None and 0 <= velocity < NO_LIMIT else None,
         span=span_of(element),
+        lower_span=_child_span(values, element, "lower"),
+        upper_span=_child_span(values, element, "upper"),
     )
+
+
+def _child_span(values: SdfValues, element: etree._Element, tag: str) -> Span | None:
+    child = values.child(element, tag)
+    return span_of(child) if child is not None else None
 
 
 def _dynamics(values: SdfValues, axis: etree._Element | None, where: str) -> Dynamics | None:

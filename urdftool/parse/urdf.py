@@ -526,8 +526,10 @@ class UrdfReader:
             return None
         here = f"{where}/limit"
         n = self.values.number
+        spans = {side: self.values.attr_span(el, side) if el.get(side) is not None else None
+                 for side in ("lower", "upper")}
         return Limit(n(el, "lower", here), n(el, "upper", here), n(el, "effort", here),
-                     n(el, "velocity", here), span_of(el))
+                     n(el, "velocity", here), span_of(el), spans["lower"], spans["upper"])
 
     def _dynamics(self, groups: dict[str, list[etree._Element]], where: str) -> Dynamics | None:
         el = self._single(groups, "dynamics", where)

@@ -44,6 +44,12 @@ DEFAULTS: dict[str, float] = {
     "scale_slip_tolerance": 0.15,  # a size ratio within this of 10, 100 or 1000
     "axisymmetric_tolerance": 0.02,  # two principal moments this close are one
     "mimic_tolerance": 1e-3,  # rad or m beyond the follower's limit
+    # joint range against the geometry (N305)
+    "sweep_step_deg": 2.0,  # sampling step of the sweep over a joint's range
+    "sweep_share": 0.3,  # share of the child's collision volume inside its parent beyond home's
+    "sweep_depth_min": 0.01,  # m: ... and this much deeper than at home
+    "sweep_margin_deg": 5.0,  # the limit must lie this far beyond where the passing starts
+    "sweep_home_share_max": 0.25,  # a child this far inside its parent at home is not judged
 }
 
 

@@ -88,6 +88,7 @@ RULES: tuple[tuple[str, str, str, str, bool, str, str], ...] = (
     ('N302', 'spin-inertia-off-axis', 'warning', 'model', True, 'urdftool.rules.intent_consistency', "A wheel's inertia is symmetric about an axis other than the one it turns about."),
     ('N303', 'mimic-beyond-follower-limits', 'warning', 'model', True, 'urdftool.rules.intent_consistency', "A mimic joint is driven outside its own limits over its leader's range."),
     ('N304', 'continuous-in-limited-limb', 'warning', 'model', True, 'urdftool.rules.intent_limbs', "One joint of a limb turns without end while the limb's other joints are all limited."),
+    ('N305', 'range-passes-through-parent', 'warning', 'model', True, 'urdftool.rules.intent_sweep', "A joint's range turns its link through the link it is mounted on."),
     ('P001', 'srdf-robot-mismatch', 'warning', 'model', True, 'urdftool.rules.srdf', 'The SRDF is written for a robot of another name.'),
     ('P002', 'srdf-unknown-link', 'error', 'model', True, 'urdftool.rules.srdf', 'The SRDF names a link the robot does not have.'),
     ('P003', 'srdf-unknown-joint', 'error', 'model', True, 'urdftool.rules.srdf', 'The SRDF names a joint the robot does not have.'),
