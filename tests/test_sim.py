@@ -124,6 +124,23 @@ def test_sdf_loops_simulate_in_mujoco() -> None:
     runs = summaries(report)
     assert runs["mujoco"]["ran"] and runs["mujoco"]["finite"]
     assert not runs["pybullet"]["ran"]  # PyBullet's URDF cannot hold a closed chain
+    # the loop closure's gap is measured in the engine over the whole run, and stays closed
+    assert 0.0 <= runs["mujoco"]["max_loop_gap"] < 1e-4, runs["mujoco"]
+    verdict = next(d.message for d in report.diagnostics if d.code == "R005" and "MuJoCo" in d.message)
+    assert verdict.startswith("MuJoCo: passed") and "loop gap" in verdict, verdict
+
+
+def test_a_loop_that_opens_fails_the_verdict() -> None:
+    from urdftool.facts.simulation.record import EngineRun
+    from urdftool.rules.runtime import LOOP_TOLERANCE, _verdict
+
+    robot = load(FIXTURES / "robots" / "four_bar.sdf")
+    run = EngineRun("mujoco", timestep=0.002, steps=1000, energy_scale=1.0)
+    run.loop_gap = 0.5 * LOOP_TOLERANCE
+    assert _verdict(robot, run, floating=False, hold=False).startswith("passed")
+    run.loop_gap = 5 * LOOP_TOLERANCE
+    verdict = _verdict(robot, run, floating=False, hold=False)
+    assert verdict.startswith("failed (loops open)") and "loop gap 5.00 mm" in verdict, verdict
 
 
 #: The seed robots the issue names, with their file and xacro arguments.

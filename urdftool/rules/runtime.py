@@ -296,8 +296,11 @@ class SimSummary(_Runtime):
     ## What it does
     Reports once per engine and robot what the smoke simulation measured:
     max joint speed, energy drift, final base displacement, initial
-    penetration depth and wall time (in `data["summary"]`), and the verdict
-    in words. When an exporter refuses the model (physically invalid inertia,
+    penetration depth, the largest gap of a closed loop over the run (SDF
+    loop closures in MuJoCo) and wall time (in `data["summary"]`), and the
+    verdict in words. The verdict is "failed" for a defect only: a blow-up,
+    overlap at the start, a loop that opens by more than 1 mm, or, with
+    `--hold`, a robot that does not settle or passes a limit. When an exporter refuses the model (physically invalid inertia,
     a closed chain PyBullet cannot hold) or the engine is not installed, it
     says so, and the exporter's own findings are reported beside it.
 
@@ -338,21 +341,29 @@ class SimSummary(_Runtime):
                                   data={**_summary(run), "verdict": verdict.split(" ", 1)[0].rstrip(":")})
 
 
+#: The largest gap (m) a closed loop may open during the smoke run before the verdict fails.
+LOOP_TOLERANCE = 0.001
+
+
 def _verdict(robot: Robot, run: EngineRun, floating: bool, hold: bool) -> str:
     """"passed" or "failed (...)" with the numbers. Failed is for defects only: blow-ups and NaN,
-    links overlapping at the start, and, with actuators holding (``--hold``), not settling or
-    going past a limit. Without actuators a fixed arm sags and a free robot collapses: that
-    motion is expected and named after the verdict, never failed."""
+    links overlapping at the start, a closed loop that opens by more than LOOP_TOLERANCE, and,
+    with actuators holding (``--hold``), not settling or going past a limit. Without actuators
+    a fixed arm sags and a free robot collapses: that motion is expected and named after the
+    verdict, never failed."""
     drift = drift_because(run, floating, hold)
     limits = beyond_limits(robot, run)
+    loops_open = run.loop_gap is not None and run.loop_gap > LOOP_TOLERANCE
     problems = [name for name, found in (
         ("unstable", unstable_because(run)), ("penetrating at start", run.penetrations),
+        ("loops open", loops_open),
         ("not settled", drift if hold else None),
         ("past joint limits", limits if hold else None)) if found]
     expected = expected_motion(run, floating, hold)
     numbers = (f"{run.steps} steps of {run.timestep * 1000:.3g} ms; max joint speed "
                f"{fmt(run.max_joint_speed)}, energy drift {fmt(run.energy_growth)}, base moved "
-               f"{fmt(run.base_displacement)} m, penetration {run.penetration_depth * 1000:.1f} mm")
+               f"{fmt(run.base_displacement)} m, penetration {run.penetration_depth * 1000:.1f} mm"
+               + (f", loop gap {run.loop_gap * 1000:.2f} mm" if run.loop_gap is not None else ""))
     head = "passed" if not problems else "failed (" + ", ".join(problems) + ")"
     if expected and not problems:
         head += f" ({expected})"

@@ -57,6 +57,7 @@ def run_mujoco(scene: Scene, path: Path, options: SimOptions) -> EngineRun:
     hold = _hold_gains(model, data, joints, dofs) if options.hold else None
     base = _root_body(model, scene)
     free_dof = int(model.jnt_dofadr[free]) if free is not None else None
+    loops = LoopGap(model)
     started = time.perf_counter()
     for _ in range(steps):
         base_velocity = data.qvel[free_dof:free_dof + 3] if free_dof is not None else np.zeros(3)
@@ -69,7 +70,33 @@ def run_mujoco(scene: Scene, path: Path, options: SimOptions) -> EngineRun:
         if _diverged(data):
             run.diverged_at = float(data.time)
             break
-    return recorder.finish(time.perf_counter() - started, scene.energy_scale)
+        loops.measure(data)
+    finished = recorder.finish(time.perf_counter() - started, scene.energy_scale)
+    finished.loop_gap = loops.largest
+    return finished
+
+
+class LoopGap:
+    """The largest gap (m) of the loop closures over a run: the norm of the position rows of
+    each connect or weld equality in MuJoCo's constraint residuals (``efc_pos``)."""
+
+    def __init__(self, model: Any) -> None:
+        import mujoco
+
+        kinds = (int(mujoco.mjtEq.mjEQ_CONNECT), int(mujoco.mjtEq.mjEQ_WELD))
+        self._closures = {i for i in range(model.neq) if int(model.eq_type[i]) in kinds}
+        self._equality = int(mujoco.mjtConstraint.mjCNSTR_EQUALITY)
+        self.largest: float | None = 0.0 if self._closures else None
+
+    def measure(self, data: Any) -> None:
+        if self.largest is None:
+            return
+        rows = np.flatnonzero(data.efc_type[:data.nefc] == self._equality)
+        ids = data.efc_id[rows]
+        for eq in self._closures:
+            position = data.efc_pos[rows[ids == eq][:3]]  # connect: 3 rows; weld: 3 of 6
+            if position.size:
+                self.largest = max(self.largest, float(np.linalg.norm(position)))
 
 
 def _compile(scene: Scene, path: Path, run: EngineRun) -> Any:

@@ -76,6 +76,9 @@ class EngineRun:
     #: horizontal distance (m) the base travelled in the second half of the run
     base_late_distance: float = 0.0
     penetrations: list[Penetration] = field(default_factory=list)
+    #: the largest distance (m) between the two anchors of a loop closure over the run
+    #: (MuJoCo's connect and weld equalities); ``None`` without a closed loop
+    loop_gap: float | None = None
     limit_violations: list[LimitViolation] = field(default_factory=list)
     #: largest |q_follower - (multiplier · q_leader + offset)| (rad or m) over the run, and where
     mimic_error: float = 0.0
@@ -116,6 +119,7 @@ class EngineRun:
                                  for v in self.limit_violations],
             **({"max_mimic_error": self.mimic_error, "worst_mimic_joint": self.mimic_joint}
                if self.mimic_joint else {}),
+            **({"max_loop_gap": self.loop_gap} if self.loop_gap is not None else {}),
             "wall_time": round(self.wall_time, 3),
         }
 
