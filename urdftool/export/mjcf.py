@@ -10,6 +10,7 @@ behind the mapping are in ``docs/mjcf.md``; each part lives in its own module:
 * ``mjcf_inertia``: validation and ``--repair-inertia``;
 * ``mjcf_geoms`` and ``mjcf_assets``: geoms, mesh assets and conversion;
 * ``mjcf_actuators``: actuators and armature;
+* ``mjcf_classes``: per-joint-group default classes;
 * ``mjcf_extras``: equality constraints, the home keyframe, the scene;
 * ``mjcf_keyframe``: the home keyframe solved for closed loops;
 * ``mjcf_dropped``: the loss report (``conversion-dropped``);
@@ -29,6 +30,7 @@ from urdftool.export import ExportOptions, ExportResult
 from urdftool.export.mjcf_actuators import write_actuators, write_armature
 from urdftool.export.mjcf_assets import AssetPlan
 from urdftool.export.mjcf_bodies import BodyWriter, MjJoint
+from urdftool.export.mjcf_classes import write_joint_classes
 from urdftool.export.mjcf_contacts import write_excludes
 from urdftool.export.mjcf_dropped import dropped_extensions
 from urdftool.export.mjcf_extras import (
@@ -117,6 +119,8 @@ def build(
     close_loops(root, out_dir, assets.files, set(robot.home or {}) | set(actuated))
     write_excludes(root, worldbody, out_dir, assets.files)
     diagnostics.extend(dropped_extensions(robot, actuated))
+    # last, so the in-memory compiles above and every writer see each joint's settings inline
+    write_joint_classes(root, reserved=(VISUAL_CLASS, COLLISION_CLASS))
     etree.indent(root, space="  ")
     text = etree.tostring(root, encoding="unicode") + "\n"
     return text, dict(sorted(assets.files.items())), sorted(diagnostics, key=Diagnostic.sort_key)
