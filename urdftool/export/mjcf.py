@@ -107,6 +107,8 @@ def build(
         if mesh.scale != (1.0, 1.0, 1.0):
             attrs["scale"] = vec(mesh.scale)
         etree.SubElement(asset, "mesh", attrs)
+    for name, rgba in assets.materials.items():
+        etree.SubElement(asset, "material", {"name": name, "rgba": vec(rgba)})
     if options.scene:
         write_scene(root, worldbody, floor)
     if len(asset) == 0:
