@@ -155,7 +155,7 @@ def floor_under(robot: Robot, tree: KinematicTree, joints: list[MjJoint]) -> flo
     at zero hangs its wrist 48 mm below its base)."""
     home = {mj.name: mj.home[0] for mj in joints if mj.kind in ("hinge", "slide") and mj.name == mj.source}
     lowest = [z for q in ({}, home) if (z := lowest_collision_point(robot, tree, q)) is not None]
-    return min(0.0, *(z - CLEARANCE for z in lowest))
+    return min([0.0, *(z - CLEARANCE for z in lowest)])  # no collision geometry: z = 0
 
 
 def _structure(robot: Robot, tree: KinematicTree) -> list[Diagnostic]:
