@@ -11,6 +11,7 @@ from pathlib import Path
 import pytest
 
 from tests.conftest import ERD, SEEDS
+from urdftool.export.mjcf_assets import PARTS_KIND, _pack_parts, _unpack_parts
 
 RRBOT = SEEDS / "gazebo_ros_demos" / "rrbot_description" / "urdf" / "rrbot.xacro"  # a COLLADA Hokuyo
 
@@ -25,16 +26,18 @@ def convert(out: Path, cache: Path) -> None:
 def test_a_second_convert_reads_the_converted_mesh_from_the_cache(tmp_path: Path) -> None:
     cache = tmp_path / "cache"
     convert(tmp_path / "first" / "rrbot.xml", cache)
-    blobs = [p for p in cache.rglob("*") if p.is_file() and "converted" in p.parts]
-    assert blobs, "the COLLADA conversion was not stored"
+    # the Hokuyo is a visual of two colours: stored once as its colour split (docs/mjcf.md)
+    blobs = [p for p in cache.rglob("*") if p.is_file() and PARTS_KIND in p.parts]
+    assert len(blobs) == 1, "the COLLADA conversion was not stored"
     written = {p.name: p.read_bytes() for p in (tmp_path / "first" / "assets").iterdir()}
-    assert any(data == blobs[0].read_bytes() for data in written.values())
+    parts = _unpack_parts(blobs[0].read_bytes())
+    assert len(parts) == 2 and sorted(data for _, data, _ in parts) == sorted(written.values())
     # Replace the stored conversion: a second run in a new process must use it as it is.
     marker = b"\0" * 80 + (0).to_bytes(4, "little")  # a valid, empty binary STL
-    blobs[0].write_bytes(marker)
+    blobs[0].write_bytes(_pack_parts(((None, marker, ".stl"), ((1, 2, 3, 255), marker + b"\0", ".stl"))))
     convert(tmp_path / "second" / "rrbot.xml", cache)
     again = [p.read_bytes() for p in (tmp_path / "second" / "assets").iterdir()]
-    assert marker in again
+    assert marker in again and marker + b"\0" in again
 
 
 def _convert_in_new_process(model: Path, out: Path, cache: Path) -> list[str]:
@@ -57,16 +60,17 @@ def _convert_in_new_process(model: Path, out: Path, cache: Path) -> list[str]:
 
 @pytest.mark.skipif(ERD is None, reason="example-robot-data is a test dependency")
 def test_a_second_convert_of_the_panda_converts_no_collada_mesh(tmp_path: Path) -> None:
-    """The Panda's ten COLLADA visuals are converted by the first process only: the second reads
-    every one from the disk cache, so it never even imports the mesh library, and writes the
-    same bytes."""
+    """The Panda's ten COLLADA visuals are converted by the first process only (split by colour;
+    a file of one colour as the whole mesh): the second reads every one from the disk cache, so
+    it never even imports the mesh library, and writes the same bytes."""
     assert ERD is not None
     panda = ERD / "panda_description" / "urdf" / "panda.urdf"
     cache = tmp_path / "cache"
     first = _convert_in_new_process(panda, tmp_path / "first" / "panda.xml", cache)
     assert "trimesh" in first
     stored = [p for p in cache.rglob("*") if p.is_file() and "converted" in p.parts]
-    assert len(stored) == 10
+    assert len([p for p in stored if PARTS_KIND in p.parts]) == 10
+    assert len([p for p in stored if "mjcf.stl" in p.parts]) == 2  # link1 and link2: one colour each
     second = _convert_in_new_process(panda, tmp_path / "second" / "panda.xml", cache)
     assert second == []
     for name in ("first", "second"):

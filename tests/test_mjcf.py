@@ -313,3 +313,13 @@ def test_gazebo_friction_reaches_the_collision_geoms(tmp_path: Path) -> None:
     out, _root = exported(read(source)[0].robot, tmp_path / "pair")
     model = mujoco.MjModel.from_xml_path(str(out))
     assert model.geom_friction[0][0] == pytest.approx(0.6)
+
+
+def test_scene_for_a_fixed_robot_without_collision_geometry(tmp_path: Path) -> None:
+    """The floor of a fixed robot with nothing to collide stays at z = 0 (it raised TypeError)."""
+    robot = load_text(tmp_path, f'<robot name="ghost"><link name="base">{BOX}<visual><geometry>'
+                                '<box size="0.1 0.1 0.1"/></geometry></visual></link></robot>')
+    out, root = exported(robot, tmp_path, scene=True)
+    floor = root.find("worldbody/geom[@name='floor']")
+    assert floor is not None and floor.get("pos") is None
+    mujoco.MjModel.from_xml_path(str(out))

@@ -15,7 +15,9 @@ checks faster, never different, and never makes them fail.
 
 Exports keep their mesh conversions there too (``converted/<kind>/``, by the
 source's content hash): a second ``urdftool convert`` of a robot with COLLADA
-meshes reads the converted bytes instead of converting again.
+meshes reads the converted bytes instead of converting again. Each kind is a
+folder of its own (``mjcf.stl``, ``mjcf.obj``, ``mjcf-colours1`` for a visual
+split by material colour), so a new kind needs no new :data:`SCHEMA`.
 """
 
 from __future__ import annotations

@@ -10,6 +10,7 @@ behind the mapping are in ``docs/mjcf.md``; each part lives in its own module:
 * ``mjcf_inertia``: validation and ``--repair-inertia``;
 * ``mjcf_geoms`` and ``mjcf_assets``: geoms, mesh assets and conversion;
 * ``mjcf_actuators``: actuators and armature;
+* ``mjcf_classes``: per-joint-group default classes;
 * ``mjcf_extras``: equality constraints, the home keyframe, the scene;
 * ``mjcf_keyframe``: the home keyframe solved for closed loops;
 * ``mjcf_dropped``: the loss report (``conversion-dropped``);
@@ -29,6 +30,7 @@ from urdftool.export import ExportOptions, ExportResult
 from urdftool.export.mjcf_actuators import write_actuators, write_armature
 from urdftool.export.mjcf_assets import AssetPlan
 from urdftool.export.mjcf_bodies import BodyWriter, MjJoint
+from urdftool.export.mjcf_classes import write_joint_classes
 from urdftool.export.mjcf_contacts import write_excludes
 from urdftool.export.mjcf_dropped import dropped_extensions
 from urdftool.export.mjcf_extras import (
@@ -105,6 +107,8 @@ def build(
         if mesh.scale != (1.0, 1.0, 1.0):
             attrs["scale"] = vec(mesh.scale)
         etree.SubElement(asset, "mesh", attrs)
+    for name, rgba in assets.materials.items():
+        etree.SubElement(asset, "material", {"name": name, "rgba": vec(rgba)})
     if options.scene:
         write_scene(root, worldbody, floor)
     if len(asset) == 0:
@@ -117,6 +121,8 @@ def build(
     close_loops(root, out_dir, assets.files, set(robot.home or {}) | set(actuated))
     write_excludes(root, worldbody, out_dir, assets.files)
     diagnostics.extend(dropped_extensions(robot, actuated))
+    # last, so the in-memory compiles above and every writer see each joint's settings inline
+    write_joint_classes(root, reserved=(VISUAL_CLASS, COLLISION_CLASS))
     etree.indent(root, space="  ")
     text = etree.tostring(root, encoding="unicode") + "\n"
     return text, dict(sorted(assets.files.items())), sorted(diagnostics, key=Diagnostic.sort_key)
@@ -149,7 +155,7 @@ def floor_under(robot: Robot, tree: KinematicTree, joints: list[MjJoint]) -> flo
     at zero hangs its wrist 48 mm below its base)."""
     home = {mj.name: mj.home[0] for mj in joints if mj.kind in ("hinge", "slide") and mj.name == mj.source}
     lowest = [z for q in ({}, home) if (z := lowest_collision_point(robot, tree, q)) is not None]
-    return min(0.0, *(z - CLEARANCE for z in lowest))
+    return min([0.0, *(z - CLEARANCE for z in lowest)])  # no collision geometry: z = 0
 
 
 def _structure(robot: Robot, tree: KinematicTree) -> list[Diagnostic]:

@@ -6,6 +6,11 @@ mesh trimesh can load (DAE, ASCII STL, PLY, ...) is converted to binary STL in
 With ``copy_assets`` the readable meshes are copied there too; otherwise they
 are referenced by their path relative to OUT's folder.
 
+A COLLADA visual with materials of several colours is split into one mesh
+per colour, each with a ``<material>`` of that colour (:meth:`AssetPlan.visual_parts`),
+as MuJoCo Menagerie writes its Panda (``link0_0`` … with ``off_white``,
+``black``); collision geometry always uses the whole mesh.
+
 Asset files and ``<mesh>`` names carry a hash of the file's content, so two
 files that share a name (``visual/x.stl``, ``collision/x.stl``) never collide
 and two copies of one mesh become one asset. A mesh used at two scales is two
@@ -15,6 +20,7 @@ and two copies of one mesh become one asset. A mesh used at two scales is two
 from __future__ import annotations
 
 import functools
+import json
 import os
 import struct
 from dataclasses import dataclass, field
@@ -24,6 +30,7 @@ import numpy as np
 
 from urdftool.backends import mesh_cache
 from urdftool.backends.collision_shapes import is_generated
+from urdftool.backends.mesh_materials import RGBA8, coloured_parts
 from urdftool.backends.meshes import MeshError, load_trimesh
 from urdftool.export.assets import (
     MeshUnavailable,
@@ -49,6 +56,26 @@ class MeshAsset:
     name: str
     file: str
     scale: Vec3
+
+
+@dataclass(frozen=True)
+class VisualPart:
+    """One visual geom of a mesh: its ``<mesh>`` name and the ``<material>`` giving its colour
+    (``None``: the mesh carries no colour of its own for these triangles)."""
+
+    mesh: str
+    material: str | None
+
+
+def material_name(rgba: RGBA8) -> str:
+    """``<material>`` name of an 8-bit colour: ``rgba_e6ebedff``."""
+    return "rgba_" + "".join(f"{c:02x}" for c in rgba)
+
+
+def material_rgba(rgba: RGBA8) -> tuple[float, float, float, float]:
+    """An 8-bit colour as MJCF's 0..1 floats, to 4 decimals (1/255 steps need no more)."""
+    r, g, b, a = (round(c / 255, 4) for c in rgba)
+    return (r, g, b, a)
 
 
 def mujoco_reads(suffix: str, data: bytes) -> bool:
@@ -92,6 +119,63 @@ def _convert_cached(content: str, path: str) -> tuple[bytes, str]:
     return data, suffix
 
 
+#: Cache kind of the colour split (:func:`_parts_cached`); a new kind, so the entries of ``mjcf.stl``
+#: and the mesh facts keep their meaning and the cache schema need not change.
+PARTS_KIND = "mjcf-colours1"
+
+
+@functools.lru_cache(maxsize=128)
+def _parts_cached(content: str, path: str) -> tuple[tuple[RGBA8 | None, bytes, str], ...]:
+    """:func:`split_by_colour` once per file content, in memory and in the disk mesh cache."""
+    stored = mesh_cache.get_blob(PARTS_KIND, content)
+    if stored is not None:
+        try:
+            return _unpack_parts(stored)
+        except (ValueError, KeyError, TypeError):
+            pass  # a damaged entry is computed again
+    parts = split_by_colour(path)
+    mesh_cache.put_blob(PARTS_KIND, content, _pack_parts(parts))
+    return parts
+
+
+def split_by_colour(path: str) -> tuple[tuple[RGBA8 | None, bytes, str], ...]:
+    """The visual COLLADA file at *path* as (colour, file bytes, suffix) per colour. Empty when it
+    has no colour; one entry with empty bytes when all its triangles share one colour (the whole
+    mesh is used then, the same asset as its collision use)."""
+    parts = coloured_parts(path)
+    if len(parts) == 1:
+        return ((parts[0].rgba, b"", ""),)
+    out = []
+    for part in parts:
+        if len(part.faces) > MAX_STL_TRIANGLES:
+            out.append((part.rgba, wavefront_obj(part.vertices, part.faces), ".obj"))
+        else:
+            out.append((part.rgba, binary_stl(part.vertices, part.faces), ".stl"))
+    return tuple(out)
+
+
+def _pack_parts(parts: tuple[tuple[RGBA8 | None, bytes, str], ...]) -> bytes:
+    """One cache blob: a JSON line listing colour, suffix and size of each part, then the bytes."""
+    header = [{"rgba": list(rgba) if rgba else None, "suffix": suffix, "size": len(data)}
+              for rgba, data, suffix in parts]
+    return json.dumps(header).encode("utf-8") + b"\n" + b"".join(data for _, data, _ in parts)
+
+
+def _unpack_parts(blob: bytes) -> tuple[tuple[RGBA8 | None, bytes, str], ...]:
+    head, _, body = blob.partition(b"\n")
+    parts = []
+    offset = 0
+    for entry in json.loads(head):
+        size = int(entry["size"])
+        rgba = entry["rgba"]
+        colour: RGBA8 | None = (int(rgba[0]), int(rgba[1]), int(rgba[2]), int(rgba[3])) if rgba else None
+        parts.append((colour, body[offset:offset + size], str(entry["suffix"])))
+        offset += size
+    if offset != len(body):
+        raise ValueError("truncated cache entry")
+    return tuple(parts)
+
+
 def convert(path: str) -> tuple[bytes, str]:
     """Load *path* with trimesh (scenes flattened with their transforms); return the bytes and
     suffix of a file MuJoCo reads: binary STL, or OBJ above the STL triangle limit."""
@@ -112,10 +196,14 @@ class AssetPlan:
     copy: bool = False
     meshes: list[MeshAsset] = field(default_factory=list)
     files: dict[str, bytes] = field(default_factory=dict)
+    #: ``<material>`` name -> rgba (0..1), for the colours of split COLLADA visuals
+    materials: dict[str, tuple[float, float, float, float]] = field(default_factory=dict)
     #: (source content hash, scale) -> mesh name
     _by_content: dict[tuple[str, Vec3], str] = field(default_factory=dict)
     #: resolved path -> (content hash, file reference for MJCF)
     _by_path: dict[str, tuple[str, str]] = field(default_factory=dict)
+    #: resolved path -> content hash, for files read only to split them by colour
+    _hashes: dict[str, str] = field(default_factory=dict)
 
     def mesh_name(self, mesh: Mesh) -> str:
         """The ``<mesh>`` name for this geometry, adding the asset on first use.
@@ -125,11 +213,51 @@ class AssetPlan:
         if mesh.resolved is None:
             raise MeshUnavailable(f"'{mesh.filename}' did not resolve to a file")
         content, reference = self._file_for(mesh.resolved)
-        sx, sy, sz = mesh.scale
-        key = (content, (float(sx), float(sy), float(sz)))
+        return self._named((content, _scale(mesh)), f"{safe_stem(mesh.resolved)}-{content[:8]}",
+                           reference)
+
+    def visual_parts(self, mesh: Mesh) -> list[VisualPart]:
+        """The visual geoms for this geometry: one per colour of a multi-colour COLLADA file
+        (with its material), else the whole mesh: with the material of a single-colour COLLADA
+        file, without a colour of its own otherwise. Raises :class:`MeshUnavailable`.
+        """
+        path = mesh.resolved
+        if path is None or not path.lower().endswith(".dae"):
+            return [VisualPart(self.mesh_name(mesh), None)]
+        content = self._content(path)
+        parts = _parts_cached(content, path)
+        if len(parts) <= 1:
+            rgba = parts[0][0] if parts else None
+            return [VisualPart(self.mesh_name(mesh), self._material(rgba) if rgba else None)]
+        out = []
+        for number, (rgba, payload, suffix) in enumerate(parts):
+            reference = asset_name(path, payload, suffix)
+            self.files[reference] = payload
+            base = f"{safe_stem(path)}-{content[:8]}_{number}"
+            name = self._named((f"{content}#{number}", _scale(mesh)), base, reference)
+            out.append(VisualPart(name, self._material(rgba) if rgba else None))
+        return out
+
+    def _content(self, path: str) -> str:
+        """SHA-256 of the file's bytes (without planning its conversion)."""
+        if path in self._by_path:
+            return self._by_path[path][0]
+        if path not in self._hashes:
+            try:
+                self._hashes[path] = content_hash(read_regular(path, "mesh"))
+            except OSError as exc:
+                raise MeshUnavailable(f"cannot read '{path}' ({exc.strerror or exc})") from exc
+        return self._hashes[path]
+
+    def _material(self, rgba: RGBA8) -> str:
+        name = material_name(rgba)
+        self.materials.setdefault(name, material_rgba(rgba))
+        return name
+
+    def _named(self, key: tuple[str, Vec3], base: str, reference: str) -> str:
+        """The ``<mesh>`` name for *key*, adding a :class:`MeshAsset` on first use."""
         if key in self._by_content:
             return self._by_content[key]
-        base = f"{safe_stem(mesh.resolved)}-{content[:8]}"
         taken = {m.name for m in self.meshes}
         name, n = base, 1
         while name in taken:
@@ -166,3 +294,9 @@ class AssetPlan:
             return Path(os.path.relpath(Path(path).resolve(), self.out_dir.resolve())).as_posix()
         except ValueError:  # another drive on Windows
             return Path(path).resolve().as_posix()
+
+
+def _scale(mesh: Mesh) -> Vec3:
+    sx, sy, sz = mesh.scale
+    return (float(sx), float(sy), float(sz))
+

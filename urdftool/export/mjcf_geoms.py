@@ -1,7 +1,8 @@
 """Visual and collision geoms of one link.
 
 Visual geoms use the default class ``visual`` (group 2, contype and
-conaffinity 0: seen, never touched) with their material colour; collision
+conaffinity 0: seen, never touched) with their colour: a COLLADA mesh's own
+materials (one geom per colour), else the URDF material's; collision
 geoms use the class ``collision`` (group 3). Sizes follow MJCF: half extents
 for boxes, radius and half length for cylinders and capsules.
 """
@@ -115,42 +116,52 @@ class GeomWriter:
     def write(self, body: etree._Element, link: Link, moving: bool) -> None:
         for index, visual in enumerate(link.visuals):
             where = f"link[{link.name}]/visual[{index}]"
-            attrs = self._shape(visual.geometry, visual.origin, where, moving, visual.span)
-            if attrs is None:
+            shapes = self._shapes(visual.geometry, visual.origin, where, moving, visual.span, visual=True)
+            if not shapes:
                 continue
             colour = self._colour(visual.material, where)
-            if colour is not None:
-                attrs["rgba"] = vec(colour)
-            etree.SubElement(body, "geom", {"class": VISUAL_CLASS, **attrs})
+            for attrs, material in shapes:
+                # the mesh's own material wins over the URDF's colour, as in RViz (docs/mjcf.md)
+                if material is not None:
+                    attrs["material"] = material
+                elif colour is not None:
+                    attrs["rgba"] = vec(colour)
+                etree.SubElement(body, "geom", {"class": VISUAL_CLASS, **attrs})
         for index, collision in enumerate(link.collisions):
             where = f"link[{link.name}]/collision[{index}]"
-            attrs = self._shape(collision.geometry, collision.origin, where, moving, collision.span)
-            if attrs is not None:
+            shapes = self._shapes(collision.geometry, collision.origin, where, moving, collision.span)
+            for attrs, _ in shapes:
                 mu = self.friction.get(link.name)
                 if mu is not None:  # MuJoCo's default torsional and rolling friction are kept
                     attrs["friction"] = f"{min(mu, MU_MAX):g} 0.005 0.0001"
                 etree.SubElement(body, "geom", {"class": COLLISION_CLASS, **attrs})
 
-    def _shape(self, geometry: Geometry | None, origin: Pose, where: str, moving: bool,
-               span: Span | None) -> dict[str, str] | None:
+    def _shapes(self, geometry: Geometry | None, origin: Pose, where: str, moving: bool,
+                span: Span | None, visual: bool = False) -> list[tuple[dict[str, str], str | None]]:
+        """Geom attributes with the ``<material>`` of each (``None``: no colour of its own): one
+        geom, or for a visual COLLADA mesh of several colours one per colour. Empty when the
+        shape is left out (and reported)."""
         if geometry is None:
-            return None
+            return []
         location = geometry.span or span
         if _degenerate(geometry):
             self._drop(f"{where}: {geometry.kind} with a zero or negative size", location, where)
-            return None
+            return []
         if isinstance(geometry, Plane) and moving:
             self._drop(f"{where}: MuJoCo allows planes only on static bodies", location, where)
-            return None
+            return []
+        pose = pose_attributes(origin)
         try:
-            attrs = shape_attributes(geometry, self.assets.mesh_name)
+            if visual and isinstance(geometry, Mesh):
+                return [({"type": "mesh", "mesh": part.mesh, **pose}, part.material)
+                        for part in self.assets.visual_parts(geometry)]
+            return [({**shape_attributes(geometry, self.assets.mesh_name), **pose}, None)]
         except MeshUnavailable as exc:
             role = "collision shape" if "/collision" in where else "visual"
             self.diagnostics.append(MeshNotExportable.diagnostic(
                 f"{where}: mesh left out ({role}): {exc}", location, element=where,
                 data={"filename": getattr(geometry, "filename", None), "role": role}))
-            return None
-        return {**attrs, **pose_attributes(origin)}
+            return []
 
     def _colour(self, material: Material | None, where: str) -> tuple[float, ...] | None:
         if material is None:
