@@ -300,9 +300,10 @@ class SimSummary(_Runtime):
     loop closures in MuJoCo) and wall time (in `data["summary"]`), and the
     verdict in words. The verdict is "failed" for a defect only: a blow-up,
     overlap at the start, a loop that opens by more than 1 mm, or, with
-    `--hold`, a robot that does not settle or passes a limit. When an exporter refuses the model (physically invalid inertia,
-    a closed chain PyBullet cannot hold) or the engine is not installed, it
-    says so, and the exporter's own findings are reported beside it.
+    `--hold`, a robot that does not settle or passes a limit. When an
+    exporter refuses the model (physically invalid inertia, a closed chain
+    PyBullet cannot hold) or the engine is not installed, it says so, and
+    the exporter's own findings are reported beside it.
 
     ## Why it matters
     A verdict that says "passed" with its numbers is evidence a CI log can
