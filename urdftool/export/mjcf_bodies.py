@@ -253,6 +253,10 @@ class BodyWriter:
                 out["damping"] = num(joint.dynamics.damping)
             if joint.dynamics.friction > 0:
                 out["frictionloss"] = num(joint.dynamics.friction)
+            if joint.dynamics.spring_stiffness > 0:  # SDF's joint spring, in the same units
+                out["stiffness"] = num(joint.dynamics.spring_stiffness)
+                if joint.dynamics.spring_reference != 0:
+                    out["springref"] = num(joint.dynamics.spring_reference)
         return out
 
     def _unsupported(self, joint: Joint, reason: str) -> None:

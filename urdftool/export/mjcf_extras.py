@@ -136,6 +136,7 @@ def write_equality(root: etree._Element, robot: Robot, joints: Sequence[MjJoint]
         item = _closure(closure, diagnostics)
         if item is None:
             continue
+        _spring_of_cut(closure.joint, diagnostics)
         items.append((item[0], {**item[1], **LOOP_SOLVER}))
         if closure.joint.type in _HINGED:
             name = closure.joint.name
@@ -226,6 +227,18 @@ def _closure(closure: LoopClosure, diagnostics: list[Diagnostic]) -> tuple[str, 
         f"{where}: a {joint.type.value} joint closing a loop has no MJCF equality; the loop is open",
         joint.span, element=where, data={"element": where, "reason": "no equality for this joint type"}))
     return None
+
+
+def _spring_of_cut(joint: Joint, diagnostics: list[Diagnostic]) -> None:
+    """A spring on the joint that closes a loop has no joint to act on in MJCF: reported."""
+    if joint.dynamics is None or joint.dynamics.spring_stiffness <= 0:
+        return
+    where = f"joint[{joint.name}]/axis/dynamics/spring_stiffness"
+    diagnostics.append(ConversionDropped.diagnostic(
+        f"joint[{joint.name}]: closes a loop, so MJCF has no joint for its spring "
+        f"({joint.dynamics.spring_stiffness:g} per rad or m); the loop is closed without it",
+        joint.dynamics.span or joint.span, element=where,
+        data={"element": where, "reason": "the cut joint of a loop carries no spring"}))
 
 
 def home_qpos(robot: Robot, joints: Sequence[MjJoint]) -> list[float]:

@@ -310,6 +310,9 @@ class SdfWriter:
             dynamics = etree.SubElement(axis, "dynamics")
             etree.SubElement(dynamics, "damping").text = num(joint.dynamics.damping)
             etree.SubElement(dynamics, "friction").text = num(joint.dynamics.friction)
+            if joint.dynamics.spring_stiffness > 0:
+                etree.SubElement(dynamics, "spring_reference").text = num(joint.dynamics.spring_reference)
+                etree.SubElement(dynamics, "spring_stiffness").text = num(joint.dynamics.spring_stiffness)
         return axis
 
     # -- model-level extensions -----------------------------------------------

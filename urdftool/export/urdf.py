@@ -144,7 +144,7 @@ class UrdfWriter:
         for link in robot.links:
             root.extend(self.gazebo_blocks(link.name, link.extensions))
         for joint in robot.joints:
-            root.extend(self.gazebo_blocks(joint.name, joint.extensions))
+            root.extend(self.gazebo_blocks(joint.name, joint.extensions, _spring(joint)))
         return root
 
     # -- links -----------------------------------------------------------------
@@ -325,14 +325,31 @@ class UrdfWriter:
         gazebo.extend(clean_copy(e.element) for e in kept)
         return [gazebo]
 
-    def gazebo_blocks(self, reference: str, extensions: Iterable[Extension]) -> list[etree._Element]:
-        """SDF-only children of a link or joint, inside ``<gazebo reference>`` (SDF sources only)."""
+    def gazebo_blocks(self, reference: str, extensions: Iterable[Extension],
+                      written: Iterable[etree._Element] = ()) -> list[etree._Element]:
+        """SDF-only children of a link or joint, inside ``<gazebo reference>`` (SDF sources only),
+        after the *written* elements urdftool composed for it (a joint's spring)."""
         items = list(extensions)
-        if not self.from_sdf or not items:
+        composed = list(written)
+        if not self.from_sdf or not (items or composed):
             return []
         gazebo = etree.Element("gazebo", reference=reference)
+        gazebo.extend(composed)
         gazebo.extend(clean_copy(e.element) for e in items)
         return [gazebo]
+
+
+def _spring(joint: Joint) -> list[etree._Element]:
+    """An SDF joint spring as the Gazebo URDF extension sdformat reads back
+    (``springStiffness``, ``springReference`` in ``<gazebo reference="JOINT">``)."""
+    dynamics = joint.dynamics
+    if dynamics is None or dynamics.spring_stiffness <= 0:
+        return []
+    stiffness = etree.Element("springStiffness")
+    stiffness.text = num(dynamics.spring_stiffness)
+    reference = etree.Element("springReference")
+    reference.text = num(dynamics.spring_reference)
+    return [stiffness, reference]
 
 
 def _vec_text(text: str) -> str:

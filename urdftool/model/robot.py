@@ -145,11 +145,15 @@ class Limit:
 
 @dataclass(frozen=True)
 class Dynamics:
-    """Viscous ``damping`` (N·m·s/rad or N·s/m) and Coulomb ``friction`` (N·m or N)."""
+    """Viscous ``damping`` (N·m·s/rad or N·s/m) and Coulomb ``friction`` (N·m or N), and a joint
+    spring (SDF ``<spring_stiffness>`` in N·m/rad or N/m, pulling towards ``spring_reference``
+    in rad or m; URDF has no spring, so a URDF joint's is 0)."""
 
     damping: float = 0.0
     friction: float = 0.0
     span: Span | None = field(default=None, compare=False)
+    spring_stiffness: float = 0.0
+    spring_reference: float = 0.0
 
 
 @dataclass(frozen=True)

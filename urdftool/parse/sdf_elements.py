@@ -336,4 +336,8 @@ def _dynamics(values: SdfValues, axis: etree._Element | None, where: str) -> Dyn
     here = f"{where}/dynamics"
     damping = values.text_number(element, "damping", here, 0.0)
     friction = values.text_number(element, "friction", here, 0.0)
-    return Dynamics(damping or 0.0, friction or 0.0, span_of(element))
+    stiffness = values.text_number(element, "spring_stiffness", here, 0.0)
+    reference = values.text_number(element, "spring_reference", here, 0.0)
+    return Dynamics(damping or 0.0, friction or 0.0, span_of(element),
+                    spring_stiffness=stiffness if stiffness and stiffness > 0 else 0.0,
+                    spring_reference=reference or 0.0)
