@@ -100,3 +100,16 @@ def test_kept_extension_elements_are_stamped(tmp_path: object) -> None:
         tag: _at(f"<{tag}") for tag in ("gazebo", "material", "plugin", "param")
     }
     assert loaded.robot.link("arm").span.line == 5  # type: ignore[union-attr]
+
+
+@pytest.mark.parametrize("uri", ["http://www.ros.org/wiki/xacro", "http://www.ros.org/wiki/&#120;acro"])
+def test_xacro_in_urdf_is_found_however_its_namespace_is_written(tmp_path: object, uri: str) -> None:
+    """The reader skips the xacro search when the text cannot name xacro's namespace; a
+    character reference could spell it, so it does not skip then."""
+    path = f"{tmp_path}/arm.urdf"
+    with open(path, "w", encoding="utf-8") as handle:
+        handle.write(f'<robot name="r" xmlns:xacro="{uri}">\n  <xacro:property name="l" value="1"/>\n'
+                     '  <link name="a"/>\n</robot>\n')
+    [loaded] = read(path)
+    found = [d for d in loaded.diagnostics if d.name == "xacro-in-urdf"]
+    assert [(d.location.line, d.location.column) for d in found if d.location] == [(2, 3)]

@@ -118,7 +118,7 @@ def _read_urdf(path: str, resolver: PackageResolver, args: Mapping[str, str]) ->
     document, problems = read_file(path, table=True)
     if document is None:
         return Loaded(path, "urdf", None, problems, [path])
-    needs_xacro = xacro_in_urdf(document.root, document.span)
+    needs_xacro = xacro_in_urdf(document.root, document.span) if document.may_use_xacro else None
     if needs_xacro is not None:  # a xacro file under a .urdf name: read it as xacro does
         loaded = _read_xacro(path, args, resolver)
         found = [*problems, needs_xacro, *loaded.diagnostics]

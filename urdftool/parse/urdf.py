@@ -135,9 +135,7 @@ class UrdfReader:
         """Group child elements by tag, reporting unknown and repeated ones."""
         allowed = CHILDREN.get(element.tag, {})
         groups: dict[str, list[etree._Element]] = {}
-        for child in element:
-            if not isinstance(child.tag, str):
-                continue
+        for child in element.iterchildren(etree.Element):  # elements only, filtered in C
             groups.setdefault(child.tag, []).append(child)
         for tag, items in groups.items():
             if tag in allowed:

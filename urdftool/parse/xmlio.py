@@ -150,6 +150,9 @@ class XmlDocument:
     #: element -> 1-based (line, column) of its start tag; ``None`` when the elements are stamped.
     #: The keys keep lxml's proxies alive, so an element is found again by identity.
     positions: dict[etree._Element, tuple[int, int]] | None = None
+    #: the text could put an element in xacro's namespace: it names ``wiki/xacro`` or holds a
+    #: character reference (which could spell it); when false, :func:`xacro_in_urdf` has nothing to find
+    may_use_xacro: bool = True
 
     def span(self, element: etree._Element) -> Span | None:
         """Where *element*'s start tag was written: from the table, else from the stamps."""
@@ -251,11 +254,12 @@ def parse_bytes(
         return None, [XmlSyntax.diagnostic(str(exc), Span(path, 1, 1))]
     if root is None:
         return None, [XmlSyntax.diagnostic("document has no root element", Span(path, 1, 1))]
+    may_use_xacro = b"wiki/xacro" in data or b"&#" in data
     if stamp and table:
-        return XmlDocument(root, sys.intern(path), _position_table(root, data)), warnings
+        return XmlDocument(root, sys.intern(path), _position_table(root, data), may_use_xacro), warnings
     if stamp:
         _stamp_positions(root, data, path)
-    return XmlDocument(root, path), warnings
+    return XmlDocument(root, path, may_use_xacro=may_use_xacro), warnings
 
 
 _DECLARED_VERSION = re.compile(rb"^(\s*<\?xml[^>]*?version\s*=\s*[\"'])([^\"']*)([\"'])")
