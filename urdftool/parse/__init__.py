@@ -114,15 +114,16 @@ def _read_urdf(path: str, resolver: PackageResolver, args: Mapping[str, str]) ->
     from urdftool.parse.urdf import UrdfReader
     from urdftool.parse.xmlio import read_file, xacro_in_urdf
 
-    document, problems = read_file(path)
+    # Positions in a table, not stamped on every element: the reader walks the tree once.
+    document, problems = read_file(path, table=True)
     if document is None:
         return Loaded(path, "urdf", None, problems, [path])
-    needs_xacro = xacro_in_urdf(document.root)
+    needs_xacro = xacro_in_urdf(document.root, document.span) if document.may_use_xacro else None
     if needs_xacro is not None:  # a xacro file under a .urdf name: read it as xacro does
         loaded = _read_xacro(path, args, resolver)
         found = [*problems, needs_xacro, *loaded.diagnostics]
         return _finish(path, "xacro", loaded.robot, found, loaded.files)
-    reader = UrdfReader(path, SourceIndex(), resolver)
+    reader = UrdfReader(path, SourceIndex(), resolver, document=document)
     robot = reader.read(document.root)
     return _finish(path, "urdf", robot, problems + reader.diagnostics, [path])
 

@@ -16,6 +16,7 @@ cannot be read becomes a diagnostic of a reader rule (``xml-syntax``,
 from __future__ import annotations
 
 import os
+from collections.abc import Callable
 from dataclasses import dataclass, field
 
 from lxml import etree
@@ -162,22 +163,23 @@ def read_srdf(path: str, resolver: PackageResolver | None = None) -> Srdf:
         srdf.diagnostics[:0] = found
         srdf.files = result.files or [path]
         return srdf
-    document, problems = read_file(path)
+    document, problems = read_file(path, table=True)  # the SRDF keeps no element: no stamps
     if document is None:
         return Srdf(path, diagnostics=problems, span=Span(path, 1, 1), files=[path])
-    srdf = _Reader(path).read(document.root)
+    srdf = _Reader(path, document.span).read(document.root)
     srdf.diagnostics[:0] = problems
     srdf.files = [path]
     return srdf
 
 
 class _Reader:
-    def __init__(self, path: str) -> None:
+    def __init__(self, path: str, locate: Callable[[etree._Element], Span | None] = span_of) -> None:
         self.path = path
+        self.locate = locate
         self.diagnostics: list[Diagnostic] = []
 
     def span(self, element: etree._Element) -> Span:
-        return span_of(element) or Span(self.path)
+        return self.locate(element) or Span(self.path)
 
     def attr(self, element: etree._Element, name: str, where: str) -> str | None:
         value = element.get(name)
@@ -192,9 +194,10 @@ class _Reader:
             return None
         return str(value).strip()
 
-    def named(self, element: etree._Element, name: str, where: str) -> Named | None:
+    def named(self, element: etree._Element, name: str, where: str, span: Span | None = None) -> Named | None:
+        """The attribute *name* with the element's span (*span* when the caller has it already)."""
         value = self.attr(element, name, where)
-        return None if value is None else Named(value, self.span(element))
+        return None if value is None else Named(value, span or self.span(element))
 
     def read(self, root: etree._Element) -> Srdf:
         srdf = Srdf(self.path, span=self.span(root))
@@ -338,11 +341,12 @@ class _Reader:
 
     def collision_pair(self, element: etree._Element) -> CollisionPair | None:
         where = str(element.tag)
-        link1 = self.named(element, "link1", where)
-        link2 = self.named(element, "link2", where)
+        span = self.span(element)  # one span for the pair and both its links: SRDFs list thousands
+        link1 = self.named(element, "link1", where, span)
+        link2 = self.named(element, "link2", where, span)
         if link1 is None or link2 is None:
             return None
-        return CollisionPair(link1, link2, element.get("reason"), self.span(element),
+        return CollisionPair(link1, link2, element.get("reason"), span,
                              enable=element.tag == "enable_collisions")
 
 

@@ -7,7 +7,7 @@ reports everything urdfdom would refuse or silently ignore, then carries on.
 
 from __future__ import annotations
 
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field
 
 from lxml import etree
@@ -65,7 +65,7 @@ from urdftool.parse.urdf_schema import (
     is_extension_name,
 )
 from urdftool.parse.values import ValueReader
-from urdftool.parse.xmlio import span_of
+from urdftool.parse.xmlio import XmlDocument, span_of
 from urdftool.source import SRC_ATTRIBUTE, SourceIndex, Span
 
 
@@ -78,10 +78,14 @@ class UrdfReader:
     resolver: PackageResolver
     #: the document came out of xacro (substitutions were already expanded)
     expanded: bool = False
+    #: the document being read when its positions are in a table (``None``: its elements are stamped)
+    document: XmlDocument | None = None
     values: ValueReader = field(init=False)
+    span: Callable[[etree._Element], Span | None] = field(init=False)  #: where a start tag was written
 
     def __post_init__(self) -> None:
-        self.values = ValueReader(self.sources, check_substitutions=not self.expanded)
+        self.span = self.document.span if self.document is not None else span_of
+        self.values = ValueReader(self.sources, check_substitutions=not self.expanded, locate=self.span)
         #: (element, who reads it) -> (where first seen, elements carrying it, the names seen)
         self.vendor: dict[tuple[str, str], tuple[Span | None, int, list[str]]] = {}
 
@@ -131,19 +135,18 @@ class UrdfReader:
         """Group child elements by tag, reporting unknown and repeated ones."""
         allowed = CHILDREN.get(element.tag, {})
         groups: dict[str, list[etree._Element]] = {}
-        for child in element:
-            if not isinstance(child.tag, str):
-                continue
+        for child in element.iterchildren(etree.Element):  # elements only, filtered in C
             groups.setdefault(child.tag, []).append(child)
         for tag, items in groups.items():
             if tag in allowed:
                 if not allowed[tag] and len(items) > 1:
+                    first = getattr(self.span(items[0]), "line", None) or "?"
                     for extra in items[1:]:
                         self._report(
                             RepeatedElement.diagnostic(
                                 f"{where}: <{tag}> is repeated; the first one (line "
-                                f"{_line(items[0])}) is used and this one ignored",
-                                span_of(extra),
+                                f"{first}) is used and this one ignored",
+                                self.span(extra),
                                 element=f"{where}/{tag}",
                                 # CAD exporters write several colours per visual; every loader
                                 # shows the first, and nothing but the look depends on it.
@@ -153,18 +156,30 @@ class UrdfReader:
             elif (element.tag, tag) in VENDOR_ELEMENTS:
                 reader = VENDOR_ELEMENTS[element.tag, tag]
                 for item in items:
-                    self._vendor(f"<{element.tag}>", [f"<{tag}>"], span_of(item), reader)
+                    self._vendor(f"<{element.tag}>", [f"<{tag}>"], self.span(item), reader)
             elif not self._tolerated(element.tag, tag):
                 for item in items:
                     self._report(
                         UnknownElement.diagnostic(
                             f"{where}: <{element.tag}> has no child <{tag}>"
                             + did_you_mean(tag, allowed),
-                            span_of(item),
+                            self.span(item),
                             element=f"{where}/{tag}",
                         )
                     )
         return groups
+
+    def _extension(self, element: etree._Element) -> Extension:
+        """*element* kept in the model as written; stamped, since rules and exporters locate
+        its children with ``span_of`` after the reading."""
+        if self.document is not None:
+            self.document.stamp(element)
+        return Extension(
+            tag=element.tag if isinstance(element.tag, str) else str(element.tag),
+            attributes={k: v for k, v in element.attrib.items() if k != SRC_ATTRIBUTE},
+            element=element,
+            span=self.span(element),
+        )
 
     @staticmethod
     def _tolerated(parent: str, tag: str) -> bool:
@@ -193,7 +208,7 @@ class UrdfReader:
             self._report(
                 NotARobot.diagnostic(
                     f"root element is <{root.tag}>, not <robot>",
-                    span_of(root),
+                    self.span(root),
                     help="urdftool reads URDF (<robot>), xacro and SDF (<sdf>) files",
                 )
             )
@@ -204,7 +219,7 @@ class UrdfReader:
             self._report(
                 RobotNameMissing.diagnostic(
                     "<robot> has no name" if name is None else "<robot> has an empty name",
-                    span_of(root),
+                    self.span(root),
                     element="robot",
                 )
             )
@@ -231,11 +246,11 @@ class UrdfReader:
                         UnknownElement.diagnostic(
                             f"<robot> has no child <{tag}>"
                             + did_you_mean(tag, ["link", "joint", "material", *KNOWN_EXTENSIONS]),
-                            span_of(child),
+                            self.span(child),
                             element=f"robot/{tag}",
                         )
                     )
-                extensions.append(_extension(child))
+                extensions.append(self._extension(child))
         self._report_vendor()
         return Robot(
             name=name,
@@ -245,7 +260,7 @@ class UrdfReader:
             extensions=tuple(extensions),
             path=self.path,
             format="urdf",
-            span=span_of(root),
+            span=self.span(root),
         )
 
     # -- links -------------------------------------------------------------------
@@ -259,12 +274,12 @@ class UrdfReader:
         visuals = tuple(self._visual(v, f"{where}/visual") for v in groups.get("visual", []))
         collisions = tuple(self._collision(c, f"{where}/collision") for c in groups.get("collision", []))
         extras = tuple(
-            _extension(item)
+            self._extension(item)
             for tag, items in groups.items()
             if tag not in CHILDREN["link"]
             for item in items
         )
-        return Link(name, inertial, visuals, collisions, span_of(element), extras)
+        return Link(name, inertial, visuals, collisions, self.span(element), extras)
 
     def _inertial(self, element: etree._Element, where: str) -> Inertial | None:
         here = f"{where}/inertial"
@@ -276,7 +291,7 @@ class UrdfReader:
             if el is None:
                 self._report(
                     MissingElement.diagnostic(
-                        f"{here}: <inertial> has no <{tag}>", span_of(element), element=here
+                        f"{here}: <inertial> has no <{tag}>", self.span(element), element=here
                     )
                 )
         mass = 0.0
@@ -296,9 +311,9 @@ class UrdfReader:
             mass=mass,
             inertia=tensor,
             origin=origin,
-            span=span_of(element),
-            mass_span=span_of(mass_el) if mass_el is not None else None,
-            inertia_span=span_of(inertia_el) if inertia_el is not None else None,
+            span=self.span(element),
+            mass_span=self.span(mass_el) if mass_el is not None else None,
+            inertia_span=self.span(inertia_el) if inertia_el is not None else None,
         )
 
     def _visual(self, element: etree._Element, where: str) -> Visual:
@@ -312,7 +327,7 @@ class UrdfReader:
             origin=self._origin(groups, where),
             name=element.get("name"),
             material=material,
-            span=span_of(element),
+            span=self.span(element),
         )
 
     def _collision(self, element: etree._Element, where: str) -> Collision:
@@ -322,7 +337,7 @@ class UrdfReader:
             geometry=self._geometry(element, groups, where),
             origin=self._origin(groups, where),
             name=element.get("name"),
-            span=span_of(element),
+            span=self.span(element),
         )
 
     def _geometry(
@@ -332,7 +347,7 @@ class UrdfReader:
         if not items:
             self._report(
                 MissingElement.diagnostic(
-                    f"{where}: <{parent.tag}> has no <geometry>", span_of(parent), element=where
+                    f"{where}: <{parent.tag}> has no <geometry>", self.span(parent), element=where
                 )
             )
             return None
@@ -346,7 +361,7 @@ class UrdfReader:
                     UnknownElement.diagnostic(
                         f"{here}: <geometry> has no shape <{other.tag}>"
                         + did_you_mean(other.tag, ["box", "cylinder", "sphere", "mesh"]),
-                        span_of(other),
+                        self.span(other),
                         element=here,
                     )
                 )
@@ -355,7 +370,7 @@ class UrdfReader:
                 self._report(
                     MissingElement.diagnostic(
                         f"{here}: <geometry> has no shape (box, cylinder, sphere or mesh)",
-                        span_of(geometry),
+                        self.span(geometry),
                         element=here,
                     )
                 )
@@ -365,7 +380,7 @@ class UrdfReader:
                 RepeatedElement.diagnostic(
                     f"{here}: <geometry> has more than one shape; <{known[0].tag}> is used, "
                     f"<{extra.tag}> ignored",
-                    span_of(extra),
+                    self.span(extra),
                     element=here,
                 )
             )
@@ -374,7 +389,7 @@ class UrdfReader:
     def _shape(self, shape: etree._Element, where: str) -> Geometry | None:
         self._check_attributes(shape, where)
         v = self.values
-        span = span_of(shape)
+        span = self.span(shape)
         if shape.tag == "box":
             size = v.vector(shape, "size", where, required=True)
             return Box((size[0], size[1], size[2]), span) if size else None
@@ -411,7 +426,7 @@ class UrdfReader:
         if where == "robot/material" and not name:
             self._report(
                 MissingAttribute.diagnostic(
-                    "top-level <material> needs a 'name' attribute", span_of(element), element=where
+                    "top-level <material> needs a 'name' attribute", self.span(element), element=where
                 )
             )
         here = f"{where}[{name}]" if where == "robot/material" else where
@@ -426,7 +441,7 @@ class UrdfReader:
         if "texture" in groups:
             self._check_attributes(groups["texture"][0], f"{here}/texture")
             texture = groups["texture"][0].get("filename")
-        return Material(name, color, texture, span_of(element))
+        return Material(name, color, texture, self.span(element))
 
     # -- joints ------------------------------------------------------------------
 
@@ -447,7 +462,7 @@ class UrdfReader:
             if not link:
                 self._report(
                     JointMissingParentOrChild.diagnostic(
-                        f"joint '{name}' has no {role} link", span_of(element), element=where
+                        f"joint '{name}' has no {role} link", self.span(element), element=where
                     )
                 )
             ends[role] = link or ""
@@ -459,7 +474,7 @@ class UrdfReader:
             value = v.vector(axis_el, "xyz", f"{where}/axis")
             if value is not None:
                 axis = (value[0], value[1], value[2])
-            axis_span = span_of(axis_el)
+            axis_span = self.span(axis_el)
         return Joint(
             name=name,
             type=jtype,
@@ -472,10 +487,10 @@ class UrdfReader:
             mimic=self._mimic(groups, where),
             safety_controller=self._safety(groups, where),
             calibration=self._calibration(groups, where),
-            span=span_of(element),
+            span=self.span(element),
             axis_span=axis_span,
             extensions=tuple(
-                _extension(item)
+                self._extension(item)
                 for tag, items in groups.items()
                 if tag not in CHILDREN["joint"]
                 for item in items
@@ -529,7 +544,7 @@ class UrdfReader:
         spans = {side: self.values.attr_span(el, side) if el.get(side) is not None else None
                  for side in ("lower", "upper")}
         return Limit(n(el, "lower", here), n(el, "upper", here), n(el, "effort", here),
-                     n(el, "velocity", here), span_of(el), spans["lower"], spans["upper"])
+                     n(el, "velocity", here), self.span(el), spans["lower"], spans["upper"])
 
     def _dynamics(self, groups: dict[str, list[etree._Element]], where: str) -> Dynamics | None:
         el = self._single(groups, "dynamics", where)
@@ -538,7 +553,7 @@ class UrdfReader:
         here = f"{where}/dynamics"
         damping = self.values.number(el, "damping", here)
         friction = self.values.number(el, "friction", here)
-        return Dynamics(damping or 0.0, friction or 0.0, span_of(el))
+        return Dynamics(damping or 0.0, friction or 0.0, self.span(el))
 
     def _mimic(self, groups: dict[str, list[etree._Element]], where: str) -> Mimic | None:
         el = self._single(groups, "mimic", where)
@@ -550,7 +565,7 @@ class UrdfReader:
             return None
         multiplier = self.values.number(el, "multiplier", here)
         offset = self.values.number(el, "offset", here)
-        return Mimic(target, 1.0 if multiplier is None else multiplier, offset or 0.0, span_of(el))
+        return Mimic(target, 1.0 if multiplier is None else multiplier, offset or 0.0, self.span(el))
 
     def _safety(self, groups: dict[str, list[etree._Element]], where: str) -> SafetyController | None:
         el = self._single(groups, "safety_controller", where)
@@ -564,7 +579,7 @@ class UrdfReader:
             n(el, "k_position", here) or 0.0,
             n(el, "soft_lower_limit", here) or 0.0,
             n(el, "soft_upper_limit", here) or 0.0,
-            span_of(el),
+            self.span(el),
         )
 
     def _calibration(self, groups: dict[str, list[etree._Element]], where: str) -> Calibration | None:
@@ -573,21 +588,7 @@ class UrdfReader:
             return None
         here = f"{where}/calibration"
         return Calibration(self.values.number(el, "rising", here), self.values.number(el, "falling", here),
-                           span_of(el))
-
-
-def _line(element: etree._Element) -> int | str:
-    span = span_of(element)
-    return span.line if span and span.line else "?"
-
-
-def _extension(element: etree._Element) -> Extension:
-    return Extension(
-        tag=element.tag if isinstance(element.tag, str) else str(element.tag),
-        attributes={k: v for k, v in element.attrib.items() if k != SRC_ATTRIBUTE},
-        element=element,
-        span=span_of(element),
-    )
+                           self.span(el))
 
 
 def iter_elements(root: etree._Element) -> Iterator[etree._Element]:

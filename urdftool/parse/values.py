@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import functools
 import re
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import cast
 
@@ -105,12 +106,15 @@ class ValueReader:
     diagnostics: list[Diagnostic] = field(default_factory=list)
     #: whether ``${…}``/``$(…)`` in values is an error (not after xacro expansion)
     check_substitutions: bool = True
+    #: where an element's start tag was written (``XmlDocument.span`` for a document whose
+    #: positions are in a table)
+    locate: Callable[[etree._Element], Span | None] = span_of
 
     def span(self, element: etree._Element) -> Span | None:
-        return span_of(element)
+        return self.locate(element)
 
     def attr_span(self, element: etree._Element, attribute: str) -> Span | None:
-        span = span_of(element)
+        span = self.locate(element)
         if span is None:
             return None
         return self.sources.attribute_span(span, attribute)

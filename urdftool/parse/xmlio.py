@@ -9,13 +9,18 @@ diagnostic, never an exception.
 
 After parsing, every element gets a :data:`~urdftool.source.SRC_ATTRIBUTE`
 recording where its start tag was written, so spans survive any later
-transformation (xacro expansion, extraction of ``<gazebo>`` blocks).
+transformation (xacro expansion, extraction of ``<gazebo>`` blocks). A reader
+that only walks the document once (the URDF and SRDF readers) asks for a
+position table instead (``table=True``): the same positions, kept beside the
+tree rather than written into it, which saves writing and decoding an
+attribute on every element; it stamps only the elements the model keeps.
 """
 
 from __future__ import annotations
 
 import re
 import sys
+from collections.abc import Callable
 from dataclasses import dataclass
 
 from lxml import etree
@@ -131,10 +136,42 @@ def _parser() -> etree.XMLParser:
 
 @dataclass
 class XmlDocument:
-    """A parsed document whose elements carry their source positions."""
+    """A parsed document whose elements carry their source positions.
+
+    The positions are either stamped on every element (:data:`SRC_ATTRIBUTE`) or,
+    for a document read with ``table=True``, kept in :attr:`positions`: then
+    :meth:`span` finds them, and :meth:`stamp` writes them onto the elements that
+    outlive the reading (the model's ``Extension.element`` subtrees), so that
+    :func:`span_of` finds those later.
+    """
 
     root: etree._Element
     path: str
+    #: element -> 1-based (line, column) of its start tag; ``None`` when the elements are stamped.
+    #: The keys keep lxml's proxies alive, so an element is found again by identity.
+    positions: dict[etree._Element, tuple[int, int]] | None = None
+    #: the text could put an element in xacro's namespace: it names ``wiki/xacro`` or holds a
+    #: character reference (which could spell it); when false, :func:`xacro_in_urdf` has nothing to find
+    may_use_xacro: bool = True
+
+    def span(self, element: etree._Element) -> Span | None:
+        """Where *element*'s start tag was written: from the table, else from the stamps."""
+        if self.positions is not None:
+            found = self.positions.get(element)
+            if found is not None:
+                return Span(self.path, found[0], found[1])
+        return span_of(element)
+
+    def stamp(self, element: etree._Element) -> None:
+        """Stamp *element* and everything below it from the table (no-op for a stamped document)."""
+        positions = self.positions
+        if positions is None:
+            return
+        path = self.path
+        for node in element.iter(etree.Element):
+            found = positions.get(node)
+            if found is not None and node.get(SRC_ATTRIBUTE) is None:
+                node.set(SRC_ATTRIBUTE, f"{found[0]}:{found[1]}:{path}")
 
 
 def encode_src(path: str, line: int, column: int) -> str:
@@ -166,11 +203,12 @@ def line_of(data: bytes, offset: int) -> int:
 
 
 def parse_bytes(
-    data: bytes, path: str, stamp: bool = True, kind: str = "model"
+    data: bytes, path: str, stamp: bool = True, kind: str = "model", table: bool = False
 ) -> tuple[XmlDocument | None, list[Diagnostic]]:
     """Parse *data* read from *path*; return the document or the diagnostics that stop it.
 
-    With *stamp*, every element records its position in *data*; without, the
+    With *stamp*, every element records its position in *data* (with *table*, in
+    the document's position table instead of an attribute); without, the
     document is taken to carry positions already (xacro output).
     """
     cap = limit(kind)
@@ -216,9 +254,12 @@ def parse_bytes(
         return None, [XmlSyntax.diagnostic(str(exc), Span(path, 1, 1))]
     if root is None:
         return None, [XmlSyntax.diagnostic("document has no root element", Span(path, 1, 1))]
+    may_use_xacro = b"wiki/xacro" in data or b"&#" in data
+    if stamp and table:
+        return XmlDocument(root, sys.intern(path), _position_table(root, data), may_use_xacro), warnings
     if stamp:
         _stamp_positions(root, data, path)
-    return XmlDocument(root, path), warnings
+    return XmlDocument(root, path, may_use_xacro=may_use_xacro), warnings
 
 
 _DECLARED_VERSION = re.compile(rb"^(\s*<\?xml[^>]*?version\s*=\s*[\"'])([^\"']*)([\"'])")
@@ -416,26 +457,32 @@ def _first_element(data: bytes) -> int:
     return match.start() if match else len(data)
 
 
-def _stamp_positions(root: etree._Element, data: bytes, path: str) -> None:
+def _position_table(root: etree._Element, data: bytes) -> dict[etree._Element, tuple[int, int]]:
+    """Every element's start-tag (line, column); the i-th expat start is the i-th lxml element."""
     elements = list(root.iter(etree.Element))  # elements only: no comments, PIs or entities
     try:
         starts = element_starts(data)
     except Exception:  # expat disagreeing with libxml2: fall back to lxml's lines
         starts = []
-    # encode_src, inlined: this runs once per element of every file read
     if len(starts) == len(elements):
-        for element, (line, column) in zip(elements, starts, strict=True):
-            element.set(SRC_ATTRIBUTE, f"{line}:{column}:{path}")
-    else:
-        for element in elements:
-            element.set(SRC_ATTRIBUTE, f"{element.sourceline or 1}:1:{path}")
+        return dict(zip(elements, starts, strict=True))
+    return {element: (element.sourceline or 1, 1) for element in elements}
 
 
-def read_file(path: str, kind: str = "model") -> tuple[XmlDocument | None, list[Diagnostic]]:
-    """Read and parse *path*. Raises :class:`OSError` when the file cannot be read
+def _stamp_positions(root: etree._Element, data: bytes, path: str) -> None:
+    # encode_src, inlined: this runs once per element of every file read
+    for element, (line, column) in _position_table(root, data).items():
+        element.set(SRC_ATTRIBUTE, f"{line}:{column}:{path}")
+
+
+def read_file(
+    path: str, kind: str = "model", table: bool = False
+) -> tuple[XmlDocument | None, list[Diagnostic]]:
+    """Read and parse *path* (positions in a table with *table*, see :class:`XmlDocument`).
+    Raises :class:`OSError` when the file cannot be read
     (:class:`~urdftool.safe_files.UnsafeFile` when it is not a regular file)."""
     data = read_up_to_cap(path, kind)
-    return parse_bytes(data, path, kind=kind)
+    return parse_bytes(data, path, kind=kind, table=table)
 
 
 def read_up_to_cap(path: str, kind: str) -> bytes:
@@ -445,18 +492,24 @@ def read_up_to_cap(path: str, kind: str) -> bytes:
         return handle.read(limit(kind) + 1)
 
 
-def xacro_in_urdf(root: etree._Element) -> Diagnostic | None:
-    """A ``xacro-in-urdf`` finding when the URDF document *root* uses xacro elements."""
-    for element in root.iter():
-        tag = element.tag
-        # Only namespaced tags ("{uri}name") can be xacro; test the string before building a QName.
-        if isinstance(tag, str) and tag.startswith("{") and "wiki/xacro" in tag:
-            tag = etree.QName(element).localname
-            return XacroInUrdf.diagnostic(
-                f"this .urdf file uses xacro (<xacro:{tag}>); it was expanded with xacro, but "
-                "URDF loaders that read it directly will fail",
-                span_of(element),
-                help="rename it to .urdf.xacro, or ship the expanded URDF",
-                data={"element": f"xacro:{tag}"},
-            )
+def xacro_in_urdf(
+    root: etree._Element, locate: Callable[[etree._Element], Span | None] = span_of
+) -> Diagnostic | None:
+    """A ``xacro-in-urdf`` finding when the URDF document *root* uses xacro elements
+    (*locate* gives an element's span: :meth:`XmlDocument.span` for a tabled document)."""
+    # The first element, in document order, whose namespace is xacro's; XPath walks the tree in C.
+    found = _XACRO_ELEMENT(root)
+    if isinstance(found, list) and found and isinstance(found[0], etree._Element):
+        element = found[0]
+        tag = etree.QName(element).localname
+        return XacroInUrdf.diagnostic(
+            f"this .urdf file uses xacro (<xacro:{tag}>); it was expanded with xacro, but "
+            "URDF loaders that read it directly will fail",
+            locate(element),
+            help="rename it to .urdf.xacro, or ship the expanded URDF",
+            data={"element": f"xacro:{tag}"},
+        )
     return None
+
+
+_XACRO_ELEMENT = etree.XPath("descendant-or-self::*[contains(namespace-uri(), 'wiki/xacro')][1]")

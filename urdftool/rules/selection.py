@@ -63,9 +63,8 @@ class Selection:
         """Build a selection, splitting comma-separated lists and validating every selector."""
         sel = _split(select) if select is not None else None
         ign = _split(ignore) if ignore is not None else ()
-        rules = INDEX.values()
         for s in (*(sel or ()), *ign):
-            if not any(_specificity(s, r) is not None for r in rules):
+            if not _names_a_rule(s):
                 raise UnknownSelector(f"'{s}' matches no rule code, prefix or name")
         return cls(sel if sel else None, ign)
 
@@ -88,6 +87,12 @@ class Selection:
     def enabled_code(self, code: str) -> bool:
         """Whether the rule with this code is on (memoised: called once per finding)."""
         return _enabled_code(self, code)
+
+
+@functools.lru_cache(maxsize=1024)
+def _names_a_rule(selector: str) -> bool:
+    """Whether *selector* matches any rule (memoised: every file of a run builds its selection)."""
+    return any(_specificity(selector, r) is not None for r in INDEX.values())
 
 
 @functools.lru_cache(maxsize=4096)

@@ -1,0 +1,115 @@
+"""Element positions kept in a table (the URDF and SRDF readers) are the stamped positions.
+
+The readers that walk a document once ask ``parse_bytes(..., table=True)`` for a
+position table instead of an attribute on every element (a third of reading a
+file went into writing and decoding those attributes). These tests hold the two
+ways to the same spans, and check that the elements a model keeps (its
+``<gazebo>``, ``<transmission>``, ``<ros2_control>`` blocks) are still stamped,
+since rules and exporters locate their children with ``span_of`` later.
+"""
+
+from __future__ import annotations
+
+import glob
+
+import pytest
+from lxml import etree
+
+from tests.conftest import ERD, SEEDS
+from urdftool.parse import read
+from urdftool.parse.xmlio import parse_bytes, span_of
+from urdftool.source import SRC_ATTRIBUTE
+
+#: start tags over several lines, several on one line, non-ASCII text before a tag, a comment
+#: holding '<', CDATA, and a <gazebo> block kept on the model
+TRICKY = """<?xml version="1.0"?>
+<!-- provenance: hand-written for urdftool's position table; a comment with <link> in it -->
+<robot name="tricky">
+  <link name="b\u00e4se"><visual><geometry><box size="1 1 1"/></geometry></visual></link>
+  <link
+      name="arm">
+    <inertial><mass value="1"/><inertia ixx="1" ixy="0" ixz="0" iyy="1" iyz="0" izz="1"/></inertial>
+  </link>
+  <joint name="j" type="revolute"><parent link="b\u00e4se"/><child link="arm"/>
+    <limit lower="0" upper="1" effort="1" velocity="1"/></joint>
+  <gazebo reference="arm"><material>Gazebo/\u00c4</material><![CDATA[ <not-an-element/> ]]>
+    <plugin name="p" filename="libp.so"><param
+        name="x">1</param></plugin>
+  </gazebo>
+</robot>
+"""
+
+
+def _documents() -> list[tuple[str, bytes]]:
+    found = [("tricky.urdf", TRICKY.encode("utf-8"))]
+    paths = sorted(glob.glob(str(SEEDS / "**" / "*.urdf"), recursive=True))[:20]
+    if ERD is not None:
+        paths += sorted(glob.glob(str(ERD / "**" / "*.urdf"), recursive=True))[:10]
+    for path in paths:
+        with open(path, "rb") as handle:
+            found.append((path, handle.read()))
+    return found
+
+
+@pytest.mark.parametrize(("path", "data"), _documents(), ids=lambda v: v if isinstance(v, str) else "")
+def test_table_gives_the_stamped_positions(path: str, data: bytes) -> None:
+    stamped, _ = parse_bytes(data, path)
+    tabled, _ = parse_bytes(data, path, table=True)
+    if stamped is None:  # a seed with a syntax error: refused either way
+        assert tabled is None
+        return
+    assert tabled is not None
+    assert tabled.positions is not None
+    elements = list(tabled.root.iter(etree.Element))
+    assert all(e.get(SRC_ATTRIBUTE) is None for e in elements)  # nothing written into the tree
+    expected = [span_of(e) for e in stamped.root.iter(etree.Element)]
+    assert [tabled.span(e) for e in elements] == expected
+    assert all(span is not None and span.column is not None for span in expected)
+
+
+def _at(needle: str) -> tuple[int, int]:
+    """(line, character column) of *needle* in TRICKY, counted on the text."""
+    for number, line in enumerate(TRICKY.split("\n"), start=1):
+        if needle in line:
+            return number, line.index(needle) + 1
+    raise AssertionError(needle)
+
+
+def test_tricky_positions_are_exact() -> None:
+    tabled, _ = parse_bytes(TRICKY.encode("utf-8"), "tricky.urdf", table=True)
+    assert tabled is not None
+    spans = {e.get("name") or e.tag: tabled.span(e) for e in tabled.root.iter(etree.Element)}
+    found = {key: (span.line, span.column) for key, span in spans.items() if span is not None}
+    assert found["arm"] == (5, 3)  # a start tag over two lines: where its '<' is
+    assert found["box"] == _at("<box")  # after non-ASCII text: columns count characters, not bytes
+    assert found["x"] == (_at("<param")[0], _at("<param")[1])
+    assert found["limit"] == _at("<limit")
+
+
+def test_kept_extension_elements_are_stamped(tmp_path: object) -> None:
+    path = f"{tmp_path}/tricky.urdf"
+    with open(path, "w", encoding="utf-8") as handle:
+        handle.write(TRICKY)
+    [loaded] = read(path)
+    assert loaded.robot is not None
+    [gazebo] = loaded.robot.extensions
+    assert gazebo.element is not None
+    assert SRC_ATTRIBUTE not in gazebo.attributes
+    located = {e.tag: span_of(e) for e in gazebo.element.iter(etree.Element)}
+    assert {tag: (s.line, s.column) for tag, s in located.items() if s} == {
+        tag: _at(f"<{tag}") for tag in ("gazebo", "material", "plugin", "param")
+    }
+    assert loaded.robot.link("arm").span.line == 5  # type: ignore[union-attr]
+
+
+@pytest.mark.parametrize("uri", ["http://www.ros.org/wiki/xacro", "http://www.ros.org/wiki/&#120;acro"])
+def test_xacro_in_urdf_is_found_however_its_namespace_is_written(tmp_path: object, uri: str) -> None:
+    """The reader skips the xacro search when the text cannot name xacro's namespace; a
+    character reference could spell it, so it does not skip then."""
+    path = f"{tmp_path}/arm.urdf"
+    with open(path, "w", encoding="utf-8") as handle:
+        handle.write(f'<robot name="r" xmlns:xacro="{uri}">\n  <xacro:property name="l" value="1"/>\n'
+                     '  <link name="a"/>\n</robot>\n')
+    [loaded] = read(path)
+    found = [d for d in loaded.diagnostics if d.name == "xacro-in-urdf"]
+    assert [(d.location.line, d.location.column) for d in found if d.location] == [(2, 3)]
