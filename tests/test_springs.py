@@ -65,3 +65,11 @@ def test_a_spring_on_a_loop_cut_is_reported_as_dropped(tmp_path: Path) -> None:
     dropped = [d for d in result.diagnostics if d.code == "C001" and "spring" in d.message]
     assert len(dropped) == 1 and "coupler_to_rocker" in dropped[0].message
     assert dropped[0].location is not None and dropped[0].location.line is not None
+
+
+def test_the_pybullet_export_says_pybullet_has_no_spring(tmp_path: Path) -> None:
+    from urdftool.export.pybullet import export as export_pybullet
+
+    result = export_pybullet(urdftool.load(PENDULUM), tmp_path / "robot.urdf", ExportOptions())
+    dropped = [d for d in result.diagnostics if d.code == "C001" and "spring" in d.message]
+    assert len(dropped) == 1 and "'hinge'" in dropped[0].message and dropped[0].severity.value == "warning"

@@ -234,9 +234,10 @@ def _spring_of_cut(joint: Joint, diagnostics: list[Diagnostic]) -> None:
     if joint.dynamics is None or joint.dynamics.spring_stiffness <= 0:
         return
     where = f"joint[{joint.name}]/axis/dynamics/spring_stiffness"
+    unit = "N/m" if joint.type is JointType.PRISMATIC else "N·m/rad"
     diagnostics.append(ConversionDropped.diagnostic(
         f"joint[{joint.name}]: closes a loop, so MJCF has no joint for its spring "
-        f"({joint.dynamics.spring_stiffness:g} per rad or m); the loop is closed without it",
+        f"({joint.dynamics.spring_stiffness:g} {unit}); the loop is closed without it",
         joint.dynamics.span or joint.span, element=where,
         data={"element": where, "reason": "the cut joint of a loop carries no spring"}))
 

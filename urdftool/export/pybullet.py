@@ -182,7 +182,7 @@ def export(robot: Robot, out: Path, options: ExportOptions) -> ExportResult:
     diagnostics = _structure(robot, tree) or _joint_refusals(robot)
     diagnostics += list(plan.diagnostics)
     inertia = plan_inertia(robot, tree, options.repair_inertia, options.floating_base)
-    diagnostics += inertia.diagnostics + _mimic_reports(robot)
+    diagnostics += inertia.diagnostics + _mimic_reports(robot) + _spring_reports(robot)
     if any(d.severity is Severity.ERROR for d in diagnostics):
         # Refused: converting meshes (seconds for large DAE files) would be wasted.
         return ExportResult({}, sorted(diagnostics, key=Diagnostic.sort_key))
@@ -197,6 +197,23 @@ def export(robot: Robot, out: Path, options: ExportOptions) -> ExportResult:
     return ExportResult(
         dict(sorted(files.items())), sorted(diagnostics + dropped, key=Diagnostic.sort_key)
     )
+
+
+def _spring_reports(robot: Robot) -> list[Diagnostic]:
+    """SDF joint springs: the file keeps them for Gazebo (``springStiffness``), PyBullet reads none."""
+    found = []
+    for joint in robot.joints:
+        dynamics = joint.dynamics
+        if dynamics is None or dynamics.spring_stiffness <= 0:
+            continue
+        where = f"joint[{joint.name}]/axis/dynamics/spring_stiffness"
+        unit = "N/m" if joint.type is JointType.PRISMATIC else "N·m/rad"
+        found.append(ConversionDropped.diagnostic(
+            f"joint '{joint.name}': PyBullet has no joint spring; its {dynamics.spring_stiffness:g} {unit} "
+            "spring is kept for Gazebo only (apply it as a force in your control loop)",
+            dynamics.span or joint.span, element=where,
+            data={"element": where, "reason": "PyBullet reads no joint spring"}))
+    return found
 
 
 def _prepared(robot: Robot, inertia: PyBulletInertia) -> Robot:
