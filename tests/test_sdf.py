@@ -186,3 +186,48 @@ def test_joint_types_are_read() -> None:
     robot = read(CASSIE[0])[0].robot  # cassie.sdf: ball, gearbox, prismatic, revolute
     types = {j.type for j in robot.joints} | {lc.joint.type for lc in robot.loop_closures}
     assert {JointType.SPHERICAL, JointType.GEARBOX, JointType.PRISMATIC, JointType.REVOLUTE} <= types
+
+
+def test_merged_include_by_bare_name_joins_the_model(tmp_path: Path) -> None:
+    # PX4's x500_depth: <include merge="true"><uri>x500</uri></include> names a model folder on
+    # gz-sim's resource path, and its plugins name the merged joints without a scope.
+    base = FIXTURES / "sdf-conformance" / "valid" / "models" / "merged_base" / "model.sdf"
+    (tmp_path / "merged_base").mkdir()
+    (tmp_path / "merged_base" / "model.sdf").write_text(base.read_text())
+    (tmp_path / "drone").mkdir()
+    drone = tmp_path / "drone" / "model.sdf"
+    drone.write_text(
+        '<sdf version="1.9"><model name="drone">'
+        '<include merge="true"><uri>merged_base</uri><pose>0 0 1 0 0 0</pose></include>'
+        '<plugin filename="gz-sim-multicopter-motor-model-system"'
+        ' name="gz::sim::systems::MulticopterMotorModel">'
+        "<jointName>rotor_joint</jointName><linkName>rotor</linkName></plugin>"
+        "</model></sdf>"
+    )
+    resolver = PackageResolver.create(environ={"GZ_SIM_RESOURCE_PATH": str(tmp_path)})
+    (loaded,) = read(str(drone), resolver=resolver)
+    robot = loaded.robot
+    assert robot is not None
+    assert [link.name for link in robot.links] == ["base_link", "rotor"]
+    np.testing.assert_allclose(robot.joint("rotor_joint").origin.xyz, [0.2, 0, 0.06], atol=1e-12)
+    options = CheckOptions(package_paths=(str(tmp_path),), rule_options={"dynamics": False})
+    findings = [d for r in check_file(str(drone), options) for d in r.diagnostics]
+    assert [d.code for d in findings if d.severity.value == "error"] == []
+    assert not any(d.code == "G003" for d in findings)
+
+
+def test_sdf_link_without_inertial_is_a_warning_with_the_sdf_default() -> None:
+    path = FIXTURES / "rules" / "I001" / "bad_sdf_default_inertial.sdf"
+    options = CheckOptions(select=("I001",), rule_options={"dynamics": False})
+    (found,) = [d for r in check_file(str(path), options) for d in r.diagnostics]
+    assert found.severity.value == "warning"
+    assert "SDF readers give it 1 kg" in found.message
+
+
+def test_dynamics_of_an_sdf_link_without_inertial_use_the_sdf_default() -> None:
+    # PX4's lawnmower: visual-only links on revolute joints weigh 1 kg in every SDF reader, so
+    # the mass matrix is not singular (no mass-matrix-singular error).
+    pytest.importorskip("pinocchio")
+    path = FIXTURES / "rules" / "I001" / "bad_sdf_default_inertial.sdf"
+    found = [d for r in check_file(str(path), CheckOptions()) for d in r.diagnostics]
+    assert [d.code for d in found if d.severity.value == "error"] == []

@@ -183,7 +183,8 @@ class XacroInUrdf(_Xacro):
     (`<xacro:arg>`, `<xacro:property>`, `<xacro:include>`, macro calls), at the
     first of them, and reads the file through xacro, as ROS launch files that
     run `xacro` on it do. Commented-out xacro and a merely declared
-    `xmlns:xacro` do not count.
+    `xmlns:xacro` do not count, nor does a file whose name says it is xacro
+    (`robot.xacro.urdf`, as gz_ros2_control's demos name theirs).
 
     ## Why it matters
     URDF loaders that read the file directly (urdfdom's `check_urdf`,

@@ -121,7 +121,10 @@ def _read_urdf(path: str, resolver: PackageResolver, args: Mapping[str, str]) ->
     needs_xacro = xacro_in_urdf(document.root, document.span) if document.may_use_xacro else None
     if needs_xacro is not None:  # a xacro file under a .urdf name: read it as xacro does
         loaded = _read_xacro(path, args, resolver)
-        found = [*problems, needs_xacro, *loaded.diagnostics]
+        # robot.xacro.urdf (gz_ros2_control's demos) already says it is xacro, and its
+        # launch files run xacro on it: nobody is misled into reading it as plain URDF.
+        named = ".xacro." in os.path.basename(path)
+        found = [*problems, *([] if named else [needs_xacro]), *loaded.diagnostics]
         return _finish(path, "xacro", loaded.robot, found, loaded.files)
     reader = UrdfReader(path, SourceIndex(), resolver, document=document)
     robot = reader.read(document.root)

@@ -5,7 +5,8 @@
 ``GAZEBO_MODEL_PATH``, the folders around the including file). The folder's
 ``model.config`` names the SDF file (the highest ``<sdf version>`` listed);
 without one, ``model.sdf`` is read. A URI may also be a folder or an ``.sdf``
-file path. ``model://sun`` and ``model://ground_plane`` are Gazebo's standard
+file path; a relative path not found beside the including file is looked up as a model
+name, as gz-sim's resource path does. ``model://sun`` and ``model://ground_plane`` are Gazebo's standard
 light and ground and need no files.
 """
 
@@ -105,7 +106,13 @@ def _locate(uri: str, resolver: PackageResolver, base: str) -> str | None:
         target = Path(found.path) / sub if sub else Path(found.path)
         return str(target) if target.exists() else None
     lookup = resolver.resolve_uri(uri, base)
-    return lookup.path if lookup.path and os.path.exists(lookup.path) else None
+    if lookup.path and os.path.exists(lookup.path):
+        return lookup.path
+    if "://" not in uri and not os.path.isabs(uri):
+        # A bare name (PX4's <uri>x500</uri>): sdformat hands what it cannot find to gz-sim's
+        # find-file callback, which looks it up on the resource path, as it does model://NAME.
+        return _locate("model://" + uri, resolver, base)
+    return None
 
 
 def _model_file(location: str) -> str | None:

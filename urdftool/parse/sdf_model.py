@@ -66,6 +66,8 @@ class _RawJoint:
     version: tuple[int, int]
     #: the joint's key in the frame graph (its name, unless a link took it)
     key: str = ""
+    #: the frame ``use_parent_model_frame`` means (a merged include's proxy frame, else ``scope::__model__``)
+    model_frame: str = ""
 
 
 @dataclass
@@ -87,6 +89,8 @@ class SdfModelReader:
     joints: list[_RawJoint] = field(default_factory=list)
     frames: list[_RawFrame] = field(default_factory=list)
     extensions: list[Extension] = field(default_factory=list)
+    #: scope -> the frame ``__model__`` means there, while a merged include is read into that scope
+    merged_frames: dict[str, str] = field(default_factory=dict)
 
     @property
     def diagnostics(self) -> list[Diagnostic]:
@@ -130,6 +134,10 @@ class SdfModelReader:
             elif tag == "model":
                 found = self._collect_nested(child, scope, child.get("name") or "", version, None)
                 nested_canonical = nested_canonical or found
+            elif tag == "include" and _merges(child):
+                # A merged model's first link is a link of this model, at the include's place.
+                found = self._collect_include(child, scope)
+                first_link = first_link or found
             elif tag == "include":
                 found = self._collect_include(child, scope)
                 nested_canonical = nested_canonical or found
@@ -149,14 +157,14 @@ class SdfModelReader:
         if pose_el is not None:
             attr = "relative_to" if pose_el.get("relative_to") else "frame"
             span = self.values.attr_span(pose_el, attr)
-        target = _scoped(scope, relative) if relative else default_to
+        target = self._scoped(scope, relative) if relative else default_to
         self.graph.add(FrameNode(name, kind, pose, target, attached_to, span or span_of(element),
                                  self.values.attr_span(element, "attached_to")))
 
     def _collect_link(self, element: etree._Element, scope: str, version: tuple[int, int]) -> str:
         name = scope + (self.values.text(element, "name", "link", required=True) or "")
         self.links.append(_RawLink(name, element, version))
-        self._pose_node(element, name, "link", scope, scope + MODEL_FRAME, name, version)
+        self._pose_node(element, name, "link", scope, self._model_frame(scope), name, version)
         return name
 
     def _collect_joint(self, element: etree._Element, scope: str, version: tuple[int, int]) -> None:
@@ -171,19 +179,20 @@ class SdfModelReader:
                         f"joint '{name}' has no {role} link", span_of(element), element=f"joint[{name}]"
                     )
                 )
-            ends[role] = _scoped(scope, text) if text else ""
+            ends[role] = self._scoped(scope, text) if text else ""
         # A joint named like a link is refused by libsdformat (one namespace for
         # frames) but common in converted URDF; its frame gets a private key.
         key = name if name not in self.graph.nodes else f"{name}\x00joint"
-        self.joints.append(_RawJoint(name, element, ends["parent"], ends["child"], scope, version, key))
+        self.joints.append(_RawJoint(name, element, ends["parent"], ends["child"], scope, version, key,
+                                     self._model_frame(scope)))
         self._pose_node(
-            element, key, "joint", scope, ends["child"] or scope + MODEL_FRAME, ends["child"], version
+            element, key, "joint", scope, ends["child"] or self._model_frame(scope), ends["child"], version
         )
 
     def _collect_frame(self, element: etree._Element, scope: str, version: tuple[int, int]) -> None:
         name = scope + (self.values.text(element, "name", "frame", required=True) or "")
         attached = element.get("attached_to")
-        target = _scoped(scope, attached) if attached else scope + MODEL_FRAME
+        target = self._scoped(scope, attached) if attached else self._model_frame(scope)
         self.frames.append(_RawFrame(name, element))
         self._pose_node(element, name, "frame", scope, target, target, version)
 
@@ -194,8 +203,35 @@ class SdfModelReader:
         frame = inner + MODEL_FRAME
         self.graph.aliases[scope + name] = frame
         self._pose_node(pose_source if pose_source is not None else model, frame, "model", scope,
-                        scope + MODEL_FRAME, canonical or "", version)
+                        self._model_frame(scope), canonical or "", version)
         return canonical
+
+    def _collect_merged(self, model: etree._Element, scope: str, name: str, version: tuple[int, int],
+                        pose_source: etree._Element) -> str | None:
+        """An ``<include merge="true">`` (1.9+): the model's links, joints, frames and plugins join
+        *scope* under their own names; its ``__model__`` becomes the frame
+        ``_merged__NAME__model__``, placed by the include's pose and attached to the merged model's
+        canonical link, as libsdformat's merge does."""
+        proxy = f"{scope}_merged__{name}__model__"
+        outer = self.merged_frames.get(scope)
+        self.merged_frames[scope] = proxy
+        try:
+            canonical = self._collect(model, scope, version)
+        finally:
+            if outer is None:
+                del self.merged_frames[scope]
+            else:
+                self.merged_frames[scope] = outer
+        self._pose_node(pose_source, proxy, "frame", scope, self._model_frame(scope), canonical or "",
+                        version)
+        return canonical
+
+    def _model_frame(self, scope: str) -> str:
+        """The frame ``__model__`` names in *scope* (a merged include's proxy while it is read)."""
+        return self.merged_frames.get(scope, scope + MODEL_FRAME)
+
+    def _scoped(self, scope: str, name: str) -> str:
+        return self._model_frame(scope) if name == MODEL_FRAME else _scoped(scope, name)
 
     def _collect_include(self, include: etree._Element, scope: str) -> str | None:
         found = read_include(include, self.resolver, self.path)
@@ -211,6 +247,8 @@ class SdfModelReader:
         version = parse_version(root.get("version"))
         name = (include.findtext("name") or "").strip() or model.get("name") or "model"
         source = include if include.find("pose") is not None else model
+        if _merges(include):
+            return self._collect_merged(model, scope, name, version, source)
         return self._collect_nested(model, scope, name, version, source)
 
     # -- pass 2: build -----------------------------------------------------------
@@ -294,9 +332,10 @@ class SdfModelReader:
         if frame == "joint":
             rotation = joint_frame[:3, :3]
         elif frame == "model":
-            rotation = self.graph.pose_in_model(raw.scope + MODEL_FRAME)[:3, :3]
+            rotation = self.graph.pose_in_model(raw.model_frame or raw.scope + MODEL_FRAME)[:3, :3]
         else:
-            target = _scoped(raw.scope, frame)
+            merged = frame == MODEL_FRAME and raw.model_frame
+            target = raw.model_frame if merged else _scoped(raw.scope, frame)
             xyz = self.values.child(self.values.child(raw.element, "axis"), "xyz")
             span = self.values.attr_span(xyz, "expressed_in") if xyz is not None else None
             if target == WORLD_FRAME or not self.graph.check_reference(target, span, f"{where}/axis/xyz"):
@@ -397,6 +436,11 @@ def _relative(pose: etree._Element | None, version: tuple[int, int]) -> str | No
         return None
     value = pose.get("relative_to") if version >= (1, 7) else (pose.get("frame") or pose.get("relative_to"))
     return value or None
+
+
+def _merges(include: etree._Element) -> bool:
+    """``<include merge="true">`` (SDFormat 1.9+)."""
+    return (include.get("merge") or "").strip().lower() in {"true", "1"}
 
 
 def _scoped(scope: str, name: str) -> str:

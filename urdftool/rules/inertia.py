@@ -82,7 +82,9 @@ class MissingInertial(_Inertia):
     fixed joints has mass; a warning when the link has collision geometry and
     is carried by a body with mass. Massless roots (`world`,
     `base_footprint`) and frame-only links (no collision geometry) welded to a
-    body are not reported.
+    body are not reported. In an SDF model it is always a warning: SDFormat's
+    default `<inertial>` is 1 kg with a unit inertia, which every SDF reader
+    uses, so the link is not massless, only not weighed by its author.
 
     ## Why it matters
     URDF reads a missing `<inertial>` as 0 kg. Gazebo drops such links (and
@@ -122,12 +124,19 @@ class MissingInertial(_Inertia):
             role = _role(ctx, link)
             if role is None:
                 continue
+            if ctx.robot.format == "sdf":
+                # SDFormat's default <inertial> is 1 kg with a unit inertia, and libsdformat,
+                # gz-sim and Gazebo classic all use it: the link has mass, just not its own.
+                consequence = "SDF readers give it 1 kg and 1 kg·m² about each axis"
+                severity = Severity.WARNING
+            else:
+                consequence = "URDF reads 0 kg; PyBullet assumes 1 kg, MuJoCo computes one from the geometry"
+                severity = _SEVERITY[role.severity]
             yield self.diagnostic(
-                f"link '{link.name}' {role.why} but has no <inertial> (URDF reads 0 kg; "
-                "PyBullet assumes 1 kg, MuJoCo computes one from the geometry)",
+                f"link '{link.name}' {role.why} but has no <inertial> ({consequence})",
                 link.span,
                 element=_where(link),
-                severity=_SEVERITY[role.severity],
+                severity=severity,
                 help=suggested_mass(link) or "add <inertial> with the link's mass and inertia",
                 data={
                     "joint": role.joint,

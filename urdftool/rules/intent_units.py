@@ -126,7 +126,9 @@ class TravelLooksLikeMillimetres(IntentRule):
     own extent at home (the box around every link frame and primitive
     shape). It reports a travel longer than 2 m (option `length_min`) and
     more than 20 times the extent (option `length_factor`) when, read as
-    centimetres or millimetres, it fits within twice the extent.
+    centimetres or millimetres, it fits within twice the extent, unless the
+    joint's parent link carries a primitive shape at least 90 % as
+    long as the travel (a rail drawn to scale).
 
     ## Why it matters
     URDF lengths are metres (REP 103). A gripper whose fingers travel 40 m
@@ -159,7 +161,7 @@ class TravelLooksLikeMillimetres(IntentRule):
             if not math.isfinite(travel) or extent < 0.01 or travel <= max(minimum, factor * extent):
                 continue
             slip = _slip(travel, extent)
-            if slip is None:
+            if slip is None or _rides_a_rail(ctx, joint, travel):
                 continue
             unit, scale = slip
             yield self.diagnostic(
@@ -171,6 +173,17 @@ class TravelLooksLikeMillimetres(IntentRule):
                 f'upper="{fmt((limit.upper or 0) / scale)}"',
                 data={"travel": travel, "extent": extent, "unit": unit, "meant": travel / scale},
             )
+
+
+def _rides_a_rail(ctx: CheckContext, joint: Joint, travel: float) -> bool:
+    """The joint's parent link carries a primitive shape about as long as the travel (m): a real
+    rail, such as gz_ros2_control's cart on a 30 m slide bar, not a slip of units."""
+    parent = ctx.robot.link(joint.parent)
+    if parent is None:
+        return False
+    shapes = [c.geometry for c in parent.collisions] + [v.geometry for v in parent.visuals]
+    lengths = [max(dims) for shape in shapes if (dims := shape_dims(shape)) is not None]
+    return any(length >= 0.9 * travel for length in lengths)
 
 
 def _unit_name(unit: str) -> str:
