@@ -74,6 +74,9 @@ def command(entry: Mapping[str, Any], corpus: Path, dynamics: bool) -> list[str]
         argv += ["--package-path", str(corpus / folder)]
     for name, value in (entry.get("xacro_args") or {}).items():
         argv += ["-a", f"{name}:={value}"]
+    for key, flag in (("srdf", "--srdf"), ("controllers", "--controllers")):
+        if entry.get(key):  # a configuration the discovery cannot pair with the model
+            argv += [flag, str(corpus / entry[key])]
     if not dynamics:
         argv.append("--no-dynamics")
     return argv

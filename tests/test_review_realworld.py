@@ -56,3 +56,11 @@ def test_the_check_runs_as_a_user_runs_it() -> None:
     assert argv[1:5] == ["-m", "urdftool", "check", "/corpus/arm/urdf/arm.xacro"]
     assert {"--format", "json", "--isolated", "--no-dynamics", "gazebo:=true", "/corpus/arm"} <= set(argv)
     assert review_realworld.label(ENTRY) == "arm/urdf/arm.xacro [gazebo:=true]"
+
+
+def test_an_srdf_and_controllers_the_discovery_cannot_pair_are_passed() -> None:
+    entry = {**ENTRY, "srdf": "arm_moveit_config/config/arm.srdf", "controllers": "arm/config/c.yaml"}
+    argv = review_realworld.command(entry, CORPUS, dynamics=True)
+    assert argv[argv.index("--srdf") + 1] == "/corpus/arm_moveit_config/config/arm.srdf"
+    assert argv[argv.index("--controllers") + 1] == "/corpus/arm/config/c.yaml"
+    assert "--srdf" not in review_realworld.command(ENTRY, CORPUS, dynamics=True)
