@@ -11,8 +11,10 @@ as solids (:func:`solid`): boxes, spheres, cylinders, capsules and ellipsoids
 exactly; a mesh as its own triangles when they close a volume (watertight,
 tested with trimesh's ray casts), not as its convex hull, because the hull of
 a clevis fills the gap the next link turns in and would report that link as
-buried in its parent. A mesh that is not watertight has no inside: its solid
-is ``None`` and the caller cannot judge the pair. Points are a regular grid
+buried in its parent. For the same reason a closed mesh that is its own
+convex hull is marked an ``envelope``: the caller cannot tell the part inside
+it from the space its notches leave. A mesh that is not watertight has no
+inside: its solid is ``None`` and the caller cannot judge the pair. Points are a regular grid
 in the geometry's own frame, clipped to the solid, so their count is
 proportional to its volume.
 """
@@ -30,6 +32,9 @@ else:
 from urdftool.backends.collision import CollisionScene
 from urdftool.backends.meshes import MeshError, load_trimesh, quiet_numerics
 
+#: A closed mesh whose volume is at least this share of its convex hull's is an envelope (:class:`Solid`).
+ENVELOPE = 0.99
+
 #: (path, scale) -> the watertight mesh scaled, or None (unreadable or open)
 _MESHES: dict[tuple[str, tuple[float, float, float]], Any] = {}
 
@@ -43,6 +48,9 @@ class Solid:
     #: bounding box corners (m) in the geometry's frame
     lower: Any
     upper: Any
+    #: a mesh that is its own convex hull (volume within :data:`ENVELOPE` of the hull's): most
+    #: often the hull of a part with notches, which it fills; never true for a primitive
+    envelope: bool = False
 
     def contains(self, points: Any) -> Any:
         """Which of *points* (n × 3, m, in the geometry's frame) lie inside (a boolean mask)."""
@@ -95,7 +103,9 @@ def solid(scene: CollisionScene, k: int) -> Solid | None:
         if mesh is None:
             return None
         lower, upper = (np.asarray(v, dtype=float) for v in mesh.bounds)
-        return Solid(None, mesh, lower, upper)
+        with quiet_numerics():
+            envelope = bool(mesh.volume >= ENVELOPE * mesh.convex_hull.volume)
+        return Solid(None, mesh, lower, upper, envelope)
     shape = scene.shape(k)
     shape.computeLocalAABB()
     box = shape.aabb_local

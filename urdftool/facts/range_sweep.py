@@ -13,7 +13,8 @@ The share of the child's collision volume inside the parent's
 (:func:`share_at`) costs more and is computed only at the angles a rule asks
 about; there meshes are their own closed triangle meshes
 (:mod:`urdftool.backends.collision_volume`), because a hull fills the clevis
-the next link turns in.
+the next link turns in; a parent whose collision is a single mesh that is
+itself convex is such a hull, and its share is left unknown.
 
 This module only measures; judging when a depth means "passes through the
 parent" is the rule's job (``urdftool.rules.intent_sweep``). Prismatic joints
@@ -97,7 +98,8 @@ def share_at(ctx: CheckContext, sweep: Sweep, angle: float) -> float | None:
     """The share (0..1) of the child's collision volume inside the parent's with the joint of
     *sweep* at *angle* (rad): the share of points filling the child's geometries (about
     :data:`POINTS`, on a regular grid) that lie inside a geometry of the parent. Meshes count as
-    their own triangles; ``None`` when a mesh of either link does not close a volume."""
+    their own triangles; ``None`` when a mesh of either link does not close a volume, or when the
+    parent's collision is one convex mesh (an envelope, see :mod:`urdftool.backends.collision_volume`)."""
     key = ("range-sweep-share", sweep.joint, angle)
     if key not in ctx.cache:
         scene, joint, pairs = _placed(ctx, sweep, angle)
@@ -186,7 +188,8 @@ def _sweeps(ctx: CheckContext, scene: CollisionScene, step: float, budget: int) 
 class _Volume:
     """The child's collision volume as points, and the share of them inside the parent's geometry.
 
-    ``solids`` is ``None`` when a mesh of either link does not close a volume: the share is then
+    ``solids`` is ``None`` when a mesh of either link does not close a volume, or when the parent's
+    collision is a single mesh that is its own convex hull (an envelope): the share is then
     unknown."""
 
     def __init__(self, scene: CollisionScene, pairs: list[tuple[int, int]]) -> None:
@@ -195,7 +198,10 @@ class _Volume:
         self.theirs = sorted({j for _, j in pairs})
         found = {k: solid(scene, k) for k in [*self.mine, *self.theirs]}
         closed = {k: v for k, v in found.items() if v is not None}
-        self.solids: dict[int, Solid] | None = closed if len(closed) == len(found) else None
+        # a parent that is one convex mesh is an envelope (a hull of the part, notches filled):
+        # the child turning into the notch would count as inside it, so the share is unknown
+        envelope = len(self.theirs) == 1 and self.theirs[0] in closed and closed[self.theirs[0]].envelope
+        self.solids: dict[int, Solid] | None = closed if len(closed) == len(found) and not envelope else None
         self.points: dict[int, Any] = {}
         if self.solids is not None:
             volume = sum(self.solids[i].box_volume for i in self.mine)

@@ -8,8 +8,10 @@ values; this module measures them at the zero configuration:
 * wheel separation: the distance between the left and right wheel centres
   along the wheel axle (the left joint's axis), where a wheel's centre is its
   first collision shape's centre (or the joint frame for a wheel without one);
-* wheel diameter: the wheel's collision shape across the axle (cylinder or
-  sphere: twice the radius; mesh: its bounding box across the axle).
+* wheel diameter: the largest of the wheel's collision shapes across the axle
+  (cylinder or sphere: twice the radius; mesh: its bounding box across the
+  axle), since the outermost one touches the ground; visual shapes when the
+  wheel has no collision.
 """
 
 from __future__ import annotations
@@ -55,21 +57,26 @@ def measure_wheel(ctx: CheckContext, joint_name: str, poses: dict[str, Matrix]) 
     axle = frame[:3, :3] @ (axis / norm if norm > 0 else np.array([1.0, 0.0, 0.0]))
     centre = frame[:3, 3]
     link = ctx.robot.link(joint.child)
-    shape = _wheel_shape(link) if link is not None else None
+    shapes = _wheel_shapes(link) if link is not None else []
     diameter = None
-    if shape is not None:
-        placed = frame @ shape.origin.matrix
-        centre = placed[:3, 3]
-        diameter = _diameter(shape, placed[:3, :3].T @ axle)
+    if shapes:
+        centre = (frame @ shapes[0].origin.matrix)[:3, 3]
+        # the outermost shape is the one on the ground: Leo Rover's wheel collides as a wide
+        # 57 mm cylinder and a narrow 62.5 mm tread, and rolls on the tread
+        sizes = [_diameter(shape, (frame @ shape.origin.matrix)[:3, :3].T @ axle) for shape in shapes]
+        diameter = max((d for d in sizes if d is not None), default=None)
     return Wheel(joint, centre, axle, diameter)
 
 
-def _wheel_shape(link: Link) -> Collision | Visual | None:
-    items: tuple[Collision | Visual, ...] = (*link.collisions, *link.visuals)
-    for item in items:
-        if isinstance(item.geometry, (Cylinder, Sphere, Capsule, Mesh)):
-            return item
-    return None
+def _wheel_shapes(link: Link) -> list[Collision | Visual]:
+    """The link's round shapes and meshes: its collisions, or its visuals when it has none."""
+    for items in (link.collisions, link.visuals):
+        found: list[Collision | Visual] = [
+            item for item in items if isinstance(item.geometry, (Cylinder, Sphere, Capsule, Mesh))
+        ]
+        if found:
+            return found
+    return []
 
 
 def _diameter(shape: Collision | Visual, axle_in_shape: Matrix) -> float | None:

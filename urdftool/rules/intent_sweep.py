@@ -91,9 +91,10 @@ class RangePassesThroughParent(IntentRule):
     more than 5° beyond the angle where that starts. Not judged: prismatic
     joints (a telescoping stage lies inside its parent by design),
     continuous joints, mimic followers, links with an open (not
-    watertight) collision mesh, and a child already more than 25 % inside
-    its parent at home (its geometry is too coarse to tell passing from
-    overlap).
+    watertight) collision mesh, a parent that collides as one convex mesh
+    (a hull, which fills the notches its child turns into), and a child
+    already more than 25 % inside its parent at home (its geometry is too
+    coarse to tell passing from overlap).
 
     ## Why it matters
     The limits are what planners, controllers and simulators allow. A range

@@ -159,7 +159,12 @@ def _mount(ctx: CheckContext, joint: Joint) -> bool:
     """Whether the joint places a sensor or a bare frame: placed where the hardware fits, not mirrored."""
     if _SENSOR.search(joint.name) or _SENSOR.search(joint.child):
         return True
-    link = ctx.robot.link(joint.child)
+    return _bare_frame(ctx, joint.child)
+
+
+def _bare_frame(ctx: CheckContext, name: str) -> bool:
+    """Whether link *name* is a frame only: no mass, no shape."""
+    link = ctx.robot.link(name)
     return link is not None and link.inertial is None and not link.visuals and not link.collisions
 
 
@@ -184,7 +189,9 @@ class MirroredPoseMismatch(IntentRule):
     absolute values of the offsets differ by more than 2 mm + 5 % (options
     `mirror_length_tolerance`, `mirror_relative_tolerance`) **and** the
     child frames, at home, are not mirror images through the root's x-z
-    plane either; or when both children sit on the same side of that plane
+    plane either (for two joints on one bare frame, such as a `world`
+    link, through the plane parallel to it midway between the children);
+    or when both children sit on the same side of that plane
     at the same place (a part copied and not mirrored; prismatic joints,
     whose fingers start together, excepted). Sensor mounts (names with
     `imu`, `camera`, `stereo`, `sensor`, `fsr`, `optical`, `laser`,
@@ -223,7 +230,11 @@ class MirroredPoseMismatch(IntentRule):
             if pa is None or pb is None:
                 return None
             wa, wb = pa[:3, 3], pb[:3, 3]
-            flipped = wb * [1, -1, 1]
+            # two parts set down on one bare frame (a `world` link) mirror through the plane
+            # between them: that frame's origin is where the author put it, not the robot's
+            # middle (xArm's dual arm: bases at y = 0 and y = 1 m)
+            middle = float(wa[1] + wb[1]) if ja.parent == jb.parent and _bare_frame(ctx, ja.parent) else 0.0
+            flipped = wb * [1, -1, 1] + [0, middle, 0]
             mirrored_world = all(_close(float(x), float(y), ctx) for x, y in zip(wa, flipped, strict=False))
             written = _abs_match(ja.origin.xyz, jb.origin.xyz, ctx)
             lateral = option(ctx, "mirror_length_tolerance")

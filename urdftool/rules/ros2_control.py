@@ -175,7 +175,9 @@ class LimitsMismatch(_Ros2Control):
     For each joint of a `<ros2_control>` block, compares the `min` and `max`
     parameters of its position, velocity and effort command interfaces with
     the joint's `<limit>` (`lower`/`upper`, `velocity`, `effort`), and the
-    `initial_value` of its interfaces with the position limits. Also reports
+    `initial_value` of its interfaces with the position limits. A `min` or
+    `max` that is the URDF limit rounded to the decimals it is written with
+    (two or more: `-2.793` for `-2.7925268`) agrees with it. Also reports
     `min` above `max` and values that are not numbers.
 
     ## Why it matters
@@ -250,7 +252,9 @@ class LimitsMismatch(_Ros2Control):
             low, high, what = bounds
             for param in ("min", "max"):
                 value = values.get(param)
-                if value is not None and _outside(value, low, high):
+                if value is not None and _outside(value, low, high) and not _rounded(
+                    interface.param_text(param) or "", low if param == "min" else high
+                ):
                     yield self._finding(
                         joint,
                         interface,
@@ -294,6 +298,15 @@ def _bounds(interface: str, jtype: JointType, limit: object) -> tuple[float, flo
         if interface == name and value is not None and value > 0:
             return (-value, value, f"{name} limit")
     return None
+
+
+def _rounded(text: str, bound: float) -> bool:
+    """Whether *text* is *bound* rounded to the decimals *text* writes (two or more): Spot's
+    ros2_control block writes the URDF's -2.79252680 rad as -2.793."""
+    mantissa, _, rest = text.strip().partition(".")
+    if not rest.isdigit() or len(rest) < 2 or not mantissa.lstrip("+-").isdigit():
+        return False
+    return abs(float(text) - bound) <= 0.5 * 10.0 ** -len(rest) * (1 + 1e-9)
 
 
 def _outside(value: float, low: float, high: float) -> bool:
