@@ -241,7 +241,9 @@ class UrdfReader:
             elif tag == "material":
                 materials.append(self._material(child, "robot/material"))
             else:
-                if tag not in KNOWN_EXTENSIONS and not is_extension_name(tag):
+                if ("robot", tag) in VENDOR_ELEMENTS:
+                    self._vendor("<robot>", [f"<{tag}>"], self.span(child), VENDOR_ELEMENTS["robot", tag])
+                elif tag not in KNOWN_EXTENSIONS and not is_extension_name(tag):
                     self._report(
                         UnknownElement.diagnostic(
                             f"<robot> has no child <{tag}>"

@@ -88,6 +88,8 @@ VENDOR_ELEMENTS: dict[tuple[str, str], str] = {
     ("collision", "material"): "ROS-Industrial support packages colour collisions; URDF readers ignore it",
     ("link", "self_filter"): "robot_self_filter's per-link padding (ANYmal); URDF readers ignore it",
     ("link", "self_collision_checking"): "PR2's self-collision shapes; URDF readers ignore it",
+    ("robot", "frame"): "Drake's URDF parser adds it to the plant as a frame fixed to its link "
+    "(Spot's foot centres); other URDF readers ignore it",
 }
 
 #: Elements that SDF or Gazebo define and that URDF loaders silently ignore.
