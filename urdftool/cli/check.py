@@ -20,7 +20,7 @@ from urdftool.cli.common import (
     selection_options,
 )
 from urdftool.cli.fix import fix_options, run_fixes
-from urdftool.cli.output import emit_report, exit_code, output_options
+from urdftool.cli.output import emit_report, exit_code, explain_verdict_exit, output_options
 from urdftool.diagnostics import FileReport, Report
 from urdftool.export.write import OutputError
 from urdftool.facts.simulation import engine_names, rule_options_for
@@ -185,6 +185,8 @@ def check_command(
     settings_format = next((settings.format for settings, _ in groups if settings.format), None)
     strict = strict or any(settings.strict for settings, _ in groups)
     emit_report(report, fmt if format_given else settings_format or fmt, output, color, quiet, inputs=files)
+    if not exit_zero:
+        explain_verdict_exit(report, strict)
     sys.exit(exit_code(report, strict, exit_zero))
 
 

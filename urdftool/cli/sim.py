@@ -17,6 +17,7 @@ from urdftool.cli.common import (
     input_error,
     model_options,
 )
+from urdftool.cli.output import explain_verdict_exit
 from urdftool.facts.simulation import engine_names
 from urdftool.facts.simulation.scene import DURATION, SimOptions
 from urdftool.facts.simulation.verdict import verdict_failed
@@ -66,6 +67,9 @@ def sim_command(
     damping (or, with --hold, by PD at the start pose). Findings: sim-unstable,
     sim-initial-penetration, sim-drift, sim-joint-limit-violation, and a
     summary per engine (JSON: data.summary).
+
+    Exit 1 when an engine's verdict is "failed", even when its findings are
+    warnings (a blow-up, links overlapping at the start), or on errors.
     """
     from urdftool.pipeline.simulate import simulate_file
 
@@ -84,4 +88,5 @@ def sim_command(
     click.echo(render_json(report) if fmt == "json" else render_text(report, colour=sys.stdout.isatty()),
                nl=False)
     # a "failed" verdict fails the run even when its findings are only warnings
+    explain_verdict_exit(report, strict)
     sys.exit(EXIT_FINDINGS if report.failed(strict) or verdict_failed(report) else EXIT_OK)
