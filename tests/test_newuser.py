@@ -1,0 +1,78 @@
+"""What tripped a new user on real robot files (2026-11-25), each reduced to a fixture.
+
+The corpus runs behind these are in docs/ci.md ("Tried as a new user").
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from click.testing import CliRunner, Result
+
+from tests.conftest import FIXTURES
+from urdftool.cli import main
+
+HERE = FIXTURES / "newuser"
+WORLD = FIXTURES / "sdf-conformance" / "valid" / "world_several_models.sdf"  # models a, b
+
+
+def run(*args: str | Path) -> Result:
+    result = CliRunner().invoke(main, [str(a) for a in args])
+    assert result.exception is None or isinstance(result.exception, SystemExit), repr(result.exception)
+    assert "Traceback" not in result.output
+    return result
+
+
+def test_check_help_names_a_schema_the_user_can_reach() -> None:
+    # CONTRACTS.md lives in the test fixtures, not in an installed package
+    result = run("check", "--help")
+    assert "CONTRACTS.md" not in result.output
+    assert "`urdftool schema`" in " ".join(result.output.split())
+
+
+def test_the_summary_counts_files_not_models_for_a_world() -> None:
+    result = run("check", WORLD, "--no-dynamics")
+    assert "1 file checked (2 models):" in result.output, result.output
+    github = run("check", WORLD, "--no-dynamics", "--format", "github")
+    assert "1 file(s) checked (2 models):" in github.output, github.output
+
+
+def test_a_typo_in_select_or_rule_suggests_the_rule() -> None:
+    arm = FIXTURES / "robots" / "two_link_arm.urdf"
+    result = run("check", arm, "--select", "I04")
+    assert result.exit_code == 2 and "did you mean 'I004'?" in result.output, result.output
+    result = run("check", arm, "--ignore", "inertia-not-positiv")
+    assert result.exit_code == 2 and "did you mean 'inertia-not-positive-definite'?" in result.output
+    result = run("rule", "inertia-not-positiv")
+    assert result.exit_code == 2 and "did you mean 'inertia-not-positive-definite'?" in result.output
+
+
+def test_a_refused_model_of_a_world_is_named(tmp_path: Path) -> None:
+    world = tmp_path / "w.sdf"
+    world.write_text(
+        '<sdf version="1.8"><world name="w">'
+        '<model name="ok"><link name="l"><inertial><mass>1</mass></inertial></link></model>'
+        '<model name="ball"><link name="a"><inertial><mass>1</mass></inertial></link>'
+        '<link name="b"><inertial><mass>1</mass></inertial></link>'
+        '<joint name="j" type="ball"><parent>a</parent><child>b</child></joint></model>'
+        "</world></sdf>"
+    )
+    result = run("convert", world, "-o", tmp_path / "out.urdf", "--all-models")
+    assert result.exit_code == 1
+    assert "model 'ball' not converted" in result.output, result.output
+    assert (tmp_path / "out_ok.urdf").is_file() and not (tmp_path / "out_ball.urdf").exists()
+
+
+def test_a_macro_called_three_times_reports_its_dropped_element_once(tmp_path: Path) -> None:
+    for out in ("r.xml", "r.sdf"):
+        result = run("convert", HERE / "repeated_gazebo.urdf.xacro", "-o", tmp_path / out)
+        assert result.exit_code == 0, result.output
+        assert result.output.count("warning[C001") == 1, result.output
+
+
+def test_sim_says_why_it_fails_when_the_findings_are_only_warnings() -> None:
+    result = run("sim", HERE / "overlap_arm.urdf", "--engine", "pybullet", "--duration", "0.05")
+    assert result.exit_code == 1
+    assert "0 error(s), 1 warning(s)" in result.output
+    assert "exit 1: PyBullet: failed (penetrating at start)" in result.output, result.output
+    assert "verdict" in run("sim", "--help").output.split("Options:")[0].replace("\n", " ")
