@@ -76,3 +76,18 @@ def test_sim_says_why_it_fails_when_the_findings_are_only_warnings() -> None:
     assert "0 error(s), 1 warning(s)" in result.output
     assert "exit 1: PyBullet: failed (penetrating at start)" in result.output, result.output
     assert "verdict" in run("sim", "--help").output.split("Options:")[0].replace("\n", " ")
+
+
+def test_every_command_lists_the_models_when_model_names_none(tmp_path: Path) -> None:
+    commands = {
+        "check": ["check", WORLD, "--no-dynamics"],
+        "info": ["info", WORLD],
+        "sim": ["sim", WORLD, "--engine", "mujoco", "--duration", "0.01"],
+        "graph": ["graph", WORLD, "-o", tmp_path / "w.dot"],
+        "convert": ["convert", WORLD, "-o", tmp_path / "w.xml"],
+    }
+    for name, args in commands.items():
+        result = run(*args, "--model", "nope")
+        assert result.exit_code == 2, (name, result.output)
+        assert "no model named 'nope'" in result.output and "(it has: a, b)" in result.output, (
+            name, result.output)

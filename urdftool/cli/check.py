@@ -29,6 +29,7 @@ from urdftool.parse import InputError, detect_format
 from urdftool.pipeline import baseline
 from urdftool.pipeline.check import CheckOptions, check_files, default_jobs
 from urdftool.pipeline.discover import expand_paths
+from urdftool.pipeline.load import no_such_model
 from urdftool.pipeline.settings import Overrides, Settings, SettingsError, group_by_settings, resolve
 from urdftool.rules import UnknownSelector
 from urdftool.targets import TARGETS, UnknownTarget, parse_targets
@@ -162,9 +163,10 @@ def check_command(
     else:
         report = _check_groups(groups, files, options, jobs, quiet)
     if model_name is not None:
+        names = [f.robot for f in report.files]
         report = Report(tuple(f for f in report.files if f.robot == model_name))
         if not report.files:
-            raise InputProblem(f"no model named '{model_name}' in " + ", ".join(paths))
+            raise InputProblem(str(no_such_model(", ".join(paths), model_name, names)))
     if write_baseline:
         try:
             count = baseline.write_baseline(report, write_baseline, inputs=files)

@@ -34,7 +34,7 @@ from urdftool.pipeline.collision import (
 )
 from urdftool.pipeline.collision import MODES as COLLISION_MODES
 from urdftool.pipeline.convert import convert_robot, output_paths, write_conversion
-from urdftool.pipeline.load import load_models
+from urdftool.pipeline.load import load_models, no_such_model
 from urdftool.render.text import render_diagnostic
 from urdftool.source import SourceIndex
 
@@ -157,8 +157,8 @@ def _models(source: str, options: CheckOptions, model_name: str | None, all_mode
     if model_name is not None:
         chosen = [m for m in models if m.robot and m.robot.name == model_name]
         if not chosen:
-            names = ", ".join(m.robot.name or "?" for m in models if m.robot)
-            click.echo(f"urdftool: {source} has no model named '{model_name}' (it has: {names})", err=True)
+            missing = no_such_model(source, model_name, (m.robot.name for m in models if m.robot))
+            click.echo(f"urdftool: {missing}", err=True)
             sys.exit(EXIT_USAGE)
         return chosen[:1]
     robots = [m for m in models if m.robot is not None]

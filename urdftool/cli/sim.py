@@ -22,6 +22,7 @@ from urdftool.facts.simulation import engine_names
 from urdftool.facts.simulation.scene import DURATION, SimOptions
 from urdftool.facts.simulation.verdict import verdict_failed
 from urdftool.parse import InputError, detect_format
+from urdftool.pipeline.load import NoSuchModel
 from urdftool.render import render_json, render_text
 
 
@@ -83,8 +84,8 @@ def sim_command(
         report = simulate_file(path, sim, options, model_name)
     except InputError as exc:
         raise input_error(exc) from exc
-    if model_name is not None and not report.files:
-        raise InputProblem(f"{path}: no model named '{model_name}'")
+    except NoSuchModel as exc:
+        raise InputProblem(str(exc)) from exc
     click.echo(render_json(report) if fmt == "json" else render_text(report, colour=sys.stdout.isatty()),
                nl=False)
     # a "failed" verdict fails the run even when its findings are only warnings
