@@ -91,3 +91,13 @@ def test_every_command_lists_the_models_when_model_names_none(tmp_path: Path) ->
         assert result.exit_code == 2, (name, result.output)
         assert "no model named 'nope'" in result.output and "(it has: a, b)" in result.output, (
             name, result.output)
+
+
+def test_a_misspelt_xacro_argument_is_reported_with_the_one_meant() -> None:
+    # xacro ignores an argument no file uses: `-a gazbo:=true` left the Panda without inertia
+    bad = FIXTURES / "rules" / "X007" / "bad.urdf.xacro"
+    result = run("check", bad, "-a", "gazbo:=true", "--no-dynamics")
+    assert "warning[X007 misspelt-xacro-argument]" in result.output, result.output
+    assert "did you mean 'gazebo'" in result.output and "default 'false'" in result.output
+    quiet = run("check", bad, "-a", "gazebo:=true", "-a", "use_lidar:=false", "--no-dynamics")
+    assert "X007" not in quiet.output
