@@ -101,3 +101,12 @@ def test_a_misspelt_xacro_argument_is_reported_with_the_one_meant() -> None:
     assert "did you mean 'gazebo'" in result.output and "default 'false'" in result.output
     quiet = run("check", bad, "-a", "gazebo:=true", "-a", "use_lidar:=false", "--no-dynamics")
     assert "X007" not in quiet.output
+
+
+def test_a_xacro_type_error_names_the_property_that_is_text() -> None:
+    # xacro fails where the expression is evaluated; the typo is in the property, in another file
+    result = run("check", HERE / "text_property" / "robot.urdf.xacro", "--no-dynamics")
+    assert result.exit_code == 1
+    assert "error[X001 xacro-error]" in result.output
+    assert "help: property 'base_mass' is '0.3,' (props.xacro:4), text, not a number; did you mean 0.3?" in (
+        result.output), result.output

@@ -42,6 +42,7 @@ from urdftool.diagnostics import Diagnostic, Severity
 from urdftool.parse.ament import installed_at
 from urdftool.parse.packages import PackageResolver
 from urdftool.parse.xacro_args import KnownArgument, known_arguments, merge, misspelt_arguments
+from urdftool.parse.xacro_hints import text_property_help
 from urdftool.parse.xmlio import XmlDocument, encode_src, parse_bytes, read_up_to_cap, span_of, to_utf8
 from urdftool.source import SRC_ATTRIBUTE, Span, element_starts
 
@@ -260,12 +261,12 @@ _ARG_IN_MESSAGE = re.compile(r"substitution argument (\w+)")
 _PATH_IN_MESSAGE = re.compile(r"(/[^\s'\"]+\.[\w]+)")
 
 
-def _error_help(message: str) -> str | None:
+def _error_help(message: str, read: list[str]) -> str | None:
     args = _ARG_IN_MESSAGE.findall(message)
     if args:
         name = args[0]
         return f'pass it with -a {name}:=VALUE, or declare <xacro:arg name="{name}" default="..."/>'
-    return None
+    return text_property_help(message, reversed(read))
 
 
 def _error_location(
@@ -343,7 +344,7 @@ def expand(
                     XacroError.diagnostic(
                         f"xacro: {message}",
                         _error_location(stack, message, None, session.files),
-                        help=_error_help(message),
+                        help=_error_help(message, session.files),
                         data={"files": [f for f in stack if f]},
                     )
                 )
