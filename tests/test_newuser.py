@@ -110,3 +110,18 @@ def test_a_xacro_type_error_names_the_property_that_is_text() -> None:
     assert "error[X001 xacro-error]" in result.output
     assert "help: property 'base_mass' is '0.3,' (props.xacro:4), text, not a number; did you mean 0.3?" in (
         result.output), result.output
+
+
+def test_an_unused_suppression_points_at_the_finding_it_missed(tmp_path: Path) -> None:
+    # the comment went before <inertial>; the finding is on <inertia>, two lines further down
+    text = (FIXTURES / "rules" / "I004" / "bad.urdf").read_text()
+    robot = tmp_path / "robot.urdf"
+    trunk = '  <link name="trunk">\n'
+    comment = "    <!-- urdftool: ignore[I004] -->\n"
+    robot.write_text(text.replace(f"{trunk}    <inertial>", f"{trunk}{comment}    <inertial>"))
+    result = run("check", robot, "--no-dynamics", "--select", "I004,S024")
+    assert "warning[S024 unused-suppression]" in result.output, result.output
+    assert "help: the nearest I004 finding is on line 15" in result.output, result.output
+    robot.write_text(text.replace(trunk, f"<!-- urdftool: ignore[I04] -->{trunk}"))
+    result = run("check", robot, "--no-dynamics", "--select", "I004,S024")
+    assert "'I04' is no rule code or name; did you mean 'I004'?" in result.output, result.output
