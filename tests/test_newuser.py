@@ -125,3 +125,12 @@ def test_an_unused_suppression_points_at_the_finding_it_missed(tmp_path: Path) -
     robot.write_text(text.replace(trunk, f"<!-- urdftool: ignore[I04] -->{trunk}"))
     result = run("check", robot, "--no-dynamics", "--select", "I004,S024")
     assert "'I04' is no rule code or name; did you mean 'I004'?" in result.output, result.output
+
+
+def test_targets_describe_urdf_readers_and_say_nothing_about_an_sdf_file() -> None:
+    # gz-sim reads SDF natively: no URDF-to-SDF conversion drops a link without <inertial>
+    # (SDFormat gives it 1 kg) or lumps a fixed joint; the tables are about URDF readers
+    world = HERE / "sdf_link_without_inertial.sdf"
+    result = run("check", world, "--no-dynamics", "--target", "all", "--select", "T")
+    assert result.exit_code == 0, result.output
+    assert "[T0" not in result.output, result.output

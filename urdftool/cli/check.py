@@ -66,8 +66,8 @@ PROGRESS_FROM = 4
 @click.option("--write-baseline", type=click.Path(dir_okay=False),
               help="Record every finding in this baseline file (exit 0) and report nothing.")
 @click.option("--target", "target_names", multiple=True, metavar="T[,T...]",
-              help="Also report what these consumers will do with the file: " + ", ".join(TARGETS)
-              + " or all (rules T).")
+              help="Also report what these consumers will do with the URDF or xacro file: "
+              + ", ".join(TARGETS) + " or all (rules T; SDF files are read by SDFormat, not these tables).")
 @click.option("--show-settings", is_flag=True,
               help="Print the settings each file is checked with, and where each came from.")
 @fix_options  # --fix, --unsafe-fixes, --diff, --fix-only (urdftool/cli/fix.py)
