@@ -71,13 +71,29 @@ def apply(diagnostics: Sequence[Diagnostic], files: Iterable[str], selection: Se
     A selector counts as unused only when its rule ran (is selected): a suppression of a rule
     switched off elsewhere is not wrong. An unknown code or name is always reported.
     """
+    return apply_to_models([diagnostics], files, selection)[0]
+
+
+def apply_to_models(reports: Sequence[Sequence[Diagnostic]], files: Iterable[str],
+                    selection: Selection) -> list[list[Diagnostic]]:
+    """:func:`apply` for the models of one file (an SDF world) at once: a comment is unused
+    only when no model's finding used it, and each file is scanned once. The unused-suppression
+    findings go with the first model, as the file's own findings do."""
     by_file: dict[str, list[Suppression]] = {}
     for path in dict.fromkeys(files):
         found = scan(path)
         if found:
             by_file[path] = found
     if not by_file:
-        return list(diagnostics)
+        return [list(r) for r in reports]
+    out = [_silence(r, by_file) for r in reports]
+    if out:
+        out[0].extend(_unused(by_file, selection, [d for kept in out for d in kept]))
+    return out
+
+
+def _silence(diagnostics: Sequence[Diagnostic], by_file: dict[str, list[Suppression]]) -> list[Diagnostic]:
+    """*diagnostics* less those a comment silences; each comment records the selectors it used."""
     kept = []
     for diagnostic in diagnostics:
         location = diagnostic.location
@@ -91,7 +107,7 @@ def apply(diagnostics: Sequence[Diagnostic], files: Iterable[str], selection: Se
                     silenced = True
         if not silenced:
             kept.append(diagnostic)
-    return kept + list(_unused(by_file, selection, kept))
+    return kept
 
 
 #: how far (lines) from an unused comment a finding of its rule may be to be pointed at
