@@ -26,8 +26,8 @@ _ATTRIBUTE = re.compile(r"""\b(name|default)\s*=\s*(["'])(.*?)\2""", re.DOTALL)
 #: ``$(arg NAME)`` and ``xacro.arg('NAME')`` / ``arg("NAME")`` in expressions
 #: how alike a given and a known name must be (difflib's ratio) to call the given one a typo:
 #: ``gazbo``/``gazebo`` 0.91, ``ur_typ``/``ur_type`` 0.92; on the real-world corpus, 0.6 also
-#: matched ``name`` to ``username`` and ``namespace`` to ``name`` (docs/realworld.md)
-TYPO_CUTOFF = 0.8
+#: matched ``name`` to ``username``, and 0.8 ``prefix`` to ``no_prefix`` (docs/realworld.md)
+TYPO_CUTOFF = 0.85
 _USE = re.compile(r"""\$\(\s*arg\s+([^\s)]+)\s*\)|\barg\(\s*["']([^"']+)["']\s*\)""")
 
 
