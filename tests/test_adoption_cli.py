@@ -76,7 +76,8 @@ def test_a_failed_verdict_exits_1_even_without_errors(args: list[str]) -> None:
     expected verdict, not a failure: docs/sim.md.)"""
     robot = FIXTURES / "rules" / "R002" / "bad.urdf"
     result = CliRunner().invoke(main, [*args, str(robot), "--engine", "pybullet", "--format", "json"])
-    report = json.loads(result.output)
+    report = json.loads(result.stdout)
+    assert "exit 1: PyBullet: failed" in result.stderr  # why, since the summary says 0 errors
     assert report["summary"]["errors"] == 0
     assert any(": failed" in d["message"] for f in report["files"] for d in f["diagnostics"]
                if d["code"] == "R005")

@@ -60,6 +60,15 @@ def expected_marks(path: Path, code: str) -> tuple[set[int], bool]:
 
 
 _TARGET = re.compile(r"<!--\s*check-target:\s*([a-z,\- ]+?)\s*-->")
+#: xacro arguments a fixture is expanded with: <!-- xacro-args: name:=value, other:=value -->
+_XACRO_ARGS = re.compile(r"<!--\s*xacro-args:\s*(.+?)\s*-->")
+
+
+def fixture_xacro_args(path: Path) -> dict[str, str]:
+    """The xacro arguments the fixture's ``<!-- xacro-args: … -->`` comment gives (none without one)."""
+    given = _XACRO_ARGS.search(path.read_text(encoding="utf-8", errors="replace"))
+    pairs = [a.strip().partition(":=") for a in given.group(1).split(",")] if given else []
+    return {name: value for name, _, value in pairs}
 
 
 def findings(path: Path, code: str) -> list:
@@ -69,7 +78,8 @@ def findings(path: Path, code: str) -> list:
     # consumer rules (T) fire for the targets a fixture names with <!-- check-target: name -->
     named = _TARGET.search(path.read_text(encoding="utf-8", errors="replace"))
     rule_options = {"targets": tuple(t.strip() for t in named.group(1).split(","))} if named else {}
-    options = CheckOptions(package_paths=(str(path.parent),), select=select, rule_options=rule_options)
+    options = CheckOptions(package_paths=(str(path.parent),), select=select, rule_options=rule_options,
+                           xacro_args=fixture_xacro_args(path))
     model = path.with_suffix(".urdf") if path.suffix in (".srdf", ".yaml") else path
     return [d for r in check_file(str(model), options) for d in r.diagnostics if d.code == code]
 

@@ -15,7 +15,7 @@ from typing import Any
 import pytest
 
 from tests.conftest import FIXTURES, ROOT
-from tests.test_rule_fixtures import EXPORT_ONLY, SIM_ONLY
+from tests.test_rule_fixtures import EXPORT_ONLY, SIM_ONLY, fixture_xacro_args
 from urdftool.diagnostics import Report
 from urdftool.pipeline.check import CheckOptions, check_file
 from urdftool.render import render_json, render_text
@@ -38,7 +38,8 @@ def _report(family: str) -> Report:
     files = []
     for path in _fixtures(family):
         relative = str(path.relative_to(ROOT))
-        options = CheckOptions(select=(path.parent.name,), package_paths=(str(path.parent),))
+        options = CheckOptions(select=(path.parent.name,), package_paths=(str(path.parent),),
+                               xacro_args=fixture_xacro_args(path))
         files.extend(check_file(relative, options))
     return Report(tuple(files))
 

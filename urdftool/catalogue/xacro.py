@@ -208,3 +208,37 @@ class XacroInUrdf(_Xacro):
     code = "X006"
     name = "xacro-in-urdf"
     severity = Severity.WARNING
+
+
+@register
+class MisspeltXacroArgument(_Xacro):
+    """A xacro argument was given that no file uses, and one of a close name is.
+
+    ## What it does
+    Compares each argument given (`-a NAME:=VALUE`, `xacro-args` in the
+    settings, `xacro_args=` in the API) with the arguments the files read
+    declare (`<xacro:arg name=…>`) or use (`$(arg NAME)`). An argument none
+    of them knows, with a close name among them, is reported at the
+    declaration of the close one. Arguments with no close name are left
+    alone: one setting given to many files is not a typo.
+
+    ## Why it matters
+    xacro ignores an argument no file uses, so the one meant keeps its
+    default and the robot silently differs from the one asked for: with
+    `-a gazbo:=true`, franka_description builds the Panda without a single
+    `<inertial>`.
+
+    ## Example
+    ```xml
+    <!-- urdftool check panda.urdf.xacro -a gazbo:=true -->
+    <xacro:arg name="gazebo" default="false"/>
+    ```
+
+    ## Fix
+    Spell the argument as the file declares it (`-a gazebo:=true`).
+    """
+
+    code = "X007"
+    name = "misspelt-xacro-argument"
+    severity = Severity.WARNING
+    since = "0.2.0"

@@ -20,7 +20,7 @@ from urdftool.cli.common import (
     selection_options,
 )
 from urdftool.cli.fix import fix_options, run_fixes
-from urdftool.cli.output import emit_report, exit_code, output_options
+from urdftool.cli.output import emit_report, exit_code, explain_verdict_exit, output_options
 from urdftool.diagnostics import FileReport, Report
 from urdftool.export.write import OutputError
 from urdftool.facts.simulation import engine_names, rule_options_for
@@ -29,6 +29,7 @@ from urdftool.parse import InputError, detect_format
 from urdftool.pipeline import baseline
 from urdftool.pipeline.check import CheckOptions, check_files, default_jobs
 from urdftool.pipeline.discover import expand_paths
+from urdftool.pipeline.load import no_such_model
 from urdftool.pipeline.settings import Overrides, Settings, SettingsError, group_by_settings, resolve
 from urdftool.rules import UnknownSelector
 from urdftool.targets import TARGETS, UnknownTarget, parse_targets
@@ -65,8 +66,8 @@ PROGRESS_FROM = 4
 @click.option("--write-baseline", type=click.Path(dir_okay=False),
               help="Record every finding in this baseline file (exit 0) and report nothing.")
 @click.option("--target", "target_names", multiple=True, metavar="T[,T...]",
-              help="Also report what these consumers will do with the file: " + ", ".join(TARGETS)
-              + " or all (rules T).")
+              help="Also report what these consumers will do with the URDF or xacro file: "
+              + ", ".join(TARGETS) + " or all (rules T; SDF files are read by SDFormat, not these tables).")
 @click.option("--show-settings", is_flag=True,
               help="Print the settings each file is checked with, and where each came from.")
 @fix_options  # --fix, --unsafe-fixes, --diff, --fix-only (urdftool/cli/fix.py)
@@ -162,9 +163,10 @@ def check_command(
     else:
         report = _check_groups(groups, files, options, jobs, quiet)
     if model_name is not None:
+        names = [f.robot for f in report.files]
         report = Report(tuple(f for f in report.files if f.robot == model_name))
         if not report.files:
-            raise InputProblem(f"no model named '{model_name}' in " + ", ".join(paths))
+            raise InputProblem(str(no_such_model(", ".join(paths), model_name, names)))
     if write_baseline:
         try:
             count = baseline.write_baseline(report, write_baseline, inputs=files)
@@ -185,6 +187,8 @@ def check_command(
     settings_format = next((settings.format for settings, _ in groups if settings.format), None)
     strict = strict or any(settings.strict for settings, _ in groups)
     emit_report(report, fmt if format_given else settings_format or fmt, output, color, quiet, inputs=files)
+    if not exit_zero:
+        explain_verdict_exit(report, strict)
     sys.exit(exit_code(report, strict, exit_zero))
 
 

@@ -34,7 +34,7 @@ from urdftool.pipeline.collision import (
 )
 from urdftool.pipeline.collision import MODES as COLLISION_MODES
 from urdftool.pipeline.convert import convert_robot, output_paths, write_conversion
-from urdftool.pipeline.load import load_models
+from urdftool.pipeline.load import load_models, no_such_model
 from urdftool.render.text import render_diagnostic
 from urdftool.source import SourceIndex
 
@@ -147,7 +147,7 @@ def convert_command(
         if len(chosen) > 1:
             click.echo(f"urdftool: model '{name}' -> {where}", err=True)
         codes.append(_convert_one(loaded, source, where, target, export_options, collision, check_only,
-                                  verify, quiet))
+                                  verify, quiet, one_of_many=len(chosen) > 1))
     sys.exit(max(codes))
 
 
@@ -157,8 +157,8 @@ def _models(source: str, options: CheckOptions, model_name: str | None, all_mode
     if model_name is not None:
         chosen = [m for m in models if m.robot and m.robot.name == model_name]
         if not chosen:
-            names = ", ".join(m.robot.name or "?" for m in models if m.robot)
-            click.echo(f"urdftool: {source} has no model named '{model_name}' (it has: {names})", err=True)
+            missing = no_such_model(source, model_name, (m.robot.name for m in models if m.robot))
+            click.echo(f"urdftool: {missing}", err=True)
             sys.exit(EXIT_USAGE)
         return chosen[:1]
     robots = [m for m in models if m.robot is not None]
@@ -178,8 +178,9 @@ def _per_model(out: str, name: str) -> str:
 
 
 def _convert_one(loaded: Loaded, source: str, out: str, target: str, export_options: ExportOptions,
-                 collision: CollisionOptions, check_only: bool, verify: bool, quiet: bool) -> int:
-    """Convert one model; the exit code for it."""
+                 collision: CollisionOptions, check_only: bool, verify: bool, quiet: bool,
+                 one_of_many: bool = False) -> int:
+    """Convert one model (one of several in a world with *one_of_many*); the exit code for it."""
     if loaded.robot is None:
         _emit(loaded.diagnostics)
         return EXIT_FINDINGS
@@ -198,7 +199,9 @@ def _convert_one(loaded: Loaded, source: str, out: str, target: str, export_opti
     if conversion.refused:
         structural = conversion.errors and all(d.code[0] in "SX" for d in conversion.errors)
         hint = ": fix the errors above first" if structural else ""
-        click.echo(f"urdftool: {source}: not converted{hint}", err=True)
+        # in a world converted with --all-models, say which model was refused
+        which = f" model '{loaded.robot.name}'" if one_of_many else ""
+        click.echo(f"urdftool: {source}:{which} not converted{hint}", err=True)
         return EXIT_FINDINGS
     try:
         for path in output_paths(conversion):

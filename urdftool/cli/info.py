@@ -18,6 +18,7 @@ from urdftool.cli.common import (
 )
 from urdftool.parse import InputError, read
 from urdftool.pipeline.info import format_summary, summarize
+from urdftool.pipeline.load import no_such_model
 from urdftool.render.text import render_diagnostic
 from urdftool.source import SourceIndex
 
@@ -38,9 +39,10 @@ def info_command(
     except InputError as exc:
         raise input_error(exc) from exc
     if model_name is not None:
+        names = [m.robot.name for m in models if m.robot is not None]
         models = [m for m in models if m.robot is not None and m.robot.name == model_name]
         if not models:
-            raise InputProblem(f"{path}: no model named '{model_name}'")
+            raise InputProblem(str(no_such_model(path, model_name, names)))
     summaries = []
     failed = False
     for loaded in models:

@@ -11,7 +11,7 @@ import click
 from urdftool.cli.common import EXIT_FINDINGS, EXIT_OK, F, InputProblem
 from urdftool.diagnostics import Report
 from urdftool.export.write import OutputError, write_text_atomic
-from urdftool.facts.simulation.verdict import verdict_failed
+from urdftool.facts.simulation.verdict import is_failed_verdict, verdict_failed
 from urdftool.render.colour import CHOICES, want_colour
 from urdftool.render.formats import FORMATS, render_report
 
@@ -19,8 +19,8 @@ from urdftool.render.formats import FORMATS, render_report
 def output_options(func: F) -> F:
     for option in reversed((
         click.option("--format", "fmt", type=click.Choice(FORMATS), default="text", show_default=True,
-                     help="text for people; json (CONTRACTS.md), sarif (code scanning), github "
-                     "(workflow annotations), junit (test reports), gitlab (Code Quality) for tools."),
+                     help="text for people; json (its schema: `urdftool schema`), sarif (code scanning), "
+                     "github (workflow annotations), junit (test reports), gitlab (Code Quality) for tools."),
         click.option("-o", "--output-file", "--output", "output", type=click.Path(dir_okay=False),
                      help="Write the report to this file (atomically) instead of standard output."),
         click.option("--color", "--colour", "color", type=click.Choice(CHOICES), default="auto",
@@ -53,3 +53,14 @@ def exit_code(report: Report, strict: bool, exit_zero: bool = False) -> int:
     if exit_zero:
         return EXIT_OK
     return EXIT_FINDINGS if report.failed(strict) or verdict_failed(report) else EXIT_OK
+
+
+def explain_verdict_exit(report: Report, strict: bool) -> None:
+    """Say on standard error why the run exits 1 when only a "failed" simulation verdict does it:
+    the summary line then reads "0 error(s)", which alone would make exit 1 look like a bug."""
+    if report.failed(strict) or not verdict_failed(report):
+        return
+    # a sim-summary message reads "<Engine>: failed (<reason>): <numbers>"
+    verdicts = [": ".join(d.message.split(": ")[:2]) for d in report.diagnostics if is_failed_verdict(d)]
+    click.echo(f"urdftool: exit 1: {', '.join(dict.fromkeys(verdicts))} (a failed simulation verdict "
+               "fails the run even when its findings are warnings)", err=True)

@@ -7,6 +7,7 @@ import click
 from urdftool.cli.common import EXIT_USAGE
 from urdftool.rules import all_rules, lookup
 from urdftool.rules.docs import rule_markdown
+from urdftool.rules.selection import suggestion
 
 
 @click.command("rule")
@@ -20,6 +21,7 @@ def rule_command(code_or_name: str | None, show_all: bool) -> None:
         return
     found = lookup(code_or_name)
     if found is None:
-        click.echo(f"urdftool: no rule with code or name '{code_or_name}'", err=True)
+        hint = suggestion(code_or_name)
+        click.echo(f"urdftool: no rule with code or name '{code_or_name}'{hint}", err=True)
         raise SystemExit(EXIT_USAGE)
     click.echo(rule_markdown(found))

@@ -17,10 +17,12 @@ from urdftool.cli.common import (
     input_error,
     model_options,
 )
+from urdftool.cli.output import explain_verdict_exit
 from urdftool.facts.simulation import engine_names
 from urdftool.facts.simulation.scene import DURATION, SimOptions
 from urdftool.facts.simulation.verdict import verdict_failed
 from urdftool.parse import InputError, detect_format
+from urdftool.pipeline.load import NoSuchModel
 from urdftool.render import render_json, render_text
 
 
@@ -66,6 +68,9 @@ def sim_command(
     damping (or, with --hold, by PD at the start pose). Findings: sim-unstable,
     sim-initial-penetration, sim-drift, sim-joint-limit-violation, and a
     summary per engine (JSON: data.summary).
+
+    Exit 1 when an engine's verdict is "failed", even when its findings are
+    warnings (a blow-up, links overlapping at the start), or on errors.
     """
     from urdftool.pipeline.simulate import simulate_file
 
@@ -79,9 +84,10 @@ def sim_command(
         report = simulate_file(path, sim, options, model_name)
     except InputError as exc:
         raise input_error(exc) from exc
-    if model_name is not None and not report.files:
-        raise InputProblem(f"{path}: no model named '{model_name}'")
+    except NoSuchModel as exc:
+        raise InputProblem(str(exc)) from exc
     click.echo(render_json(report) if fmt == "json" else render_text(report, colour=sys.stdout.isatty()),
                nl=False)
     # a "failed" verdict fails the run even when its findings are only warnings
+    explain_verdict_exit(report, strict)
     sys.exit(EXIT_FINDINGS if report.failed(strict) or verdict_failed(report) else EXIT_OK)

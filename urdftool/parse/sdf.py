@@ -99,12 +99,15 @@ def _version(root: etree._Element, problems: list[Diagnostic]) -> tuple[int, int
 def _read_models(root: etree._Element, version: tuple[int, int], path: str,
                  resolver: PackageResolver) -> list[Loaded]:
     out: list[Loaded] = []
+    # one text index for the file: each model reader locates attributes in the same text, and
+    # reading it once per model made a world of 3000 models take 40 s instead of 2
+    sources = SourceIndex()
     containers = [root, *root.findall("world")]
     for container in containers:
         start = len(out)
         for child in container:
             if child.tag == "model":
-                out.append(_model(child, version, path, resolver))
+                out.append(_model(child, version, path, resolver, sources))
             elif child.tag == "include":
                 loaded = _included(child, path, resolver)
                 if loaded is not None:
@@ -117,8 +120,8 @@ def _read_models(root: etree._Element, version: tuple[int, int], path: str,
 
 
 def _model(element: etree._Element, version: tuple[int, int], path: str, resolver: PackageResolver,
-           **overrides: object) -> Loaded:
-    reader = SdfModelReader(path, resolver)
+           sources: SourceIndex | None = None, **overrides: object) -> Loaded:
+    reader = SdfModelReader(path, resolver, SdfValues(sources or SourceIndex()))
     robot = reader.read(element, version, **overrides)  # type: ignore[arg-type]
     diagnostics = reader.diagnostics
     robot = dataclasses.replace(robot, diagnostics=tuple(diagnostics))

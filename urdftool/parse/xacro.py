@@ -41,6 +41,8 @@ from urdftool.catalogue.xacro import (
 from urdftool.diagnostics import Diagnostic, Severity
 from urdftool.parse.ament import installed_at
 from urdftool.parse.packages import PackageResolver
+from urdftool.parse.xacro_args import KnownArgument, known_arguments, merge, misspelt_arguments
+from urdftool.parse.xacro_hints import text_property_help
 from urdftool.parse.xmlio import XmlDocument, encode_src, parse_bytes, read_up_to_cap, span_of, to_utf8
 from urdftool.source import SRC_ATTRIBUTE, Span, element_starts
 
@@ -84,6 +86,8 @@ class _Session:
     top_builds_robot: bool = False
     #: names of the macros the input itself defines
     top_macros: list[str] = field(default_factory=list)
+    #: the xacro arguments each file read declares or uses
+    arguments: list[dict[str, KnownArgument]] = field(default_factory=list)
 
 
 def _stamp(doc: xml.dom.minidom.Document, data: bytes, path: str) -> None:
@@ -188,6 +192,7 @@ def _patched(session: _Session) -> Iterator[None]:
             raise xacro.XacroException("XML syntax error")
         doc = xml.dom.minidom.parseString(data)
         _stamp(doc, data, os.path.abspath(path))
+        session.arguments.append(known_arguments(os.path.abspath(path), data.decode("utf-8", "replace")))
         session.macros.extend(_macro_names(doc))
         if len(session.files) == 1:
             session.top_builds_robot = _builds_robot(doc)
@@ -256,12 +261,12 @@ _ARG_IN_MESSAGE = re.compile(r"substitution argument (\w+)")
 _PATH_IN_MESSAGE = re.compile(r"(/[^\s'\"]+\.[\w]+)")
 
 
-def _error_help(message: str) -> str | None:
+def _error_help(message: str, read: list[str]) -> str | None:
     args = _ARG_IN_MESSAGE.findall(message)
     if args:
         name = args[0]
         return f'pass it with -a {name}:=VALUE, or declare <xacro:arg name="{name}" default="..."/>'
-    return None
+    return text_property_help(message, reversed(read))
 
 
 def _error_location(
@@ -314,6 +319,7 @@ def expand(
         finally:
             xacro.filestack = None
             xacro.macrostack = None
+    session.diagnostics.extend(misspelt_arguments(args or {}, merge(session.arguments)))
     for message, files in _warnings(stderr.getvalue()):
         session.diagnostics.append(
             XacroWarning.diagnostic(f"xacro: {message}", _warning_location(message, files or [top]))
@@ -338,7 +344,7 @@ def expand(
                     XacroError.diagnostic(
                         f"xacro: {message}",
                         _error_location(stack, message, None, session.files),
-                        help=_error_help(message),
+                        help=_error_help(message, session.files),
                         data={"files": [f for f in stack if f]},
                     )
                 )

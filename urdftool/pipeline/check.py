@@ -140,14 +140,16 @@ def check_file(path: str, options: CheckOptions) -> list[FileReport]:
                   for m in read(path, options.xacro_args, resolver)]
         # Rules that re-resolve URIs (to say where a mesh was looked for) use the same resolver.
         rule_options = {**options.rule_options, "resolver": resolver}
-        return [_settled(report_for(m, selection, rule_options), m, options, selection) for m in models]
+        reports = [report_for(m, selection, rule_options) for m in models]
+        found = [list(r.diagnostics) for r in reports]
+        if options.suppressions:
+            files = [f for m in models for f in (m.files or [m.path])]
+            found = suppress.apply_to_models(found, files, selection)
+        return [_settled(r, diagnostics, options) for r, diagnostics in zip(reports, found, strict=True)]
 
 
-def _settled(report: FileReport, loaded: Loaded, options: CheckOptions, selection: Selection) -> FileReport:
-    """*report* after the inline suppressions of every file read and the severity overrides."""
-    diagnostics = list(report.diagnostics)
-    if options.suppressions:
-        diagnostics = suppress.apply(diagnostics, loaded.files or [loaded.path], selection)
+def _settled(report: FileReport, diagnostics: list[Diagnostic], options: CheckOptions) -> FileReport:
+    """*report* with *diagnostics* (the inline suppressions applied) after the severity overrides."""
     if options.severity:
         diagnostics = [_with_severity(d, options.severity) for d in diagnostics]
     diagnostics = fixes.attach(diagnostics)

@@ -111,9 +111,25 @@ def convert_robot(
         graph = GraphOptions.of(options.extra)
         options = dataclasses.replace(options, findings=tuple(graph_findings(robot, graph)))
     result = export_model(robot, target, where, options)
+    diagnostics = distinct(result.diagnostics)
     if result.failed:
-        return Conversion(robot, target, where, diagnostics=result.diagnostics, refused=True, inputs=sources)
-    return Conversion(robot, target, where, result.files, result.diagnostics, inputs=sources)
+        return Conversion(robot, target, where, diagnostics=diagnostics, refused=True, inputs=sources)
+    return Conversion(robot, target, where, result.files, diagnostics, inputs=sources)
+
+
+def distinct(diagnostics: Sequence[Diagnostic]) -> list[Diagnostic]:
+    """*diagnostics* without repeats: the first of those with the same code, message, element
+    and location. A xacro macro called three times for one joint (franka_description's
+    ``gazebo-joint``, once per transmission type) writes three identical ``<gazebo>`` blocks;
+    the user wrote one line, and three identical findings on it say nothing more."""
+    seen: set[tuple[str, str, str | None, str]] = set()
+    out = []
+    for d in diagnostics:
+        key = (d.code, d.message, d.element, str(d.location))
+        if key not in seen:
+            seen.add(key)
+            out.append(d)
+    return out
 
 
 def output_paths(conversion: Conversion) -> list[Path]:

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from collections.abc import Iterable
+
 from urdftool.parse import Loaded, read
 from urdftool.pipeline.check import CheckOptions
 from urdftool.pipeline.home import with_home
@@ -9,6 +11,13 @@ from urdftool.pipeline.home import with_home
 
 class NoSuchModel(ValueError):
     """The file holds no model of the name asked for (``--model``)."""
+
+
+def no_such_model(path: str, model: str, names: Iterable[str | None]) -> NoSuchModel:
+    """The error for ``--model NAME`` naming no model in *path*, with the names it does hold, so
+    the user can pick one without opening the world file."""
+    known = ", ".join(n for n in dict.fromkeys(names) if n) or "none"
+    return NoSuchModel(f"{path} has no model named '{model}' (it has: {known})")
 
 
 def load_models(path: str, options: CheckOptions) -> list[Loaded]:
@@ -29,5 +38,5 @@ def load_one(path: str, options: CheckOptions, model: str | None = None) -> Load
     models = load_models(path, options)
     chosen = [m for m in models if model is None or (m.robot and m.robot.name == model)]
     if not chosen:
-        raise NoSuchModel(f"{path} has no model named '{model}'")
+        raise no_such_model(path, model or "", (m.robot.name for m in models if m.robot))
     return chosen[0]

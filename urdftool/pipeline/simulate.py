@@ -19,7 +19,7 @@ from urdftool.facts.simulation.scene import Scene, SimOptions
 from urdftool.model import Robot
 from urdftool.pipeline.check import CheckOptions, run_rules
 from urdftool.pipeline.convert import convert_robot, write_conversion
-from urdftool.pipeline.load import load_models
+from urdftool.pipeline.load import load_models, no_such_model
 from urdftool.rules import Selection
 from urdftool.simulation.run import Exported, simulate
 
@@ -66,9 +66,13 @@ def simulate_robot(robot: Robot, options: SimOptions) -> FileReport:
 
 def simulate_file(path: str, options: SimOptions, check_options: CheckOptions,
                   model: str | None = None) -> Report:
-    """Every model in *path* (or the one named *model*). Raises :class:`~urdftool.parse.InputError`."""
+    """Every model in *path* (or the one named *model*). Raises :class:`~urdftool.parse.InputError`
+    and :class:`~urdftool.pipeline.load.NoSuchModel`."""
     reports = []
-    for loaded in load_models(path, check_options):
+    models = load_models(path, check_options)
+    if model is not None and not any(m.robot and m.robot.name == model for m in models):
+        raise no_such_model(path, model, (m.robot.name for m in models if m.robot))
+    for loaded in models:
         if loaded.robot is None:
             if model is None:
                 reports.append(FileReport(loaded.path, loaded.format, None, tuple(loaded.diagnostics)))

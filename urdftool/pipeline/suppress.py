@@ -19,6 +19,7 @@ from dataclasses import dataclass, field
 from urdftool.catalogue.syntax import UnusedSuppression
 from urdftool.diagnostics import Diagnostic
 from urdftool.rules import Selection, lookup
+from urdftool.rules.selection import suggestion
 from urdftool.source import Span
 
 #: ``<!-- urdftool: ignore[S009, unknown-attribute] -->`` and ``ignore-file[...]``
@@ -70,13 +71,29 @@ def apply(diagnostics: Sequence[Diagnostic], files: Iterable[str], selection: Se
     A selector counts as unused only when its rule ran (is selected): a suppression of a rule
     switched off elsewhere is not wrong. An unknown code or name is always reported.
     """
+    return apply_to_models([diagnostics], files, selection)[0]
+
+
+def apply_to_models(reports: Sequence[Sequence[Diagnostic]], files: Iterable[str],
+                    selection: Selection) -> list[list[Diagnostic]]:
+    """:func:`apply` for the models of one file (an SDF world) at once: a comment is unused
+    only when no model's finding used it, and each file is scanned once. The unused-suppression
+    findings go with the first model, as the file's own findings do."""
     by_file: dict[str, list[Suppression]] = {}
     for path in dict.fromkeys(files):
         found = scan(path)
         if found:
             by_file[path] = found
     if not by_file:
-        return list(diagnostics)
+        return [list(r) for r in reports]
+    out = [_silence(r, by_file) for r in reports]
+    if out:
+        out[0].extend(_unused(by_file, selection, [d for kept in out for d in kept]))
+    return out
+
+
+def _silence(diagnostics: Sequence[Diagnostic], by_file: dict[str, list[Suppression]]) -> list[Diagnostic]:
+    """*diagnostics* less those a comment silences; each comment records the selectors it used."""
     kept = []
     for diagnostic in diagnostics:
         location = diagnostic.location
@@ -90,10 +107,31 @@ def apply(diagnostics: Sequence[Diagnostic], files: Iterable[str], selection: Se
                     silenced = True
         if not silenced:
             kept.append(diagnostic)
-    return kept + list(_unused(by_file, selection))
+    return kept
 
 
-def _unused(by_file: dict[str, list[Suppression]], selection: Selection) -> Iterable[Diagnostic]:
+#: how far (lines) from an unused comment a finding of its rule may be to be pointed at
+NEAREST_LINES = 30
+_REMOVE = "remove it from the comment (or the comment, when nothing is left)"
+
+
+def _nearest_help(suppression: Suppression, code: str, kept: Sequence[Diagnostic]) -> str:
+    """Where the finding the comment probably meant is (a comment above ``<inertial>`` misses
+    the finding on ``<inertia>``), or the advice to remove the selector."""
+    line = suppression.span.line or 0
+    near = [(abs(d.location.line - line), d.location.line, d) for d in kept
+            if d.code == code and d.location is not None and d.location.path == suppression.span.path
+            and d.location.line is not None and abs(d.location.line - line) <= NEAREST_LINES]
+    if suppression.whole_file or not near:
+        return _REMOVE
+    _, at, diagnostic = min(near, key=lambda item: item[:2])
+    what = f" ({diagnostic.element})" if diagnostic.element else ""
+    return (f"the nearest {code} finding is on line {at}{what}: put the comment on that line or alone "
+            f"on the line before it")
+
+
+def _unused(by_file: dict[str, list[Suppression]], selection: Selection,
+            kept: Sequence[Diagnostic]) -> Iterable[Diagnostic]:
     if not selection.enabled(UnusedSuppression):
         return
     for suppressions in by_file.values():
@@ -103,15 +141,17 @@ def _unused(by_file: dict[str, list[Suppression]], selection: Selection) -> Iter
                     continue
                 rule = lookup(selector)
                 if rule is None:
-                    why = f"'{selector}' is no rule code or name"
+                    why = f"'{selector}' is no rule code or name{suggestion(selector)}"
+                    advice = _REMOVE
                 elif not selection.enabled(rule):
                     continue
                 else:
                     why = f"no {rule.code} ({rule.name}) finding is on {_scope(suppression)}"
+                    advice = _nearest_help(suppression, rule.code, kept)
                 yield UnusedSuppression.diagnostic(
                     f"unused suppression: {why}",
                     suppression.span,
-                    help="remove it from the comment (or the comment, when nothing is left)",
+                    help=advice,
                     data={"selector": selector, "file_level": suppression.whole_file},
                 )
 

@@ -9,7 +9,7 @@ also ``:`` and ``,`` in properties.
 from __future__ import annotations
 
 from urdftool.diagnostics import Diagnostic, Report, Severity
-from urdftool.render.rule_meta import end_of, relative_path
+from urdftool.render.rule_meta import end_of, files_checked, models_note, relative_path
 
 COMMANDS = {Severity.ERROR: "error", Severity.WARNING: "warning", Severity.INFO: "notice"}
 
@@ -44,7 +44,8 @@ def render_github(report: Report) -> str:
     lines = [workflow_command(d, f.path) for f in report.files for d in f.diagnostics]
     summary = report.summary()
     lines.append(
-        f"urdftool: {summary['files']} file(s) checked: {summary['errors']} error(s), "
+        f"urdftool: {files_checked(report)} file(s) checked{models_note(report)}: "
+        f"{summary['errors']} error(s), "
         f"{summary['warnings']} warning(s), {summary['infos']} info"
     )
     return "\n".join(lines) + "\n"

@@ -9,7 +9,7 @@ from collections.abc import Iterator
 from dataclasses import dataclass
 from typing import Any
 
-from urdftool.diagnostics import Diagnostic, Severity
+from urdftool.diagnostics import Diagnostic, Report, Severity
 from urdftool.rules.registry import info
 from urdftool.source import Span
 
@@ -105,3 +105,15 @@ def fingerprints(diagnostics: tuple[Diagnostic, ...], path: str, robot: str | No
         seen[key] = count + 1
         out.append(fingerprint(d, path, count, robot))
     return out
+
+
+def models_note(report: Report) -> str:
+    """``" (3 models)"`` when a checked file held several models (an SDF world): the report
+    has one entry per model, and "3 files checked" for one world file would be wrong."""
+    return f" ({len(report.files)} models)" if len(report.files) > files_checked(report) else ""
+
+
+def files_checked(report: Report) -> int:
+    """How many files the report covers (a world with several models is one file)."""
+    return len({f.path for f in report.files})
+

@@ -8,6 +8,7 @@ import re
 from collections.abc import Iterable
 
 from urdftool.diagnostics import Diagnostic, Report, Severity
+from urdftool.render.rule_meta import files_checked, models_note
 from urdftool.source import SourceIndex
 
 _COLOURS = {Severity.ERROR: "\x1b[31;1m", Severity.WARNING: "\x1b[33;1m", Severity.INFO: "\x1b[36;1m"}
@@ -80,9 +81,10 @@ def render_text(report: Report, colour: bool = False, quiet: bool = False) -> st
             diags = [d for d in diags if d.severity is Severity.ERROR]
         chunks.extend(render_diagnostic(d, sources, colour) for d in diags)
     summary = report.summary()
-    noun = "file" if summary["files"] == 1 else "files"
+    files = files_checked(report)
+    noun = "file" if files == 1 else "files"
     chunks.append(
-        f"{summary['files']} {noun} checked: {summary['errors']} error(s), "
+        f"{files} {noun} checked{models_note(report)}: {summary['errors']} error(s), "
         f"{summary['warnings']} warning(s), {summary['infos']} info"
     )
     return "\n\n".join(chunks) + "\n"

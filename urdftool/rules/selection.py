@@ -18,6 +18,7 @@ from collections.abc import Iterable
 from dataclasses import dataclass
 from typing import Protocol
 
+from urdftool.catalogue.suggest import did_you_mean
 from urdftool.rules.registry import INDEX, REDIRECTS
 
 
@@ -65,7 +66,7 @@ class Selection:
         ign = _split(ignore) if ignore is not None else ()
         for s in (*(sel or ()), *ign):
             if not _names_a_rule(s):
-                raise UnknownSelector(f"'{s}' matches no rule code, prefix or name")
+                raise UnknownSelector(f"'{s}' matches no rule code, prefix or name{suggestion(s)}")
         return cls(sel if sel else None, ign)
 
     def enabled(self, rule: Named) -> bool:
@@ -87,6 +88,23 @@ class Selection:
     def enabled_code(self, code: str) -> bool:
         """Whether the rule with this code is on (memoised: called once per finding)."""
         return _enabled_code(self, code)
+
+
+_CODE_LIKE = re.compile(r"^([A-Za-z]{1,2})0*([0-9]{1,3})$")
+
+
+def suggestion(word: str) -> str:
+    """``"; did you mean 'I004'?"`` for a misspelt code or rule name, or the empty string.
+
+    A code with a digit left out (``I04``) is padded (``I004``) before string
+    similarity is tried: similarity alone finds ``I014`` as close as ``I004``.
+    """
+    code = _CODE_LIKE.match(word)
+    if code:
+        padded = f"{code.group(1).upper()}{int(code.group(2)):03d}"
+        if padded in INDEX:
+            return f"; did you mean '{padded}'?"
+    return did_you_mean(word.lower(), [r.name for r in INDEX.values()])
 
 
 @functools.lru_cache(maxsize=1024)

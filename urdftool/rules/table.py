@@ -156,4 +156,5 @@ RULES: tuple[tuple[str, str, str, str, bool, str, str], ...] = (
     ('X004', 'xacro-warning', 'warning', 'reader', True, 'urdftool.catalogue.xacro', 'xacro printed a warning while expanding the file.'),
     ('X005', 'macros-only', 'info', 'reader', True, 'urdftool.catalogue.xacro', 'The xacro file is a macro library: it defines macros and builds no robot.'),
     ('X006', 'xacro-in-urdf', 'warning', 'reader', True, 'urdftool.catalogue.xacro', 'A `.urdf` file uses xacro; urdftool expands it with xacro.'),
+    ('X007', 'misspelt-xacro-argument', 'warning', 'reader', True, 'urdftool.catalogue.xacro', 'A xacro argument was given that no file uses, and one of a close name is.'),
 )

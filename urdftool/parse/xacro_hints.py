@@ -1,0 +1,56 @@
+"""Help for a xacro failure whose cause sits elsewhere than where xacro stopped.
+
+``<xacro:property name="base_mass" value="0.3,"/>`` is text to xacro, so it fails
+later, where ``${base_mass / 12.0}`` is evaluated: "unsupported operand type(s)
+for /: 'str' and 'float'". The help names the property whose value is not a
+number, where it is written, and the number it was probably meant to be.
+"""
+
+from __future__ import annotations
+
+import os
+import re
+from collections.abc import Iterable
+
+#: the expression xacro names in its message, and the names in it
+_EXPRESSION = re.compile(r"when evaluating expression '([^']*)'")
+_NAME = re.compile(r"[A-Za-z_]\w*")
+#: a text value where a number was expected: Python's words for that
+_TEXT_AS_NUMBER = re.compile(r"'str'|could not convert string|must be real number, not str")
+_PROPERTY = r"""<[\w.-]+:property\b[^>]*?\bname\s*=\s*["']{name}["'][^>]*?\bvalue\s*=\s*["']([^"']*)["']"""
+
+
+def _is_number(text: str) -> bool:
+    try:
+        float(text)
+    except ValueError:
+        return False
+    return True
+
+
+def text_property_help(message: str, files: Iterable[str]) -> str | None:
+    """``property 'base_mass' is '0.3,' (file:line), text, not a number; did you mean 0.3?`` when
+    *message* is a type error in an expression using such a property, else ``None``."""
+    expression = _EXPRESSION.search(message)
+    if expression is None or not _TEXT_AS_NUMBER.search(message):
+        return None
+    names = list(dict.fromkeys(_NAME.findall(expression.group(1))))
+    for path in files:
+        try:
+            with open(path, encoding="utf-8", errors="replace") as handle:
+                text = handle.read()
+        except OSError:
+            continue
+        for name in names:
+            found = re.search(_PROPERTY.format(name=re.escape(name)), text)
+            if found is None:
+                continue
+            value = found.group(1).strip()
+            if _is_number(value) or "${" in value or "$(" in value:
+                continue
+            line = text.count("\n", 0, found.start()) + 1
+            meant = value.rstrip(",.;")
+            guess = f"; did you mean {meant}?" if meant != value and _is_number(meant) else ""
+            where = f"{os.path.basename(path)}:{line}"
+            return f"property '{name}' is '{value}' ({where}), text, not a number{guess}"
+    return None
