@@ -15,7 +15,24 @@ from tests.conftest import FIXTURES
 
 HEAVY = ("trimesh", "pinocchio", "mujoco", "pybullet")
 
-_REPORT = "import json, sys; print(json.dumps(sorted(m for m in {heavy!r} if m in sys.modules)))"
+#: Modules a ``check --select S`` of a URDF never imports, findings or not: each is for a flag
+#: (--fix/--diff, -o, --baseline, --sim), another input (xacro, an SRDF is read only when one is
+#: found, a controllers YAML only when the model names one) or another family of rules.
+OFF_THE_CHECK_PATH = (
+    "numpy", "yaml", "scipy", "xacro", "json", "difflib", "tempfile",
+    "urdftool.parse.xacro", "urdftool.parse.srdf", "urdftool.parse.controllers", "urdftool.parse.ament",
+    "urdftool.backends", "urdftool.simulation", "urdftool.export", "urdftool.export.write",
+    "urdftool.pipeline.fix", "urdftool.pipeline.baseline", "urdftool.facts.simulation.options",
+)
+#: Modules that act on findings, imported only when a file has some.
+ONLY_FOR_FINDINGS = (
+    "urdftool.pipeline.fixes", "urdftool.pipeline.fixtext", "urdftool.pipeline.provenance",
+    "urdftool.facts.simulation", "urdftool.facts.simulation.verdict",
+)
+
+#: lists the modules of *heavy* that are loaded, before importing json to print them
+_REPORT = ("import sys; loaded = sorted(m for m in {heavy!r} if m in sys.modules); "
+           "import json; print(json.dumps(loaded))")
 
 
 def _heavy_modules_after(code: str) -> list[str]:
@@ -97,8 +114,27 @@ def test_structural_check_imports_only_the_structural_rules_and_lxml() -> None:
         "                 'urdftool.rules.table'], rules\n"
         "assert 'lxml.etree' in sys.modules\n"
     )
-    heavy = (*HEAVY, "numpy", "yaml", "scipy", "xacro", "urdftool.parse.xacro", "urdftool.backends",
-             "urdftool.simulation")
+    heavy = (*HEAVY, *OFF_THE_CHECK_PATH)
+    script = code + _REPORT.format(heavy=heavy)
+    done = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, timeout=120)
+    assert done.returncode == 0, done.stderr
+    assert json.loads(done.stdout.strip().splitlines()[-1]) == []
+
+
+def test_clean_structural_check_imports_nothing_that_acts_on_findings() -> None:
+    """A plain URDF with no findings (the CI gate's common case, and the cold-start figure of
+    docs/scale.md) loads neither the fix builders nor the provenance tracer, which act on findings,
+    nor the simulation verdict, which reads them."""
+    path = FIXTURES / "rules" / "S001" / "good.urdf"
+    code = (
+        "import sys\n"
+        "from urdftool.cli import main\n"
+        "try:\n"
+        f"    main(['check', '--select', 'S', {str(path)!r}])\n"
+        "except SystemExit as exc:\n"
+        "    assert exc.code == 0, exc.code\n"
+    )
+    heavy = (*HEAVY, *OFF_THE_CHECK_PATH, *ONLY_FOR_FINDINGS)
     script = code + _REPORT.format(heavy=heavy)
     done = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, timeout=120)
     assert done.returncode == 0, done.stderr

@@ -12,6 +12,12 @@ Use it as::
         import numpy as np
     else:
         from urdftool.lazy import numpy as np
+
+The check path names the project modules that only some runs need the same way
+(``fixes = LazyModule("urdftool.pipeline.fixes")`` beside a ``TYPE_CHECKING``
+import): the import-linter contract counts ``TYPE_CHECKING`` imports, so the
+dependency stays visible to the layer rules; ``tests/test_imports.py`` lists
+the modules a structural check must not load.
 """
 
 from __future__ import annotations

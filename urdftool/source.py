@@ -92,7 +92,7 @@ def element_starts(data: bytes) -> list[tuple[int, int]]:
 _ATTR_CACHE_LIMIT = 64
 
 
-@dataclass
+@dataclass(eq=False)  # one run's state, equal only to itself: no __eq__ to generate at import
 class SourceIndex:
     """The texts of the files a model was read from, for locating attributes.
 

@@ -2,8 +2,15 @@
 
 from __future__ import annotations
 
-import difflib
 from collections.abc import Iterable
+from typing import TYPE_CHECKING
+
+from urdftool.lazy import LazyModule
+
+if TYPE_CHECKING:
+    import difflib
+else:  # imported when a name is misspelt, not by every reader that might suggest one
+    difflib = LazyModule("difflib")
 
 
 def closest(word: str, candidates: Iterable[str], cutoff: float = 0.6) -> str | None:

@@ -6,6 +6,7 @@ import dataclasses
 import os
 import sys
 from collections.abc import Sequence
+from typing import TYPE_CHECKING
 
 import click
 from click.core import ParameterSource
@@ -22,17 +23,27 @@ from urdftool.cli.common import (
 from urdftool.cli.fix import fix_options, run_fixes
 from urdftool.cli.output import emit_report, exit_code, explain_verdict_exit, output_options
 from urdftool.diagnostics import FileReport, Report
-from urdftool.export.write import OutputError
-from urdftool.facts.simulation import engine_names, rule_options_for
-from urdftool.facts.simulation.options import SimOptions
+from urdftool.lazy import LazyModule
 from urdftool.parse import InputError, detect_format
-from urdftool.pipeline import baseline
 from urdftool.pipeline.check import CheckOptions, check_files, default_jobs
 from urdftool.pipeline.discover import expand_paths
-from urdftool.pipeline.load import no_such_model
+from urdftool.pipeline.model_names import no_such_model
 from urdftool.pipeline.settings import Overrides, Settings, SettingsError, group_by_settings, resolve
 from urdftool.rules import UnknownSelector
 from urdftool.targets import TARGETS, UnknownTarget, parse_targets
+
+if TYPE_CHECKING:
+    from urdftool.export import write
+    from urdftool.facts import simulation
+    from urdftool.facts.simulation import options as simulation_options
+    from urdftool.pipeline import baseline
+else:
+    # Each is needed only by the flags that name it (--write-baseline, --sim, --baseline): a plain
+    # check does not import the exporters' package, the simulation options or JSON.
+    write = LazyModule("urdftool.export.write")
+    simulation = LazyModule("urdftool.facts.simulation")
+    simulation_options = LazyModule("urdftool.facts.simulation.options")
+    baseline = LazyModule("urdftool.pipeline.baseline")
 
 #: a progress bar is shown on a terminal from this many files on
 PROGRESS_FROM = 4
@@ -116,15 +127,16 @@ def check_command(
     file (flags win; --isolated ignores them); <!-- urdftool: ignore[CODE] --> comments silence
     findings on their line or the next (--no-suppressions shows everything).
     """
-    simulation = rule_options_for(SimOptions(engine_names(engine))) if sim else {}
+    engines = simulation_options.SimOptions(simulation.engine_names(engine)) if sim else None
+    rule_options = simulation.rule_options_for(engines) if engines is not None else {}
     try:
         chosen = parse_targets(target_names)
     except UnknownTarget as exc:
         raise click.BadParameter(str(exc), param_hint="--target") from exc
     if chosen:
-        simulation = {**simulation, "targets": tuple(t.name for t in chosen)}
+        rule_options = {**rule_options, "targets": tuple(t.name for t in chosen)}
     options = build_options(xacro_args, packages, package_paths, select, ignore, dynamics=not no_dynamics,
-                            **simulation)
+                            **rule_options)
     options = dataclasses.replace(options, suppressions=not no_suppressions, srdf=srdf_file,
                                   discover_srdf=not no_srdf, controllers=controllers_file)
     for given in (srdf_file, controllers_file):
@@ -170,7 +182,7 @@ def check_command(
     if write_baseline:
         try:
             count = baseline.write_baseline(report, write_baseline, inputs=files)
-        except OutputError as exc:
+        except write.OutputError as exc:
             raise InputProblem(str(exc)) from exc
         click.echo(f"urdftool: recorded {count} finding(s) in {write_baseline}", err=True)
         sys.exit(EXIT_OK)

@@ -5,15 +5,22 @@ from __future__ import annotations
 import sys
 from collections import Counter
 from collections.abc import Callable, Sequence
-from typing import TypeVar
+from typing import TYPE_CHECKING, TypeVar
 
 import click
 
 from urdftool.cli.common import EXIT_FINDINGS, EXIT_OK, InputProblem
 from urdftool.diagnostics import Report
-from urdftool.export.write import OutputError
+from urdftool.lazy import LazyModule
 from urdftool.pipeline.check import CheckOptions
-from urdftool.pipeline.fix import FixResult, fix_files
+
+if TYPE_CHECKING:
+    from urdftool.export import write as export_write
+    from urdftool.pipeline import fix
+    from urdftool.pipeline.fix import FixResult
+else:  # the fixer (difflib, the exporters' atomic writes) is imported when a fix flag is given
+    export_write = LazyModule("urdftool.export.write")
+    fix = LazyModule("urdftool.pipeline.fix")
 
 F = TypeVar("F", bound=Callable[..., object])
 
@@ -44,8 +51,8 @@ def run_fixes(groups: Sequence[tuple[CheckOptions, Sequence[str]]], unsafe: bool
     results: list[FixResult] = []
     try:
         for options, paths in groups:
-            results.append(fix_files(list(paths), options, unsafe=unsafe, write=write, jobs=jobs))
-    except OutputError as exc:
+            results.append(fix.fix_files(list(paths), options, unsafe=unsafe, write=write, jobs=jobs))
+    except export_write.OutputError as exc:
         raise InputProblem(str(exc)) from exc
     refused = [path for result in results for path in result.refused]
     for path in refused:

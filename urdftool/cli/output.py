@@ -5,15 +5,24 @@ from __future__ import annotations
 
 import sys
 from collections.abc import Iterable
+from typing import TYPE_CHECKING
 
 import click
 
 from urdftool.cli.common import EXIT_FINDINGS, EXIT_OK, F, InputProblem
 from urdftool.diagnostics import Report
-from urdftool.export.write import OutputError, write_text_atomic
-from urdftool.facts.simulation.verdict import is_failed_verdict, verdict_failed
+from urdftool.lazy import LazyModule
 from urdftool.render.colour import CHOICES, want_colour
 from urdftool.render.formats import FORMATS, render_report
+
+if TYPE_CHECKING:
+    from urdftool.export import write
+    from urdftool.facts.simulation import verdict
+else:
+    # -o/--output-file and a report with findings need these; a clean check to standard output
+    # does not import the exporters' package or the simulation facts.
+    write = LazyModule("urdftool.export.write")
+    verdict = LazyModule("urdftool.facts.simulation.verdict")
 
 
 def output_options(func: F) -> F:
@@ -40,8 +49,8 @@ def emit_report(report: Report, fmt: str, output: str | None, color: str, quiet:
     text = render_report(report, fmt, colour=colour, quiet=quiet)
     if output:
         try:
-            write_text_atomic(output, text, inputs=inputs)
-        except OutputError as exc:
+            write.write_text_atomic(output, text, inputs=inputs)
+        except write.OutputError as exc:
             raise InputProblem(str(exc)) from exc
     else:
         click.echo(text, nl=False, color=colour or None)
@@ -52,15 +61,17 @@ def exit_code(report: Report, strict: bool, exit_zero: bool = False) -> int:
     unless *exit_zero*."""
     if exit_zero:
         return EXIT_OK
-    return EXIT_FINDINGS if report.failed(strict) or verdict_failed(report) else EXIT_OK
+    failed = report.failed(strict) or (bool(report.diagnostics) and verdict.verdict_failed(report))
+    return EXIT_FINDINGS if failed else EXIT_OK
 
 
 def explain_verdict_exit(report: Report, strict: bool) -> None:
     """Say on standard error why the run exits 1 when only a "failed" simulation verdict does it:
     the summary line then reads "0 error(s)", which alone would make exit 1 look like a bug."""
-    if report.failed(strict) or not verdict_failed(report):
+    if report.failed(strict) or not report.diagnostics or not verdict.verdict_failed(report):
         return
     # a sim-summary message reads "<Engine>: failed (<reason>): <numbers>"
-    verdicts = [": ".join(d.message.split(": ")[:2]) for d in report.diagnostics if is_failed_verdict(d)]
+    verdicts = [": ".join(d.message.split(": ")[:2]) for d in report.diagnostics
+                if verdict.is_failed_verdict(d)]
     click.echo(f"urdftool: exit 1: {', '.join(dict.fromkeys(verdicts))} (a failed simulation verdict "
                "fails the run even when its findings are warnings)", err=True)

@@ -5,10 +5,17 @@
 
 from __future__ import annotations
 
-import difflib
 from collections.abc import Iterable
+from typing import TYPE_CHECKING
 
 import click
+
+from urdftool.lazy import LazyModule
+
+if TYPE_CHECKING:
+    import difflib
+else:  # imported when a command is misspelt, not at every start
+    difflib = LazyModule("difflib")
 
 
 def nearest(word: str, candidates: Iterable[str]) -> list[str]:

@@ -15,7 +15,7 @@ CONTROLLERS_OPTION = "controllers"
 SIM_OPTION = "sim"
 
 
-@dataclass
+@dataclass(eq=False)  # one run's state, equal only to itself: no __eq__ to generate at import
 class CheckContext:
     """The robot under check, its kinematic tree, run-wide options and the facts computed so far.
 

@@ -69,7 +69,7 @@ from urdftool.parse.xmlio import XmlDocument, span_of
 from urdftool.source import SRC_ATTRIBUTE, SourceIndex, Span
 
 
-@dataclass
+@dataclass(eq=False)  # one run's state, equal only to itself: no __eq__ to generate at import
 class UrdfReader:
     """Reads one URDF document. Create, call :meth:`read`, take ``values.diagnostics``."""
 

@@ -98,7 +98,7 @@ class Unbounded:
 UNBOUNDED = Unbounded()
 
 
-@dataclass
+@dataclass(eq=False)  # one run's state, equal only to itself: no __eq__ to generate at import
 class ValueReader:
     """Reads numbers and vectors from elements, collecting diagnostics."""
 

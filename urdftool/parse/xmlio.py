@@ -134,7 +134,7 @@ def _parser() -> etree.XMLParser:
     )
 
 
-@dataclass
+@dataclass(eq=False)  # one run's state, equal only to itself: no __eq__ to generate at import
 class XmlDocument:
     """A parsed document whose elements carry their source positions.
 

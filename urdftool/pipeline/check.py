@@ -13,17 +13,22 @@ from typing import TYPE_CHECKING, Any
 from urdftool.catalogue.syntax import InternalError
 from urdftool.diagnostics import Diagnostic, FileReport, Report, Severity
 from urdftool.facts.context import CONTROLLERS_OPTION, SIM_OPTION, SRDF_OPTION, CheckContext
+from urdftool.lazy import LazyModule
 from urdftool.model import KinematicTree, Robot
 from urdftool.parse import Loaded, read
 from urdftool.parse.packages import PackageResolver
-from urdftool.pipeline import controllers, fixes, srdf, suppress
-from urdftool.pipeline.provenance import trace
+from urdftool.pipeline import controllers, srdf, suppress
 from urdftool.rules import Selection
 from urdftool.rules.registry import model_rules
 from urdftool.safe_files import file_limits
 
 if TYPE_CHECKING:
     from urdftool.facts.simulation import Simulator
+    from urdftool.pipeline import fixes, provenance
+else:
+    # Both act on findings: a model with none (the common case of a CI gate) never imports them.
+    fixes = LazyModule("urdftool.pipeline.fixes")
+    provenance = LazyModule("urdftool.pipeline.provenance")
 
 
 @dataclass(frozen=True)
@@ -76,7 +81,9 @@ def run_rules(
                     data={"rule": rule.code},
                 )
             )
-    return sorted(trace(_unique(found), robot), key=Diagnostic.sort_key)
+    if not found:
+        return found
+    return sorted(provenance.trace(_unique(found), robot), key=Diagnostic.sort_key)
 
 
 def _simulator(options: Mapping[str, Any]) -> Simulator | None:
@@ -152,7 +159,8 @@ def _settled(report: FileReport, diagnostics: list[Diagnostic], options: CheckOp
     """*report* with *diagnostics* (the inline suppressions applied) after the severity overrides."""
     if options.severity:
         diagnostics = [_with_severity(d, options.severity) for d in diagnostics]
-    diagnostics = fixes.attach(diagnostics)
+    if diagnostics:
+        diagnostics = fixes.attach(diagnostics)
     return FileReport(report.path, report.format, report.robot,
                       tuple(sorted(diagnostics, key=Diagnostic.sort_key)))
 

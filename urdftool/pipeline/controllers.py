@@ -16,18 +16,26 @@ from __future__ import annotations
 import dataclasses
 import os
 from collections.abc import Iterator
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from urdftool.catalogue.ros2_control import ControllersYamlInvalid
 from urdftool.diagnostics import Diagnostic
+from urdftool.lazy import LazyModule
 from urdftool.model import Robot
 from urdftool.parse import Loaded
-from urdftool.parse.ament import installed_source
-from urdftool.parse.controllers import ControllerConfig, Controllers, read_controllers
 from urdftool.parse.packages import PackageResolver
 from urdftool.parse.xmlio import span_of
 from urdftool.safe_files import is_regular
 from urdftool.source import Span
+
+if TYPE_CHECKING:
+    from urdftool.parse import ament
+    from urdftool.parse import controllers as reader
+else:
+    # Imported when a model names a controllers file (a ros2_control plugin's <parameters>) or
+    # --controllers is given: most models do neither.
+    ament = LazyModule("urdftool.parse.ament")
+    reader = LazyModule("urdftool.parse.controllers")
 
 
 def parameter_elements(robot: Robot) -> Iterator[Any]:
@@ -54,7 +62,7 @@ def _resolve(
         if path is None and lookup.path:
             # `$(find pkg)` is the installed share folder: in a source tree the file sits where the
             # package's ament install rule takes it from (config/ installed from description/config)
-            path = installed_source(lookup.path)
+            path = ament.installed_source(lookup.path)
         return path, tuple(lookup.tried), True
     candidate = os.path.join(os.path.dirname(os.path.abspath(model_path)), text)
     return (candidate if is_regular(candidate) else None), (candidate,), False
@@ -64,8 +72,8 @@ def attach(loaded: Loaded, controllers_path: str | None, resolver: PackageResolv
     """*loaded* with its controllers YAML read (from *controllers_path*, else its plugins')."""
     if loaded.robot is None:
         return loaded
-    found = Controllers(given=controllers_path is not None)
     paths: list[str] = []
+    missing: list[tuple[str, Span | None, tuple[str, ...]]] = []
     if controllers_path is not None:
         paths.append(controllers_path)
     else:
@@ -78,14 +86,15 @@ def attach(loaded: Loaded, controllers_path: str | None, resolver: PackageResolv
                 if path not in paths:
                     paths.append(path)
             elif certain:
-                found.missing.append((text, span_of(element), tried))
+                missing.append((text, span_of(element), tried))
+    if not paths and not missing:
+        return loaded
+    found = reader.Controllers(missing=missing, given=controllers_path is not None)
     for path in paths:
         try:
-            found.configs.append(read_controllers(path))
+            found.configs.append(reader.read_controllers(path))
         except OSError as exc:
-            found.configs.append(ControllerConfig(path, diagnostics=[_unreadable(path, exc)]))
-    if not found.configs and not found.missing:
-        return loaded
+            found.configs.append(reader.ControllerConfig(path, diagnostics=[_unreadable(path, exc)]))
     extra = [d for config in found.configs for d in config.diagnostics]
     robot = dataclasses.replace(loaded.robot, diagnostics=(*loaded.robot.diagnostics, *extra))
     return dataclasses.replace(

@@ -2,22 +2,12 @@
 
 from __future__ import annotations
 
-from collections.abc import Iterable
-
 from urdftool.parse import Loaded, read
 from urdftool.pipeline.check import CheckOptions
 from urdftool.pipeline.home import with_home
+from urdftool.pipeline.model_names import NoSuchModel, no_such_model
 
-
-class NoSuchModel(ValueError):
-    """The file holds no model of the name asked for (``--model``)."""
-
-
-def no_such_model(path: str, model: str, names: Iterable[str | None]) -> NoSuchModel:
-    """The error for ``--model NAME`` naming no model in *path*, with the names it does hold, so
-    the user can pick one without opening the world file."""
-    known = ", ".join(n for n in dict.fromkeys(names) if n) or "none"
-    return NoSuchModel(f"{path} has no model named '{model}' (it has: {known})")
+__all__ = ["NoSuchModel", "load_models", "load_one", "no_such_model"]
 
 
 def load_models(path: str, options: CheckOptions) -> list[Loaded]:

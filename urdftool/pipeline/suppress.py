@@ -28,7 +28,7 @@ COMMENT = re.compile(r"<!--\s*urdftool:\s*(ignore|ignore-file)\s*\[([^\]]*)\]\s*
 MAX_SCAN_BYTES = 64 * 1024 * 1024
 
 
-@dataclass
+@dataclass(eq=False)  # one run's state, equal only to itself: no __eq__ to generate at import
 class Suppression:
     """One comment: where it is, whether it covers the file, and the codes or names it lists."""
 

@@ -1,0 +1,20 @@
+"""``--model NAME`` that names no model: the error every command and the API raise.
+
+Kept apart from :mod:`urdftool.pipeline.load` so that a structural check, which
+needs only the message, does not import the home-configuration and SRDF readers.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable
+
+
+class NoSuchModel(ValueError):
+    """The file holds no model of the name asked for (``--model``)."""
+
+
+def no_such_model(path: str, model: str, names: Iterable[str | None]) -> NoSuchModel:
+    """The error for ``--model NAME`` naming no model in *path*, with the names it does hold, so
+    the user can pick one without opening the world file."""
+    known = ", ".join(n for n in dict.fromkeys(names) if n) or "none"
+    return NoSuchModel(f"{path} has no model named '{model}' (it has: {known})")
