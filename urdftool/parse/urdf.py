@@ -22,35 +22,29 @@ from urdftool.catalogue.syntax import (
     RobotNameMissing,
     UnknownAttribute,
     UnknownElement,
-    UnknownJointType,
     VendorExtension,
 )
 from urdftool.diagnostics import Diagnostic, Severity
 from urdftool.model import (
     IDENTITY,
     Box,
-    Calibration,
     Capsule,
     Collision,
     Cylinder,
-    Dynamics,
     Extension,
     Geometry,
     Inertial,
     Joint,
-    JointType,
-    Limit,
     Link,
     Material,
     Mesh,
-    Mimic,
     Pose,
     Robot,
-    SafetyController,
     Sphere,
     Visual,
 )
 from urdftool.parse.packages import PackageResolver
+from urdftool.parse.urdf_joints import JointParts
 from urdftool.parse.urdf_schema import (
     ATTRIBUTES,
     CHILDREN,
@@ -58,8 +52,6 @@ from urdftool.parse.urdf_schema import (
     KNOWN_EXTENSIONS,
     LINK_EXTENSIONS,
     SDF_ISMS,
-    SPHERICAL_NAMES,
-    URDF_TYPES,
     VENDOR_ELEMENTS,
     attribute_verdict,
     is_extension_name,
@@ -70,7 +62,7 @@ from urdftool.source import SRC_ATTRIBUTE, SourceIndex, Span
 
 
 @dataclass(eq=False)  # one run's state, equal only to itself: no __eq__ to generate at import
-class UrdfReader:
+class UrdfReader(JointParts):
     """Reads one URDF document. Create, call :meth:`read`, take ``values.diagnostics``."""
 
     path: str
@@ -498,99 +490,6 @@ class UrdfReader:
                 for item in items
             ),
         )
-
-    def _joint_type(self, element: etree._Element, where: str) -> JointType:
-        raw = self.values.text(element, "type", where, required=True)
-        if raw is None:
-            return JointType.FIXED
-        if raw in URDF_TYPES:
-            return JointType(raw)
-        if raw in SPHERICAL_NAMES:
-            self._report(
-                UnknownJointType.diagnostic(
-                    f"{where}: type \"{raw}\" is not a URDF joint type (a PyBullet extension, read "
-                    "here as a ball joint; urdfdom, ROS and MuJoCo's importer reject it)",
-                    self.values.attr_span(element, "type"),
-                    element=where,
-                    help="use SDF's ball joint, or three revolute joints",
-                    data={"type": raw},
-                    # A known extension that PyBullet honours: worth a warning, not an error.
-                    severity=Severity.WARNING,
-                )
-            )
-            return JointType.SPHERICAL
-        self._report(
-            UnknownJointType.diagnostic(
-                f"{where}: unknown joint type \"{raw}\"" + did_you_mean(raw, URDF_TYPES)
-                + " (read as fixed)",
-                self.values.attr_span(element, "type"),
-                element=where,
-                data={"type": raw},
-            )
-        )
-        return JointType.FIXED
-
-    def _single(self, groups: dict[str, list[etree._Element]], tag: str, where: str) -> etree._Element | None:
-        items = groups.get(tag)
-        if not items:
-            return None
-        self._check_attributes(items[0], f"{where}/{tag}")
-        return items[0]
-
-    def _limit(self, groups: dict[str, list[etree._Element]], where: str) -> Limit | None:
-        el = self._single(groups, "limit", where)
-        if el is None:
-            return None
-        here = f"{where}/limit"
-        n = self.values.number
-        spans = {side: self.values.attr_span(el, side) if el.get(side) is not None else None
-                 for side in ("lower", "upper")}
-        return Limit(n(el, "lower", here), n(el, "upper", here), n(el, "effort", here),
-                     n(el, "velocity", here), self.span(el), spans["lower"], spans["upper"])
-
-    def _dynamics(self, groups: dict[str, list[etree._Element]], where: str) -> Dynamics | None:
-        el = self._single(groups, "dynamics", where)
-        if el is None:
-            return None
-        here = f"{where}/dynamics"
-        damping = self.values.number(el, "damping", here)
-        friction = self.values.number(el, "friction", here)
-        return Dynamics(damping or 0.0, friction or 0.0, self.span(el))
-
-    def _mimic(self, groups: dict[str, list[etree._Element]], where: str) -> Mimic | None:
-        el = self._single(groups, "mimic", where)
-        if el is None:
-            return None
-        here = f"{where}/mimic"
-        target = self.values.text(el, "joint", here, required=True)
-        if not target:
-            return None
-        multiplier = self.values.number(el, "multiplier", here)
-        offset = self.values.number(el, "offset", here)
-        return Mimic(target, 1.0 if multiplier is None else multiplier, offset or 0.0, self.span(el))
-
-    def _safety(self, groups: dict[str, list[etree._Element]], where: str) -> SafetyController | None:
-        el = self._single(groups, "safety_controller", where)
-        if el is None:
-            return None
-        here = f"{where}/safety_controller"
-        n = self.values.number
-        k_velocity = n(el, "k_velocity", here, required=True)
-        return SafetyController(
-            k_velocity or 0.0,
-            n(el, "k_position", here) or 0.0,
-            n(el, "soft_lower_limit", here) or 0.0,
-            n(el, "soft_upper_limit", here) or 0.0,
-            self.span(el),
-        )
-
-    def _calibration(self, groups: dict[str, list[etree._Element]], where: str) -> Calibration | None:
-        el = self._single(groups, "calibration", where)
-        if el is None:
-            return None
-        here = f"{where}/calibration"
-        return Calibration(self.values.number(el, "rising", here), self.values.number(el, "falling", here),
-                           self.span(el))
 
 
 def iter_elements(root: etree._Element) -> Iterator[etree._Element]:
