@@ -8,6 +8,7 @@ from __future__ import annotations
 import json
 import subprocess
 import sys
+from pathlib import Path
 
 import pytest
 
@@ -19,7 +20,7 @@ HEAVY = ("trimesh", "pinocchio", "mujoco", "pybullet")
 #: (--fix/--diff, -o, --baseline, --sim), another input (xacro, an SRDF is read only when one is
 #: found, a controllers YAML only when the model names one) or another family of rules.
 OFF_THE_CHECK_PATH = (
-    "numpy", "yaml", "scipy", "xacro", "json", "difflib", "tempfile",
+    "numpy", "yaml", "scipy", "xacro", "json", "difflib", "tempfile", "hashlib",
     "urdftool.parse.xacro", "urdftool.parse.srdf", "urdftool.parse.controllers", "urdftool.parse.ament",
     "urdftool.backends", "urdftool.simulation", "urdftool.export", "urdftool.export.write",
     "urdftool.pipeline.fix", "urdftool.pipeline.baseline", "urdftool.facts.simulation.options",
@@ -139,3 +140,27 @@ def test_clean_structural_check_imports_nothing_that_acts_on_findings() -> None:
     done = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, timeout=120)
     assert done.returncode == 0, done.stderr
     assert json.loads(done.stdout.strip().splitlines()[-1]) == []
+
+
+def test_a_pyproject_without_urdftool_is_passed_over_unparsed(tmp_path: Path) -> None:
+    """Config discovery reads a ``pyproject.toml`` only when it can hold ``[tool.urdftool]``: a
+    project's own pyproject (every Python repository has one) costs no TOML parser at start."""
+    (tmp_path / "pyproject.toml").write_text('[project]\nname = "robot"\n[tool.ruff]\nline-length = 99\n')
+    model = tmp_path / "robot.urdf"
+    model.write_text((FIXTURES / "rules" / "S001" / "good.urdf").read_text())
+    code = (
+        "import sys\n"
+        "from urdftool.cli import main\n"
+        "try:\n"
+        f"    main(['check', '--select', 'S', {str(model)!r}])\n"
+        "except SystemExit as exc:\n"
+        "    assert exc.code == 0, exc.code\n"
+    )
+    script = code + _REPORT.format(heavy=("tomllib", "tomli"))
+    done = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, timeout=120)
+    assert done.returncode == 0, done.stderr
+    assert json.loads(done.stdout.strip().splitlines()[-1]) == []
+    (tmp_path / "pyproject.toml").write_text('[tool.urdftool]\nselect = ["S"]\n')
+    done = subprocess.run([sys.executable, "-m", "urdftool", "check", "--show-settings", str(model)],
+                          capture_output=True, text=True, timeout=120)
+    assert "pyproject.toml" in done.stdout + done.stderr, done.stdout + done.stderr

@@ -129,6 +129,8 @@ def find_config(start: str | os.PathLike[str]) -> ConfigFile | None:
             path = candidate / name
             if not path.is_file():
                 continue
+            if name == "pyproject.toml" and not _may_configure(path):
+                continue
             document = _load_toml(path)
             if name == "pyproject.toml":
                 table = document.get("tool", {}).get("urdftool")
@@ -140,6 +142,17 @@ def find_config(start: str | os.PathLike[str]) -> ConfigFile | None:
             validate(config)
             return config
     return None
+
+
+def _may_configure(path: Path) -> bool:
+    """Whether a ``pyproject.toml`` can hold urdftool's table: TOML spells the key ``urdftool``
+    however the table is written (``[tool.urdftool]``, ``urdftool = {…}`` under ``[tool]``, a
+    dotted key), so a file without that word is passed over unread (and the TOML parser, a few
+    milliseconds of a cold start, is not imported); an unreadable file is read to say why."""
+    try:
+        return b"urdftool" in path.read_bytes()
+    except OSError:
+        return True
 
 
 def _load_toml(path: Path) -> dict[str, Any]:

@@ -3,15 +3,20 @@ summary, default severity and documentation page, and paths relative to the work
 
 from __future__ import annotations
 
-import hashlib
 import os
 from collections.abc import Iterator
 from dataclasses import dataclass
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from urdftool.diagnostics import Diagnostic, Report, Severity
+from urdftool.lazy import LazyModule
 from urdftool.rules.registry import info
 from urdftool.source import Span
+
+if TYPE_CHECKING:
+    import hashlib
+else:  # OpenSSL's hashes load in ~4 ms; only the fingerprinting formats (SARIF, GitLab) need them
+    hashlib = LazyModule("hashlib")
 
 #: the project's home; rule pages live under ``docs/rules/`` there
 PROJECT_URL = "https://github.com/urdftool/urdftool"
