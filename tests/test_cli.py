@@ -315,3 +315,21 @@ def test_convert_quiet_prints_errors_only(tmp_path) -> None:
     assert loud.exit_code == quiet.exit_code == 0
     assert "conversion-dropped" in loud.output
     assert "conversion-dropped" not in quiet.output
+
+
+def test_json_locations_in_included_files_are_relative_like_the_text_report(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """A finding in a file the checked xacro includes names it relative to the working folder,
+    as the text and SARIF reports do, not by this machine's absolute path; one in the checked
+    file names it as the file entry does."""
+    monkeypatch.chdir(ROOT)
+    model = "fixtures/seeds/learning_ros/mobot_urdf/urdf/mobot_w_arm.xacro"
+    report = json_report("--no-dynamics", model)
+    (file_report,) = report["files"]
+    paths = {d["location"]["path"] for d in file_report["diagnostics"] if d["location"]}
+    assert "fixtures/seeds/learning_ros/mobot_urdf/urdf/mobot2.xacro" in paths, paths
+    assert not [p for p in paths if Path(p).is_absolute()], paths
+    absolute = json_report("--no-dynamics", "--select", "S", str(ROOT / "fixtures/rules/S005/bad.urdf"))
+    located = {d["location"]["path"] for f in absolute["files"] for d in f["diagnostics"]}
+    assert located == {str(ROOT / "fixtures/rules/S005/bad.urdf")}

@@ -3,21 +3,42 @@
 from __future__ import annotations
 
 import json
+import os
 from typing import Any
 
 from urdftool.diagnostics import Report
+from urdftool.render.rule_meta import relative_path
 from urdftool.version import __version__
 
 SCHEMA_VERSION = 1
 
 
 def report_document(report: Report) -> dict[str, Any]:
+    files = [f.to_json() for f in report.files]
+    for file in files:
+        for diagnostic in file["diagnostics"]:
+            _relative_locations(diagnostic, file["path"])
     return {
         "schema_version": SCHEMA_VERSION,
         "tool": {"name": "urdftool", "version": __version__},
-        "files": [f.to_json() for f in report.files],
+        "files": files,
         "summary": report.summary(),
     }
+
+
+def _relative_locations(diagnostic: dict[str, Any], checked: str) -> None:
+    """Every location of a finding (its own, its related ones, its fix's edits) in the checked
+    file names it as the file entry does (as given); one in another file (an included
+    ``.xacro``, a mesh, an SRDF) as the text and SARIF reports do: relative to the working
+    folder when below it, so it reads the same on every machine (a file outside stays absolute)."""
+    checked_absolute = os.path.abspath(checked)
+    places = [diagnostic.get("location")]
+    places += [r.get("location") for r in diagnostic.get("related", ())]
+    places += [e.get("location") for e in (diagnostic.get("fix") or {}).get("edits", ())]
+    for place in places:
+        if place and place.get("path"):
+            same = os.path.abspath(place["path"]) == checked_absolute
+            place["path"] = checked if same else relative_path(place["path"])
 
 
 def render_json(report: Report) -> str:
