@@ -231,3 +231,26 @@ def test_dynamics_of_an_sdf_link_without_inertial_use_the_sdf_default() -> None:
     path = FIXTURES / "rules" / "I001" / "bad_sdf_default_inertial.sdf"
     found = [d for r in check_file(str(path), CheckOptions()) for d in r.diagnostics]
     assert [d.code for d in found if d.severity.value == "error"] == []
+
+
+def test_exports_write_sdformats_default_inertial_for_a_link_without_one(tmp_path: Path) -> None:
+    """An SDF link without <inertial> weighs 1 kg with a unit inertia in gz-sim; the MJCF, PyBullet
+    and URDF exports write that out (reported as info), so the export weighs what the source does."""
+    import mujoco
+    from lxml import etree
+
+    import urdftool
+
+    source = FIXTURES / "rules" / "I001" / "bad_sdf_default_inertial.sdf"
+    model = mujoco.MjModel.from_xml_string(urdftool.to_mjcf(source))
+    blades = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_BODY, "blades")
+    assert model.body_mass[blades] == 1.0 and list(model.body_inertia[blades]) == [1.0, 1.0, 1.0]
+    assert abs(sum(model.body_mass) - 21.0) < 1e-12
+    urdf = etree.fromstring(urdftool.to_urdf(source).encode())
+    assert urdf.find("link[@name='blades']/inertial/mass").get("value") == "1"
+    from urdftool.export import ExportOptions
+    from urdftool.pipeline.convert import convert_robot
+
+    notes = convert_robot(urdftool.load(source), "pybullet", tmp_path / "r.urdf", ExportOptions()).diagnostics
+    defaulted = [(d.code, d.severity.value) for d in notes if "SDFormat's default" in d.message]
+    assert defaulted == [("C002", "info")]

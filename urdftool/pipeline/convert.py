@@ -17,13 +17,14 @@ from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from urdftool.catalogue.conversion import InertiaNotExportable
+from urdftool.catalogue.conversion import InertiaNotExportable, InertiaRepaired
 from urdftool.diagnostics import Diagnostic, Severity
 from urdftool.export import ExportOptions, export_model
 from urdftool.export.graph import GraphOptions
 from urdftool.export.write import guard_inputs, write_bytes_atomic
 from urdftool.model import Robot
 from urdftool.physics.bodies import kinematics_only
+from urdftool.physics.sdf_defaults import SDF_DEFAULT_INERTIAL, defaulted_links, sdf_default_inertials
 from urdftool.pipeline.check import run_rules
 from urdftool.rules import Selection
 
@@ -96,6 +97,9 @@ def convert_robot(
     structural = structural_errors(robot)
     if structural:
         return Conversion(robot, target, where, diagnostics=structural, refused=True, inputs=sources)
+    defaulted: list[Diagnostic] = []
+    if target in WRITES_SDF_DEFAULTS:
+        robot, defaulted = _sdf_defaults_written(robot, target)
     if target in SIMULATED and not options.repair_inertia and kinematics_only(robot):
         refusal = InertiaNotExportable.diagnostic(
             f"robot '{robot.name}' has no <inertial> in any link (a kinematic model); "
@@ -111,10 +115,30 @@ def convert_robot(
         graph = GraphOptions.of(options.extra)
         options = dataclasses.replace(options, findings=tuple(graph_findings(robot, graph)))
     result = export_model(robot, target, where, options)
-    diagnostics = distinct(result.diagnostics)
+    diagnostics = distinct([*defaulted, *result.diagnostics])
     if result.failed:
         return Conversion(robot, target, where, diagnostics=diagnostics, refused=True, inputs=sources)
     return Conversion(robot, target, where, result.files, diagnostics, inputs=sources)
+
+
+#: Targets whose format has no default inertial of its own: an SDF link without ``<inertial>``
+#: is written with SDFormat's (1 kg, unit inertia), so the export weighs what gz-sim weighs.
+WRITES_SDF_DEFAULTS = frozenset({"mjcf", "pybullet", "urdf"})
+
+
+def _sdf_defaults_written(robot: Robot, target: str) -> tuple[Robot, list[Diagnostic]]:
+    """*robot* with SDFormat's default inertial written on each SDF link that has none, and an
+    info per link saying so."""
+    notes = [
+        InertiaRepaired.diagnostic(
+            f"link '{link.name}' has no <inertial>: written for {target} with SDFormat's default, "
+            "1 kg and 1 kg·m² about each axis, which gz-sim and Gazebo give it",
+            link.span, element=f"link[{link.name}]", severity=Severity.INFO,
+            data={"link": link.name, "mass": SDF_DEFAULT_INERTIAL.mass, "reason": "sdf-default"},
+        )
+        for link in defaulted_links(robot)
+    ]
+    return sdf_default_inertials(robot), notes
 
 
 def distinct(diagnostics: Sequence[Diagnostic]) -> list[Diagnostic]:

@@ -8,14 +8,15 @@ from __future__ import annotations
 
 import importlib.util
 from collections.abc import Mapping
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 from typing import Any
 
 from urdftool.facts.dynamics.analysis import SAMPLES, analyse
 from urdftool.facts.dynamics.coverage import NotCovered, floating_base, not_covered
 from urdftool.facts.dynamics.linear import DENSE_DOF, gravity_loads, moving_dof
-from urdftool.model import Inertial, KinematicTree, Robot
+from urdftool.model import KinematicTree, Robot
 from urdftool.physics.bodies import kinematics_only
+from urdftool.physics.sdf_defaults import sdf_default_inertials
 
 #: Rule option that turns the pass on or off (default on).
 OPTION = "dynamics"
@@ -54,20 +55,3 @@ def dynamics_of(robot: Robot, tree: KinematicTree, options: Mapping[str, Any]) -
         # matrices: large models get the linear gravity pass only (and a note that says so).
         return gravity_loads(robot, tree, floating, why, samples)
     return analyse(robot, tree, floating, why, samples)
-
-
-#: SDFormat's ``<inertial>`` when a link has none: 1 kg, a unit inertia (kg·m²) at the link origin
-SDF_DEFAULT_INERTIAL = Inertial(1.0, ((1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, 1.0)))
-
-
-def sdf_default_inertials(robot: Robot) -> Robot:
-    """*robot* with SDFormat's default inertial on every SDF link that has none (not ``world``).
-
-    libsdformat, gz-sim and Gazebo classic give such a link 1 kg and a unit inertia, so the
-    dynamics an SDF reader computes are those of these links, not of massless ones
-    (``missing-inertial`` says the mass is not the author's)."""
-    if robot.format != "sdf" or all(link.inertial is not None for link in robot.links):
-        return robot
-    links = tuple(replace(link, inertial=SDF_DEFAULT_INERTIAL)
-                  if link.inertial is None and link.name != "world" else link for link in robot.links)
-    return replace(robot, links=links)
