@@ -39,6 +39,7 @@ from urdftool.rules.intent_common import (
     IntentRule,
     home_poses,
     option,
+    rotation_angle,
     shape_dims,
     where_joint,
     where_link,
@@ -192,8 +193,8 @@ class MirroredPoseMismatch(IntentRule):
     plane either (for two joints on one bare frame, such as a `world`
     link, through the plane parallel to it midway between the children);
     or when both children sit on the same side of that plane
-    at the same place (a part copied and not mirrored; prismatic joints,
-    whose fingers start together, excepted). Sensor mounts (names with
+    at the same place with the same orientation (a part copied and not
+    mirrored; prismatic joints, whose fingers start together, excepted). Sensor mounts (names with
     `imu`, `camera`, `stereo`, `sensor`, `fsr`, `optical`, `laser`,
     `lidar`…) and bare frames (no mass, no shape) are not compared for
     offsets: sensors sit where the hardware fits, a stereo pair's right
@@ -238,12 +239,16 @@ class MirroredPoseMismatch(IntentRule):
             mirrored_world = all(_close(float(x), float(y), ctx) for x, y in zip(wa, flipped, strict=False))
             written = _abs_match(ja.origin.xyz, jb.origin.xyz, ctx)
             lateral = option(ctx, "mirror_length_tolerance")
+            turned = math.radians(option(ctx, "angle_tolerance_deg"))
             # prismatic fingers start at one point and slide apart: coinciding is their design
             same_side = (
                 JointType.PRISMATIC not in (ja.type, jb.type)
                 and abs(float(wa[1])) > 10 * lateral
                 and float(wa[1]) * float(wb[1]) > 0
                 and all(_close(float(x), float(y), ctx) for x, y in zip(wa, wb, strict=False))
+                # a copy keeps its orientation too; two frames at one point turned apart are a
+                # design (Robonaut's arms both start at one shoulder point, turned left and right)
+                and rotation_angle(pa[:3, :3].T @ pb[:3, :3]) <= turned
             )
             if same_side:
                 message = (
