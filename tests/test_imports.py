@@ -24,6 +24,7 @@ OFF_THE_CHECK_PATH = (
     "urdftool.parse.xacro", "urdftool.parse.srdf", "urdftool.parse.controllers", "urdftool.parse.ament",
     "urdftool.backends", "urdftool.simulation", "urdftool.export", "urdftool.export.write",
     "urdftool.pipeline.fix", "urdftool.pipeline.baseline", "urdftool.facts.simulation.options",
+    "urdftool.rules.summaries",
 )
 #: Modules that act on findings, imported only when a file has some.
 ONLY_FOR_FINDINGS = (

@@ -7,7 +7,7 @@ from pathlib import Path
 import pytest
 
 from urdftool.rules import Selection, UnknownSelector, all_rules, lookup
-from urdftool.rules.docs import TABLE_PATH, pages, table_source
+from urdftool.rules.docs import SUMMARIES_PATH, TABLE_PATH, pages, summaries_source, table_source
 from urdftool.rules.registry import CODE_PATTERN, DOC_SECTIONS, NAME_PATTERN
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -89,6 +89,9 @@ def test_generated_rule_docs_are_current() -> None:
 
 def test_generated_rule_table_is_current() -> None:
     """The table a run selects rules from (without importing them) matches the rule modules."""
+    assert SUMMARIES_PATH.read_text() == summaries_source(), (
+        "urdftool/rules/summaries.py drifted: run `python -m urdftool.rules.docs`"
+    )
     assert TABLE_PATH.read_text() == table_source(), (
         "urdftool/rules/table.py drifted: run `python -m urdftool.rules.docs`"
     )

@@ -66,24 +66,44 @@ def pages() -> dict[str, str]:
 
 
 TABLE_PATH = Path(__file__).with_name("table.py")
+SUMMARIES_PATH = Path(__file__).with_name("summaries.py")
+
+_GENERATED = "Generated from the registered rules by ``python -m urdftool.rules.docs``; do not edit."
 
 
 def table_source() -> str:
-    """The text of :mod:`urdftool.rules.table`, from every registered rule."""
+    """The text of :mod:`urdftool.rules.table`, from every registered rule: what a run needs to
+    select rules and import only their modules."""
     lines = [
-        '"""Every rule\'s code, name, severity, kind, default, module and summary.',
+        '"""Every rule\'s code, name, severity, kind, default and module: the selection index.',
         "",
-        "Generated from the registered rules by ``python -m urdftool.rules.docs``; do not edit.",
+        _GENERATED,
         "tests/test_registry.py fails when it drifts from the rule modules.",
         '"""',
         "",
-        "RULES: tuple[tuple[str, str, str, str, bool, str, str], ...] = (",
+        "RULES: tuple[tuple[str, str, str, str, bool, str], ...] = (",
     ]
     for rule in all_rules():
-        row = (rule.code, rule.name, rule.severity.value, rule.kind, rule.default_enabled,
-               rule.__module__, rule.summary())
+        row = (rule.code, rule.name, rule.severity.value, rule.kind, rule.default_enabled, rule.__module__)
         lines.append(f"    {row!r},")
     lines.append(")")
+    return "\n".join(lines) + "\n"
+
+
+def summaries_source() -> str:
+    """The text of :mod:`urdftool.rules.summaries`: each rule's one-line summary, read only when a
+    report or ``urdftool rule`` describes a rule."""
+    lines = [
+        '"""Every rule\'s summary, the first line of its docstring, by code.',
+        "",
+        _GENERATED,
+        "tests/test_registry.py fails when it drifts from the rule modules.",
+        '"""',
+        "",
+        "SUMMARIES: dict[str, str] = {",
+    ]
+    lines += [f"    {rule.code!r}: {rule.summary()!r}," for rule in all_rules()]
+    lines.append("}")
     return "\n".join(lines) + "\n"
 
 
@@ -96,6 +116,7 @@ def write(directory: Path) -> None:
     for name, text in wanted.items():
         (directory / name).write_text(text, encoding="utf-8")
     TABLE_PATH.write_text(table_source(), encoding="utf-8")
+    SUMMARIES_PATH.write_text(summaries_source(), encoding="utf-8")
 
 
 if __name__ == "__main__":

@@ -15,7 +15,7 @@ from __future__ import annotations
 import importlib
 import pkgutil
 from collections.abc import Callable, Iterable, Iterator
-from typing import NamedTuple
+from typing import TYPE_CHECKING, NamedTuple
 
 from urdftool.catalogue.registry import (
     CODE_PATTERN,
@@ -29,7 +29,13 @@ from urdftool.catalogue.registry import (
     register,
 )
 from urdftool.diagnostics import Severity
+from urdftool.lazy import LazyModule
 from urdftool.rules.table import RULES
+
+if TYPE_CHECKING:
+    from urdftool.rules import summaries
+else:  # the summaries are text for reports; selecting rules never reads them
+    summaries = LazyModule("urdftool.rules.summaries")
 
 __all__ = [
     "CODE_PATTERN",
@@ -61,13 +67,16 @@ class RuleInfo(NamedTuple):
     default_enabled: bool
     #: the module whose import registers the rule
     module: str
-    #: the first line of its docstring
-    summary: str
+
+    @property
+    def summary(self) -> str:
+        """The first line of its docstring (the generated :mod:`urdftool.rules.summaries`)."""
+        return summaries.SUMMARIES.get(self.code, "")
 
 
 #: code -> the rule as the generated table describes it, sorted by code
 INDEX: dict[str, RuleInfo] = {
-    row[0]: RuleInfo(row[0], row[1], Severity(row[2]), row[3], row[4], row[5], row[6]) for row in RULES
+    row[0]: RuleInfo(row[0], row[1], Severity(row[2]), row[3], row[4], row[5]) for row in RULES
 }
 _BY_NAME: dict[str, str] = {entry.name: code for code, entry in INDEX.items()}
 
