@@ -7,7 +7,8 @@ questions are answered here:
 * :func:`home_overlaps` (the ``self-collision-at-home`` rule): link pairs whose
   geometries overlap at the home configuration, deeper than
   :data:`DEPTH_TOLERANCE`, leaving out adjacent pairs (see :func:`adjacent`),
-  links welded to each other by fixed joints and the pairs the SRDF disables;
+  links welded to each other by fixed joints, the pairs the SRDF disables and,
+  in an SDF model, the pairs ``<self_collide>`` leaves off (:func:`sdf_self_colliding`);
 * :func:`matrix` (``urdftool collisions``): every pair of links with geometry
   classified as MoveIt Setup Assistant does: ``Adjacent``, ``Default`` (in
   contact at MoveIt's default state), ``Always`` (in contact in at least
@@ -22,7 +23,7 @@ from __future__ import annotations
 
 import importlib.util
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Iterable
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
@@ -35,7 +36,7 @@ from urdftool.backends.collision import CollisionScene, build_scene, count_geome
 from urdftool.facts.context import CheckContext
 from urdftool.facts.meshes import existing_file, mesh_uses
 from urdftool.facts.srdf import srdf
-from urdftool.model import Joint, JointType, Robot
+from urdftool.model import Extension, Joint, JointType, Robot
 
 #: Collision geometries above which the home check is skipped (with a note).
 MAX_GEOMETRIES = 200
@@ -207,6 +208,24 @@ def _bodies_adjacent(scene: CollisionScene, adjacent_links: set[Pair]) -> set[tu
             if a in body and b in body}
 
 
+def _true(extensions: Iterable[Extension]) -> bool:
+    return any(e.tag == "self_collide" and e.element is not None
+               and (e.element.text or "").strip().lower() in ("true", "1") for e in extensions)
+
+
+def sdf_self_colliding(ctx: CheckContext) -> set[str] | None:
+    """For an SDF model, the links that collide with the model's other links (SDF: two links of a
+    model collide when either link's `<self_collide>` is true, or the model's is; both default to
+    false, so gz-sim computes no contact inside a model unless asked); ``None`` for other formats,
+    where every pair collides."""
+    robot = ctx.robot
+    if robot.format != "sdf":
+        return None
+    if _true(robot.extensions):
+        return {link.name for link in robot.links}
+    return {link.name for link in robot.links if _true(link.extensions)}
+
+
 def home_overlaps(ctx: CheckContext) -> list[Overlap] | NotChecked | None:
     """Link pairs overlapping at home (deepest first), why they were not checked, or ``None``."""
     if "collision-home" in ctx.cache:
@@ -225,12 +244,15 @@ def _overlaps(ctx: CheckContext, scene: CollisionScene) -> list[Overlap]:
     near = adjacent(ctx.robot, links)
     near_bodies = _bodies_adjacent(scene, near)
     off = disabled_by_srdf(ctx)
+    colliding = sdf_self_colliding(ctx)
     todo = []
     for i, a in enumerate(scene.pieces):
         for j in range(i + 1, len(scene.pieces)):
             b = scene.pieces[j]
             if a.link == b.link or a.body == b.body or pair(a.link, b.link) in near | off:
                 continue
+            if colliding is not None and a.link not in colliding and b.link not in colliding:
+                continue  # an SDF pair its simulator never collides
             if (min(a.body, b.body), max(a.body, b.body)) in near_bodies:
                 continue
             todo.append((i, j))

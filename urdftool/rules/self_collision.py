@@ -8,33 +8,14 @@ docs/collisions.md.
 
 from __future__ import annotations
 
-from collections.abc import Iterable, Iterator
+from collections.abc import Iterator
 from dataclasses import replace
 
 from urdftool.catalogue.registry import Family, Rule, register
 from urdftool.diagnostics import Diagnostic, Related, Severity
 from urdftool.facts.collisions import DEPTH_TOLERANCE, MAX_GEOMETRIES, NotChecked, home_overlaps
 from urdftool.facts.context import CheckContext
-from urdftool.model import Extension
 from urdftool.physics.describe import fmt
-
-
-def _true(extensions: Iterable[Extension]) -> bool:
-    return any(e.tag == "self_collide" and e.element is not None
-               and (e.element.text or "").strip().lower() in ("true", "1") for e in extensions)
-
-
-def sdf_self_colliding(ctx: CheckContext) -> set[str] | None:
-    """For an SDF model, the links that collide with the model's other links (SDF: two links of a
-    model collide when either link's `<self_collide>` is true, or the model's is; both default to
-    false, so gz-sim computes no contact inside a model unless asked); ``None`` for other formats,
-    where every pair collides."""
-    robot = ctx.robot
-    if robot.format != "sdf":
-        return None
-    if _true(robot.extensions):
-        return {link.name for link in robot.links}
-    return {link.name for link in robot.links if _true(link.extensions)}
 
 
 class _SelfCollision(Rule):
@@ -84,12 +65,9 @@ class SelfCollisionAtHome(_SelfCollision):
         found = home_overlaps(ctx)
         if not isinstance(found, list):
             return
-        colliding = sdf_self_colliding(ctx)
         for overlap in found:
             # the pair in name order: the same finding however the file orders its links
             name1, name2 = sorted((overlap.link1, overlap.link2))
-            if colliding is not None and not ({name1, name2} & colliding):
-                continue  # an SDF pair its simulator never collides
             first = ctx.robot.link(name1)
             other = ctx.robot.link(name2)
             where = (first.collisions[0].span if first and first.collisions else None) or \
