@@ -1,0 +1,98 @@
+#!/usr/bin/env python3
+"""Write every finding urdftool reports over the corpora to one JSON file, for before/after diffs.
+
+Usage: python3 scripts/findings_snapshot.py OUT.json [--quick]
+
+A change meant to make urdftool faster, or to restructure it, must not change what it reports.
+Run this on the commit before and after the change and compare the two files (``diff`` or
+``cmp``): every finding of the structural check (``--select S,X``) and of the default check
+without the dynamics pass, with its code, severity, location and message, over
+example-robot-data, pybullet_data, the vendored seeds, every rule fixture and, when it is on
+disk, the real-world corpus (docs/realworld.md). ``--quick`` leaves out the real-world corpus.
+
+Runs in one process through the Python API, so it takes a few minutes, not the corpus review's
+twenty. Paths are written relative to the checkout, so two checkouts in different folders give
+identical files.
+"""
+
+from __future__ import annotations
+
+import glob
+import json
+import os
+import sys
+import warnings
+from pathlib import Path
+from typing import Any
+
+import yaml
+
+ROOT = Path(__file__).resolve().parent.parent
+sys.path.insert(0, str(ROOT))
+
+from tests.conftest import erd_urdfs  # noqa: E402
+from urdftool.parse import InputError  # noqa: E402
+from urdftool.pipeline.check import CheckOptions, check_file  # noqa: E402
+
+MANIFEST = ROOT / "docs" / "realworld-manifest.yaml"
+CORPUS = ROOT / "fixtures" / "realworld"
+MODEL_SUFFIXES = (".urdf", ".xacro", ".sdf", ".world")
+
+
+def _files() -> list[tuple[str, dict[str, Any]]]:
+    """(path, CheckOptions keywords) of every model to check, in a fixed order."""
+    import pybullet_data
+
+    files: list[tuple[str, dict[str, Any]]] = [(p, {}) for p in erd_urdfs()]
+    files += [(p, {}) for p in sorted(glob.glob(os.path.join(pybullet_data.getDataPath(), "**", "*.urdf"),
+                                                recursive=True))]
+    for folder in ("fixtures/seeds", "fixtures/rules"):
+        files += [(str(p), {}) for p in sorted((ROOT / folder).rglob("*"))
+                  if p.suffix in MODEL_SUFFIXES and p.is_file()]
+    if "--quick" not in sys.argv and CORPUS.is_dir():
+        for entry in yaml.safe_load(MANIFEST.read_text())["models"]:
+            path = CORPUS / entry["path"]
+            if path.is_file():
+                files.append((str(path), {
+                    "package_paths": tuple(str(CORPUS / p) for p in entry.get("package_paths", ())),
+                    "xacro_args": {k: str(v) for k, v in (entry.get("xacro_args") or {}).items()}}))
+    return files
+
+
+def _relative(path: str) -> str:
+    for base in (str(ROOT) + os.sep, str(CORPUS.resolve()) + os.sep):
+        if path.startswith(base):
+            return path[len(base):]
+    return os.path.basename(path)
+
+
+def _findings(path: str, options: CheckOptions) -> list[str]:
+    try:
+        reports = check_file(path, options)
+    except InputError as error:
+        return [f"InputError {error}"]
+    return [f"{d.code} {d.severity.value} {_relative(str(d.location)) if d.location else '-'} "
+            f"{d.element} {d.message}" for report in reports for d in report.diagnostics]
+
+
+def main() -> int:
+    out = sys.argv[1]
+    snapshot: dict[str, dict[str, list[str]]] = {}
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        for path, keywords in _files():
+            arguments = keywords.get("xacro_args")
+            key = _relative(path) + (json.dumps(arguments) if arguments else "")
+            snapshot[key] = {
+                "structural": _findings(path, CheckOptions(select=("S", "X"), **keywords)),
+                "default": _findings(path, CheckOptions(rule_options={"dynamics": False}, **keywords)),
+            }
+    with open(out, "w", encoding="utf-8") as handle:
+        json.dump(snapshot, handle, indent=1, sort_keys=True)
+    total = sum(len(v["default"]) for v in snapshot.values())
+    print(f"{len(snapshot)} files, {total} default findings -> {out}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
