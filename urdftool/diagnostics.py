@@ -4,9 +4,10 @@ from __future__ import annotations
 
 import enum
 from collections.abc import Iterable, Mapping
-from dataclasses import dataclass, field
+from dataclasses import field
 from typing import Any
 
+from urdftool.records import record
 from urdftool.source import Span
 
 
@@ -33,7 +34,7 @@ class Applicability(str, enum.Enum):
     DISPLAY_ONLY = "display-only"
 
 
-@dataclass(frozen=True)
+@record
 class Edit:
     """Replace the text of ``span`` (byte offsets required) with ``content``."""
 
@@ -44,7 +45,7 @@ class Edit:
         return {"location": self.span.to_json(), "content": self.content}
 
 
-@dataclass(frozen=True)
+@record
 class Fix:
     """A repair of a finding: edits to the file the user edits, with how safe they are."""
 
@@ -57,7 +58,7 @@ class Fix:
                 "edits": [e.to_json() for e in self.edits]}
 
 
-@dataclass(frozen=True)
+@record
 class Related:
     """A secondary location of a finding: the other duplicate, the macro call, the property's line."""
 
@@ -68,7 +69,7 @@ class Related:
         return {"location": self.span.to_json(), "label": self.label}
 
 
-@dataclass(frozen=True)
+@record
 class Diagnostic:
     """One finding.
 
@@ -120,7 +121,7 @@ class Diagnostic:
         return out
 
 
-@dataclass(frozen=True)
+@record
 class FileReport:
     """The findings for one model read from one file."""
 
@@ -142,7 +143,7 @@ def _count(diagnostics: Iterable[Diagnostic], severity: Severity) -> int:
     return sum(1 for d in diagnostics if d.severity is severity)
 
 
-@dataclass(frozen=True)
+@record
 class Report:
     """The result of checking one or more models."""
 

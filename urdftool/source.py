@@ -16,15 +16,17 @@ import dataclasses
 import os
 import re
 import xml.parsers.expat
-from dataclasses import dataclass, field
+from dataclasses import field
 from typing import Any
+
+from urdftool.records import record
 
 #: Attribute that carries an element's origin through xacro expansion.
 #: Value: ``"<file index>:<line>:<column>"``; stripped before the model is built.
 SRC_ATTRIBUTE = "urdftool-src"
 
 
-@dataclass(frozen=True, order=True)
+@record(order=True)
 class Span:
     """A range in a source file: 1-based start line and column (``None`` where unknown).
 
@@ -92,7 +94,7 @@ def element_starts(data: bytes) -> list[tuple[int, int]]:
 _ATTR_CACHE_LIMIT = 64
 
 
-@dataclass(eq=False)  # one run's state, equal only to itself: no __eq__ to generate at import
+@record(frozen=False, eq=False)  # one run's state, equal only to itself
 class SourceIndex:
     """The texts of the files a model was read from, for locating attributes.
 

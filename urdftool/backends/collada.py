@@ -30,7 +30,6 @@ from __future__ import annotations
 
 import math
 import warnings
-from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:
@@ -39,6 +38,7 @@ else:  # NumPy loads on first use: importing the rules must not pay for it
     from urdftool.lazy import numpy as np
 from lxml import etree
 
+from urdftool.records import record
 from urdftool.safe_files import read_regular
 
 COLLADA_NAMESPACES = (
@@ -55,7 +55,7 @@ class Unsupported(Exception):
     """The document uses something this reader does not handle: read it another way."""
 
 
-@dataclass(frozen=True)
+@record
 class Part:
     """One primitive instanced once in the scene, as trimesh's COLLADA loader builds it.
 
@@ -70,7 +70,7 @@ class Part:
     matrix: np.ndarray
 
 
-@dataclass(frozen=True)
+@record
 class ColladaScene:
     parts: list[Part]
     #: ``<asset><unit meter>`` (1.0 when absent)

@@ -19,7 +19,7 @@ first use.
 from __future__ import annotations
 
 from collections.abc import Callable, Iterable, Mapping
-from dataclasses import dataclass, field
+from dataclasses import field
 from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:
@@ -30,6 +30,7 @@ else:
 from urdftool.backends.meshes import MeshError, load_trimesh, quiet_numerics
 from urdftool.backends.pinocchio import PinocchioModel, build_model
 from urdftool.model import Box, Capsule, Cylinder, Ellipsoid, Mesh, Robot, Sphere
+from urdftool.records import record
 
 
 def fcl() -> Any:
@@ -45,7 +46,7 @@ def fcl() -> Any:
 _HULLS: dict[tuple[str, tuple[float, float, float]], Any] = {}
 
 
-@dataclass(frozen=True)
+@record
 class Piece:
     """One collision geometry placed on the model: its link, and its index among the link's."""
 
@@ -55,7 +56,7 @@ class Piece:
     body: int
 
 
-@dataclass
+@record(frozen=False)
 class CollisionScene:
     """The robot's collision geometries in a Pinocchio ``GeometryModel``."""
 

@@ -17,13 +17,14 @@ import hashlib
 import json
 import os
 import tempfile
-from dataclasses import asdict, dataclass, field
+from dataclasses import asdict, field
 from pathlib import Path
 from typing import Any
 
 from urdftool.backends import mesh_cache
 from urdftool.backends.mesh_shape import object_meshes, shape_facts
 from urdftool.backends.meshes import MeshError, content_key, load_trimesh
+from urdftool.records import record
 
 GENERATED_DIRNAME = "urdftool-collision"
 #: Bump when what is written changes.
@@ -31,7 +32,7 @@ _VERSION = 4
 _TEMP: list[str] = []
 
 
-@dataclass(frozen=True)
+@record
 class Primitive:
     """A shape fitted to a mesh, in the mesh's (scaled) frame: ``kind`` box, cylinder, sphere or capsule.
 
@@ -47,7 +48,7 @@ class Primitive:
     rpy: tuple[float, float, float]
 
 
-@dataclass(frozen=True)
+@record
 class Simplified:
     """What replaces one collision mesh.
 

@@ -21,7 +21,6 @@ proportional to its volume.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:
@@ -31,6 +30,7 @@ else:
 
 from urdftool.backends.collision import CollisionScene
 from urdftool.backends.meshes import MeshError, load_trimesh, quiet_numerics
+from urdftool.records import record
 
 #: A closed mesh whose volume is at least this share of its convex hull's is an envelope (:class:`Solid`).
 ENVELOPE = 0.99
@@ -39,7 +39,7 @@ ENVELOPE = 0.99
 _MESHES: dict[tuple[str, tuple[float, float, float]], Any] = {}
 
 
-@dataclass(frozen=True)
+@record
 class Solid:
     """One collision geometry as a volume, in its own frame: a coal primitive or a closed mesh."""
 

@@ -23,8 +23,8 @@ from __future__ import annotations
 
 import os
 import struct
-from dataclasses import dataclass
 
+from urdftool.records import record
 from urdftool.safe_files import read_head
 
 #: MuJoCo's STL decoder refuses files with more triangles than this.
@@ -37,7 +37,7 @@ TRIMESH_EXTENSIONS = frozenset({".stl", ".obj", ".dae", ".ply", ".off", ".glb", 
 ENGINE_NAMES = {"mujoco": "MuJoCo", "pybullet": "PyBullet"}
 
 
-@dataclass(frozen=True)
+@record
 class MeshFormat:
     """What kind of mesh file this is.
 

@@ -15,17 +15,18 @@ file again. Units are metres, after the COLLADA unit and before any URDF scale
 from __future__ import annotations
 
 import threading
-from dataclasses import asdict, dataclass
+from dataclasses import asdict
 from typing import Any
 
 from urdftool.backends import mesh_cache
 from urdftool.backends.meshes import MeshError, consistently_wound, content_key, load_trimesh
+from urdftool.records import record
 
 #: Bump when the stored facts change.
 _VERSION = "shape-v1"
 
 
-@dataclass(frozen=True)
+@record
 class ShapeFacts:
     """How a mesh fills its hull, and whether its surface is a clean closed solid.
 

@@ -24,7 +24,6 @@ import re
 import threading
 import warnings
 from collections.abc import Iterable, Iterator
-from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:
@@ -34,6 +33,7 @@ else:  # NumPy loads when a mesh is first read: a structural check never pays fo
 
 from urdftool.backends import collada, mesh_cache
 from urdftool.model.pose import Matrix, Vec3
+from urdftool.records import record
 from urdftool.safe_files import check_regular, open_regular, read_head, read_regular
 
 
@@ -41,7 +41,7 @@ class MeshError(Exception):
     """The mesh file cannot be read (missing, unsupported, or corrupt)."""
 
 
-@dataclass(frozen=True)
+@record
 class MeshFacts:
     """What a mesh file holds, in metres, before any URDF ``scale``.
 
@@ -93,7 +93,7 @@ class MeshFacts:
         )
 
 
-@dataclass(frozen=True)
+@record
 class MeshInfo:
     """What urdftool needs to know about a mesh, after scaling (m, m³, kg·m² per kg/m³)."""
 

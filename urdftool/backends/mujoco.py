@@ -8,17 +8,18 @@ element's name so callers can point at the link or joint it came from.
 from __future__ import annotations
 
 import re
-from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
+from urdftool.records import record
+
 _ELEMENT = re.compile(r"Element name '([^']*)'")
 _LINE = re.compile(r"line (\d+)")
 
 
-@dataclass
+@record(frozen=False)
 class EngineError(Exception):
     """MuJoCo refused the model: its message, and the element name and line it gave, if any."""
 

@@ -25,7 +25,7 @@ Units: m, rad, kg, kg·m²; frames as in URDF.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import field
 from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:
@@ -36,12 +36,13 @@ else:
 
 from urdftool.model import Inertial, Joint, JointType, KinematicTree, Robot
 from urdftool.model.pose import Matrix, planar_directions
+from urdftool.records import record
 
 #: Name of the free-flyer joint added with ``free_flyer=True``.
 FREE_FLYER = "root_joint"
 
 
-@dataclass
+@record(frozen=False)
 class PinocchioModel:
     """A ``pinocchio.Model`` with the names that tie it back to the robot."""
 

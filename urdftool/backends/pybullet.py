@@ -23,11 +23,12 @@ import sys
 import tempfile
 import threading
 from collections.abc import Iterable, Iterator, Mapping
-from dataclasses import dataclass, field
+from dataclasses import field
 from types import ModuleType, TracebackType
 from typing import Any, cast
 
 from urdftool.model.pose import Matrix, Vec3, homogeneous, quaternion_to_matrix
+from urdftool.records import record
 
 #: PyBullet's joint type numbers, by name.
 JOINT_TYPE_NAMES = {
@@ -102,7 +103,7 @@ def import_pybullet() -> ModuleType:
     return cast(ModuleType, pybullet)
 
 
-@dataclass(frozen=True)
+@record
 class EngineLink:
     """A link as PyBullet built it. ``index`` is -1 for the base.
 
@@ -117,7 +118,7 @@ class EngineLink:
     inertial_frame: Matrix
 
 
-@dataclass(frozen=True)
+@record
 class EngineJoint:
     """A joint as PyBullet built it; ``axis`` is in the child link frame, as PyBullet stores it."""
 
@@ -139,7 +140,7 @@ def _frame(position: Any, orientation: Any) -> Matrix:
     return homogeneous(quaternion_to_matrix((w, x, y, z)), (px, py, pz))
 
 
-@dataclass
+@record(frozen=False)
 class PyBulletLoad:
     """A URDF loaded in a fresh headless PyBullet (``with PyBulletLoad(path) as loaded:``).
 

@@ -14,12 +14,13 @@ from __future__ import annotations
 import importlib
 import os
 from collections.abc import Mapping
-from dataclasses import dataclass, field
+from dataclasses import field
 from pathlib import Path
 from typing import Any, Protocol
 
 from urdftool.diagnostics import Diagnostic, Severity
 from urdftool.model import Robot
+from urdftool.records import record
 
 #: target -> module implementing it
 TARGETS: dict[str, str] = {
@@ -47,7 +48,7 @@ SUFFIX_TARGETS: dict[str, str] = {
 }
 
 
-@dataclass(frozen=True)
+@record
 class ExportOptions:
     """Switches shared by the exporters; each reads the ones it understands."""
 
@@ -69,7 +70,7 @@ class ExportOptions:
     fuse_fixed: bool = False
 
 
-@dataclass
+@record(frozen=False)
 class ExportResult:
     """What an exporter produced: files (relative to the output's folder) and findings.
 
@@ -85,7 +86,7 @@ class ExportResult:
         return any(d.severity is Severity.ERROR for d in self.diagnostics)
 
 
-@dataclass
+@record(frozen=False)
 class VerifyResult:
     """The engine's view of the output compared with the source."""
 

@@ -18,10 +18,11 @@ import os
 import re
 import struct
 from collections.abc import Callable
-from dataclasses import dataclass, field
+from dataclasses import field
 from pathlib import Path
 
 from urdftool.backends.collision_shapes import is_generated
+from urdftool.records import record
 from urdftool.safe_files import read_regular
 
 ASSETS_DIR = "assets"
@@ -65,7 +66,7 @@ def relative_reference(path: str, out_dir: Path | None) -> str:
         return Path(path).resolve().as_posix()
 
 
-@dataclass(frozen=True)
+@record
 class MeshFile:
     """Where a source mesh went: the reference to write, and whether it was converted."""
 
@@ -75,7 +76,7 @@ class MeshFile:
     source_hash: str
 
 
-@dataclass
+@record(frozen=False)
 class MeshFiles:
     """The mesh files of one export, keyed by resolved source path.
 

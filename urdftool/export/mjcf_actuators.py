@@ -38,7 +38,6 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass
 
 import numpy as np
 from lxml import etree
@@ -49,6 +48,7 @@ from urdftool.export.numbers import num, vec
 from urdftool.export.placement import bounding_radius, lowest_point
 from urdftool.model import Inertial, Joint, JointType, KinematicTree, Robot
 from urdftool.physics.mobility import mobility
+from urdftool.records import record
 
 #: Target closed-loop bandwidth (Hz) of position and velocity actuators.
 BANDWIDTH_HZ = 10.0
@@ -68,7 +68,7 @@ MODES = ("none", "position", "velocity", "motor", "auto")
 _INTERFACES = {"position": "position", "velocity": "velocity", "effort": "motor"}
 
 
-@dataclass(frozen=True)
+@record
 class Drive:
     """What the source says about one joint's actuation."""
 

@@ -23,7 +23,7 @@ import functools
 import json
 import os
 import struct
-from dataclasses import dataclass, field
+from dataclasses import field
 from pathlib import Path
 
 import numpy as np
@@ -41,6 +41,7 @@ from urdftool.export.assets import (
 )
 from urdftool.model import Mesh
 from urdftool.model.pose import Vec3
+from urdftool.records import record
 from urdftool.safe_files import read_regular
 
 #: Suffixes MuJoCo's compiler reads itself.
@@ -49,7 +50,7 @@ NATIVE_SUFFIXES = (".stl", ".obj", ".msh")
 MAX_STL_TRIANGLES = 200000
 
 
-@dataclass(frozen=True)
+@record
 class MeshAsset:
     """One ``<mesh>`` element: its name, file (relative to OUT's folder, or absolute) and scale."""
 
@@ -58,7 +59,7 @@ class MeshAsset:
     scale: Vec3
 
 
-@dataclass(frozen=True)
+@record
 class VisualPart:
     """One visual geom of a mesh: its ``<mesh>`` name and the ``<material>`` giving its colour
     (``None``: the mesh carries no colour of its own for these triangles)."""
@@ -188,7 +189,7 @@ def convert(path: str) -> tuple[bytes, str]:
     return binary_stl(mesh.vertices, mesh.faces), ".stl"
 
 
-@dataclass
+@record(frozen=False)
 class AssetPlan:
     """Collects the meshes of one export: ``<mesh>`` elements and files to write under OUT's folder."""
 

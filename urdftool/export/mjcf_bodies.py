@@ -19,7 +19,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping
-from dataclasses import dataclass, field
+from dataclasses import field
 
 import numpy as np
 from lxml import etree
@@ -32,12 +32,13 @@ from urdftool.export.numbers import num, vec
 from urdftool.model import Inertial, Joint, JointType, KinematicTree, Link, Robot
 from urdftool.model.pose import planar_directions
 from urdftool.physics.mobility import BasePlan
+from urdftool.records import record
 
 #: The motion types of MJCF joints and the qpos each takes.
 QPOS_SIZE = {"free": 7, "ball": 4, "hinge": 1, "slide": 1}
 
 
-@dataclass(frozen=True)
+@record
 class MjJoint:
     """One MJCF joint: its name, kind, the source joint it carries, and its home qpos."""
 
@@ -48,7 +49,7 @@ class MjJoint:
     range: tuple[float, float] | None = None
 
 
-@dataclass
+@record(frozen=False)
 class BodyTree:
     """What writing the bodies produced, for the actuators, equality and keyframe."""
 

@@ -29,9 +29,10 @@ from __future__ import annotations
 import math
 import re
 from collections.abc import Sequence
-from dataclasses import dataclass
 
 from lxml import etree
+
+from urdftool.records import record
 
 #: Name tokens that tell limbs apart: sides, front/rear, and their usual abbreviations.
 SIDE_TOKENS = frozenset({
@@ -78,7 +79,7 @@ def _leg_end(name: str) -> str | None:
     return ends.pop() if len(ends) == 1 else None
 
 
-@dataclass
+@record(frozen=False)
 class _Member:
     joint: etree._Element
     actuator: etree._Element | None

@@ -20,7 +20,6 @@ from __future__ import annotations
 
 import copy as copy_module
 from collections.abc import Collection
-from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
@@ -29,6 +28,7 @@ from lxml import etree
 
 from urdftool.export.numbers import vec
 from urdftool.export.placement import CLEARANCE
+from urdftool.records import record
 from urdftool.safe_files import read_regular
 
 #: Weight of a joint whose home value the source states (others: 1, the free base: 0).
@@ -41,7 +41,7 @@ DAMPING = 1e-12
 _FLOOR = "floor"
 
 
-@dataclass(frozen=True)
+@record
 class LoopSolve:
     """The home keyframe's largest loop residual (m or rad) before and after the projection."""
 

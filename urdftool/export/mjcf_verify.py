@@ -14,7 +14,6 @@ from __future__ import annotations
 
 import math
 from collections.abc import Iterator
-from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
@@ -36,6 +35,7 @@ from urdftool.model import Collision, Joint, JointType, KinematicTree, Mesh, Rob
 from urdftool.model.pose import Matrix, matrix_to_quaternion, quaternion_to_matrix
 from urdftool.model.tree import mimic_value
 from urdftool.physics.mobility import decide_base
+from urdftool.records import record
 
 CONFIGURATIONS = 20
 #: Pose tolerance (m and rad) and relative tolerance for mass and mass matrix.
@@ -44,7 +44,7 @@ TOLERANCE = 1e-9
 UNLIMITED_TRANSLATION = 1.0
 
 
-@dataclass(frozen=True)
+@record
 class JointMap:
     """One source joint: where it lives in MuJoCo (qpos/dof addresses) and in Pinocchio."""
 
@@ -173,7 +173,7 @@ def _rotation_error(a: Matrix, b: Matrix) -> float:
     return float(math.atan2(np.linalg.norm(skew) / 2.0, (np.trace(r) - 1.0) / 2.0))
 
 
-@dataclass
+@record(frozen=False)
 class Errors:
     position: float = 0.0
     rotation: float = 0.0

@@ -43,6 +43,7 @@ from urdftool.export.pybullet_meshes import MeshPlan, mesh_key
 from urdftool.export.urdf import URDF_JOINT_TYPES, UrdfFlavor, refusals, robot_element, to_bytes
 from urdftool.model import Joint, JointType, KinematicTree, Mesh, Robot
 from urdftool.physics.mobility import decide_base, reroot_massless_base
+from urdftool.records import record
 from urdftool.rules.syntax import MultipleRoots
 
 #: The flag every PyBullet URDF from urdftool is meant to be loaded with.
@@ -57,7 +58,7 @@ PYBULLET_JOINT_TYPES: dict[JointType, str] = {
 PYBULLET_JOINT_TYPES[JointType.SPHERICAL] = "spherical"
 
 
-@dataclasses.dataclass(frozen=True)
+@record
 class PyBulletFlavor(UrdfFlavor):
     """URDF as PyBullet reads it: spherical joints and capsules, no floating joints, mesh paths planned."""
 
@@ -73,7 +74,7 @@ class PyBulletFlavor(UrdfFlavor):
         return self.filenames.get(mesh_key(mesh), mesh.filename)
 
 
-@dataclasses.dataclass(frozen=True)
+@record
 class BasePlan:
     """The robot as the PyBullet URDF roots it, and the finding that says so when it was re-rooted."""
 
@@ -109,7 +110,7 @@ def plan_base(robot: Robot, options: ExportOptions) -> BasePlan:
     return BasePlan(rooted, (note,))
 
 
-@dataclasses.dataclass(frozen=True)
+@record
 class ExportPlan:
     """The robot as written (re-rooted, fixed joints fused), the re-rooted robot before fusing
     (every frame of the source), the fusion, and the findings that say so."""

@@ -21,7 +21,6 @@ from __future__ import annotations
 import dataclasses
 import re
 from collections.abc import Mapping
-from dataclasses import dataclass
 from typing import TYPE_CHECKING
 from urllib.parse import unquote
 
@@ -34,13 +33,14 @@ from urdftool.export.numbers import vec
 from urdftool.model import Collision, Inertial, JointType, KinematicTree, Link, Robot, Visual
 from urdftool.model.pose import Matrix, Pose
 from urdftool.physics.inertia import shift_to_point
+from urdftool.records import record
 
 #: First line of the comment that lists the fused frames.
 FRAMES_TITLE = "urdftool fused frames"
 _LINE = re.compile(r'fused "([^"]+)" into "([^"]+)" xyz="([^"]*)" rpy="([^"]*)"')
 
 
-@dataclass(frozen=True)
+@record
 class FusedFrame:
     """A link merged into *into*: its frame's pose in *into*'s frame, and the fixed joint removed."""
 
@@ -50,7 +50,7 @@ class FusedFrame:
     joint: str
 
 
-@dataclass(frozen=True)
+@record
 class Fusion:
     """The robot with its fixed joints fused, and every fused frame."""
 

@@ -20,19 +20,20 @@ it); ``--floating-base free`` with a massless root is refused.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import field
 
 from urdftool.catalogue.conversion import InertiaNotExportable
 from urdftool.diagnostics import Diagnostic
 from urdftool.export.mjcf_inertia import InertiaPlan
 from urdftool.model import Inertial, KinematicTree, Robot
 from urdftool.physics.bodies import rigid_bodies
+from urdftool.records import record
 
 #: What a massless link is written with: an explicit zero, so PyBullet does not invent 1 kg.
 MASSLESS = Inertial(mass=0.0, inertia=Inertial.tensor(0.0, 0.0, 0.0, 0.0, 0.0, 0.0))
 
 
-@dataclass
+@record(frozen=False)
 class PyBulletInertia:
     """Each link's written ``<inertial>``, the base's kind, and the findings."""
 

@@ -17,7 +17,7 @@ source already gives it one.
 from __future__ import annotations
 
 import dataclasses
-from dataclasses import dataclass, field
+from dataclasses import field
 from pathlib import Path
 from typing import cast
 
@@ -26,6 +26,7 @@ from urdftool.catalogue.conversion import MeshNotExportable
 from urdftool.diagnostics import Diagnostic
 from urdftool.export.assets import MeshFiles, MeshUnavailable, is_binary_stl
 from urdftool.model import Collision, Link, Material, Mesh, Robot, Visual
+from urdftool.records import record
 from urdftool.safe_files import check_regular
 
 RGBA = tuple[float, float, float, float]
@@ -88,7 +89,7 @@ def _geometry_colour(geometry: object) -> RGBA | None:
     return (values[0], values[1], values[2], values[3] if len(values) == 4 else 1.0)
 
 
-@dataclass
+@record(frozen=False)
 class MeshPlan:
     """Every mesh of a robot carried for PyBullet: written filenames, asset files, colours, refusals."""
 

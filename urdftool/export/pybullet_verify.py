@@ -17,7 +17,7 @@ from __future__ import annotations
 import math
 import re
 from collections.abc import Iterable, Mapping
-from dataclasses import dataclass, field
+from dataclasses import field
 from pathlib import Path
 
 import numpy as np
@@ -33,6 +33,7 @@ from urdftool.model import Inertial, Joint, JointType, KinematicTree, Link, Robo
 from urdftool.model.pose import Matrix
 from urdftool.model.tree import mimic_value
 from urdftool.physics.inertia import principal_moments
+from urdftool.records import record
 from urdftool.source import Span
 
 #: PyBullet computes in floating point after its own diagonalisation: 1e-6 (relative for inertia).
@@ -49,7 +50,7 @@ EXPECTED_TYPES = {
 }
 
 
-@dataclass
+@record(frozen=False)
 class Worst:
     """The largest error of one quantity and where in the source it occurred."""
 
@@ -68,7 +69,7 @@ class Worst:
         return self.error <= self.tolerance
 
 
-@dataclass
+@record(frozen=False)
 class Comparison:
     robot: Robot
     rows: list[Worst] = field(default_factory=list)

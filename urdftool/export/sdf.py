@@ -15,7 +15,7 @@ names) and reported otherwise.
 from __future__ import annotations
 
 from collections.abc import Iterable
-from dataclasses import dataclass, field
+from dataclasses import field
 from pathlib import Path
 
 from lxml import etree
@@ -46,6 +46,7 @@ from urdftool.model import (
     Visual,
 )
 from urdftool.parse.xmlio import span_of
+from urdftool.records import record
 
 SDF_VERSION = "1.7"
 _SDF_TYPES = {
@@ -97,7 +98,7 @@ def refusals(robot: Robot) -> list[Diagnostic]:
     return out
 
 
-@dataclass
+@record(frozen=False)
 class SdfWriter:
     robot: Robot
     tree: KinematicTree

@@ -20,7 +20,7 @@ from __future__ import annotations
 import copy
 import dataclasses
 from collections.abc import Iterable
-from dataclasses import dataclass, field
+from dataclasses import field
 from pathlib import Path
 
 from lxml import etree
@@ -47,6 +47,7 @@ from urdftool.model import (
     Sphere,
     Visual,
 )
+from urdftool.records import record
 from urdftool.source import SRC_ATTRIBUTE
 
 URDF_JOINT_TYPES: dict[JointType, str] = {
@@ -59,7 +60,7 @@ URDF_JOINT_TYPES: dict[JointType, str] = {
 }
 
 
-@dataclass(frozen=True)
+@record
 class UrdfFlavor:
     """What the target URDF reader accepts; subclass to change a choice."""
 
@@ -114,7 +115,7 @@ def _refuse(message: str, joint: Joint, reason: str, help: str) -> Diagnostic:
 # -- writing ---------------------------------------------------------------------
 
 
-@dataclass
+@record(frozen=False)
 class UrdfWriter:
     """Builds the ``<robot>`` tree; ``diagnostics`` collects what was left out (warnings)."""
 

@@ -24,7 +24,7 @@ from __future__ import annotations
 import importlib.util
 import math
 from collections.abc import Callable, Iterable
-from dataclasses import dataclass, field
+from dataclasses import field
 from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:
@@ -37,6 +37,7 @@ from urdftool.facts.context import CheckContext
 from urdftool.facts.meshes import existing_file, mesh_uses
 from urdftool.facts.srdf import srdf
 from urdftool.model import Extension, Joint, JointType, Robot
+from urdftool.records import record
 
 #: Collision geometries above which the home check is skipped (with a note).
 MAX_GEOMETRIES = 200
@@ -51,12 +52,12 @@ OPTION = "dynamics"
 Pair = tuple[str, str]
 
 
-@dataclass(frozen=True)
+@record
 class NotChecked:
     reason: str
 
 
-@dataclass(frozen=True)
+@record
 class Overlap:
     link1: str
     link2: str
@@ -64,7 +65,7 @@ class Overlap:
     depth: float
 
 
-@dataclass
+@record(frozen=False)
 class Matrix:
     """A collision matrix: reason per disabled pair (names sorted in each pair)."""
 

@@ -3,10 +3,11 @@
 from __future__ import annotations
 
 from collections.abc import Callable, Hashable, Mapping
-from dataclasses import dataclass, field
+from dataclasses import field
 from typing import Any
 
 from urdftool.model import KinematicTree, Robot
+from urdftool.records import record
 
 #: Keys of :attr:`CheckContext.options` that the pipeline sets for the facts, here so that the
 #: pipeline names them without importing the facts (and their readers) a run may not need.
@@ -15,7 +16,7 @@ CONTROLLERS_OPTION = "controllers"
 SIM_OPTION = "sim"
 
 
-@dataclass(eq=False)  # one run's state, equal only to itself: no __eq__ to generate at import
+@record(frozen=False, eq=False)  # one run's state, equal only to itself
 class CheckContext:
     """The robot under check, its kinematic tree, run-wide options and the facts computed so far.
 

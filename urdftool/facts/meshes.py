@@ -12,13 +12,13 @@ from __future__ import annotations
 
 import os
 from collections.abc import Iterator
-from dataclasses import dataclass
 
 from urdftool.backends.mesh_formats import ENGINE_NAMES, MeshFormat, engines_refusing, sniff
 from urdftool.backends.meshes import MeshError, MeshFacts, MeshInfo, load_many, mesh_info, scaled_info
 from urdftool.facts.context import CheckContext
 from urdftool.model import Link, Mesh, Pose, Resolution
 from urdftool.parse.packages import PackageResolver
+from urdftool.records import record
 from urdftool.safe_files import describe_path, read_head
 from urdftool.source import Span
 
@@ -43,7 +43,7 @@ __all__ = [
 ]
 
 
-@dataclass(frozen=True)
+@record
 class MeshUse:
     """One ``<mesh>`` element: in which link, as visual or collision, and where it sits.
 

@@ -32,7 +32,6 @@ swept (``self-collision-not-checked`` says so).
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:
@@ -45,6 +44,7 @@ from urdftool.backends.collision_volume import Solid, solid
 from urdftool.facts.collisions import NotChecked, apply_mimics, home_configuration, scene_of
 from urdftool.facts.context import CheckContext
 from urdftool.model import Joint, JointType
+from urdftool.records import record
 
 #: Default sampling step (rad): two degrees.
 STEP = math.radians(2.0)
@@ -54,7 +54,7 @@ POINTS = 400
 BUDGET = 200_000
 
 
-@dataclass(frozen=True)
+@record
 class Sweep:
     """One revolute joint swept over its limits.
 

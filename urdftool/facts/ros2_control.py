@@ -13,11 +13,12 @@ handed to the rules through the run's options under :data:`OPTION`.
 from __future__ import annotations
 
 from collections.abc import Iterator
-from dataclasses import dataclass, field
+from dataclasses import field
 from typing import Any
 
 from urdftool.facts.context import CONTROLLERS_OPTION, CheckContext
 from urdftool.parse.controllers import Controllers
+from urdftool.records import record
 
 #: Key of the run's options that holds the :class:`Controllers`.
 OPTION = CONTROLLERS_OPTION
@@ -54,7 +55,7 @@ KNOWN_INTERFACES = (
 SIM_JOINT_INTERFACES = frozenset({"position", "velocity", "effort"})
 
 
-@dataclass(frozen=True)
+@record
 class Interface:
     """A ``<command_interface>`` or ``<state_interface>`` with its ``<param>``s."""
 
@@ -67,7 +68,7 @@ class Interface:
         return (element.text or "").strip() if element is not None else None
 
 
-@dataclass(frozen=True)
+@record
 class Component:
     """A ``<joint>``, ``<sensor>`` or ``<gpio>`` of a hardware block."""
 
@@ -79,7 +80,7 @@ class Component:
     params: dict[str, Any] = field(default_factory=dict)
 
 
-@dataclass(frozen=True)
+@record
 class Block:
     """One ``<ros2_control name type>`` block."""
 

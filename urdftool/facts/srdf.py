@@ -9,11 +9,12 @@ joint, a chain every joint from base to tip, a subgroup its own contents.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import field
 
 from urdftool.facts.context import SRDF_OPTION, CheckContext
 from urdftool.model import JointType
 from urdftool.parse.srdf import Group, Srdf
+from urdftool.records import record
 
 #: The free-flyer joint Pinocchio adds when it loads a floating-base robot; example-robot-data's
 #: SRDFs give it a value in their reference configurations.
@@ -28,7 +29,7 @@ def srdf(ctx: CheckContext) -> Srdf | None:
     return value if isinstance(value, Srdf) else None
 
 
-@dataclass
+@record(frozen=False)
 class GroupContents:
     """Joint and link names a group holds, its own and its subgroups'."""
 

@@ -7,12 +7,12 @@ import contextlib
 import os
 import re
 import tempfile
-from dataclasses import dataclass
 
 from urdftool.catalogue.syntax import InternalError
 from urdftool.diagnostics import Applicability, Diagnostic, Fix, Severity
 from urdftool.parse import InputError, detect_format
 from urdftool.pipeline.check import CheckOptions, check_file
+from urdftool.records import record
 from urdftool.rules import lookup
 from urdftool.rules.docs import rule_markdown
 
@@ -21,7 +21,7 @@ SUPPRESSION = "<!-- urdftool: ignore[{codes}] -->"
 _SUPPRESSION = re.compile(r"^(\s*)<!--\s*urdftool:\s*ignore\[([^\]]*)\]\s*-->\s*$")
 
 
-@dataclass(frozen=True)
+@record
 class Placed:
     """A finding placed in one document: 0-based line and start/end characters."""
 
@@ -129,7 +129,7 @@ def hover_markdown(placed: list[Placed], line: int) -> str | None:
     return "\n---\n\n".join(pages) if pages else None
 
 
-@dataclass(frozen=True)
+@record
 class LineEdit:
     """Replace lines [*start*, *end*) (0-based) with *text* (``start == end``: insert)."""
 
@@ -157,7 +157,7 @@ def suppression_edit(lines: list[str], line: int, code: str) -> LineEdit:
     return LineEdit(line, line, indent + SUPPRESSION.format(codes=code) + newline)
 
 
-@dataclass(frozen=True)
+@record
 class TextEdit:
     """Replace the text between two LSP positions (0-based line, UTF-16 character) of *path*."""
 

@@ -6,13 +6,14 @@ in URDF, SDF and MJCF alike.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import field
 
 from urdftool.model.pose import Vec3
+from urdftool.records import record
 from urdftool.source import Span
 
 
-@dataclass(frozen=True)
+@record
 class Box:
     """Axis-aligned box with full edge lengths ``size`` (m)."""
 
@@ -22,7 +23,7 @@ class Box:
     kind = "box"
 
 
-@dataclass(frozen=True)
+@record
 class Cylinder:
     """Cylinder along local z: ``radius`` and full ``length`` (m)."""
 
@@ -33,7 +34,7 @@ class Cylinder:
     kind = "cylinder"
 
 
-@dataclass(frozen=True)
+@record
 class Sphere:
     radius: float
     span: Span | None = field(default=None, compare=False)
@@ -41,7 +42,7 @@ class Sphere:
     kind = "sphere"
 
 
-@dataclass(frozen=True)
+@record
 class Capsule:
     """Capsule along local z: ``radius`` and ``length`` of the cylindrical part (m)."""
 
@@ -52,7 +53,7 @@ class Capsule:
     kind = "capsule"
 
 
-@dataclass(frozen=True)
+@record
 class Ellipsoid:
     """Ellipsoid with semi-axes ``radii`` (m) along local x, y, z (SDF)."""
 
@@ -62,7 +63,7 @@ class Ellipsoid:
     kind = "ellipsoid"
 
 
-@dataclass(frozen=True)
+@record
 class Plane:
     """Infinite plane through the origin with ``normal`` (SDF); ``size`` is for display."""
 
@@ -73,7 +74,7 @@ class Plane:
     kind = "plane"
 
 
-@dataclass(frozen=True)
+@record
 class Resolution:
     """How a reader resolved one URI: the file it led to (``None`` when none), every place it
     looked, and the package or model it went through."""
@@ -87,7 +88,7 @@ class Resolution:
     package_dir: str | None = None
 
 
-@dataclass(frozen=True)
+@record
 class Mesh:
     """A mesh file.
 

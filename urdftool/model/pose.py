@@ -8,8 +8,9 @@ to points expressed in the child frame to express them in the parent frame.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
+
+from urdftool.records import record
 
 # NumPy is imported inside the functions: reading and structurally checking a
 # robot must not pay its import time (a CLI cold start is dominated by it).
@@ -149,7 +150,7 @@ def homogeneous(rotation: Matrix, translation: Vec3 | Matrix) -> Matrix:
     return out
 
 
-@dataclass(frozen=True)
+@record
 class Pose:
     """Translation (m) and fixed-axis roll-pitch-yaw (rad) of a child frame in its parent."""
 

@@ -11,11 +11,12 @@ from __future__ import annotations
 import enum
 import functools
 from collections.abc import Mapping
-from dataclasses import dataclass, field
+from dataclasses import field
 from typing import TYPE_CHECKING, Any
 
 from urdftool.model.geometry import Geometry
 from urdftool.model.pose import IDENTITY, Matrix, Pose, Vec3
+from urdftool.records import record
 from urdftool.source import Span
 
 if TYPE_CHECKING:
@@ -65,7 +66,7 @@ _DOF = {
 }
 
 
-@dataclass(frozen=True)
+@record
 class Inertial:
     """Mass (kg) and rotational inertia (kg·m²) about the centre of mass.
 
@@ -99,7 +100,7 @@ class Inertial:
         return ((ixx, ixy, ixz), (ixy, iyy, iyz), (ixz, iyz, izz))
 
 
-@dataclass(frozen=True)
+@record
 class Material:
     """A named colour (RGBA in 0..1) and/or texture file."""
 
@@ -109,7 +110,7 @@ class Material:
     span: Span | None = field(default=None, compare=False)
 
 
-@dataclass(frozen=True)
+@record
 class Visual:
     geometry: Geometry | None
     origin: Pose = IDENTITY
@@ -118,7 +119,7 @@ class Visual:
     span: Span | None = field(default=None, compare=False)
 
 
-@dataclass(frozen=True)
+@record
 class Collision:
     geometry: Geometry | None
     origin: Pose = IDENTITY
@@ -126,7 +127,7 @@ class Collision:
     span: Span | None = field(default=None, compare=False)
 
 
-@dataclass(frozen=True)
+@record
 class Limit:
     """Joint limits: position in rad or m, ``effort`` in N·m or N, ``velocity`` in rad/s or m/s.
 
@@ -143,7 +144,7 @@ class Limit:
     upper_span: Span | None = field(default=None, compare=False)
 
 
-@dataclass(frozen=True)
+@record
 class Dynamics:
     """Viscous ``damping`` (N·m·s/rad or N·s/m) and Coulomb ``friction`` (N·m or N), and a joint
     spring (SDF ``<spring_stiffness>`` in N·m/rad or N/m, pulling towards ``spring_reference``
@@ -156,7 +157,7 @@ class Dynamics:
     spring_reference: float = 0.0
 
 
-@dataclass(frozen=True)
+@record
 class Mimic:
     """This joint follows ``joint``: ``q_self = multiplier * q_joint + offset``."""
 
@@ -166,7 +167,7 @@ class Mimic:
     span: Span | None = field(default=None, compare=False)
 
 
-@dataclass(frozen=True)
+@record
 class SafetyController:
     k_velocity: float
     k_position: float = 0.0
@@ -175,14 +176,14 @@ class SafetyController:
     span: Span | None = field(default=None, compare=False)
 
 
-@dataclass(frozen=True)
+@record
 class Calibration:
     rising: float | None = None
     falling: float | None = None
     span: Span | None = field(default=None, compare=False)
 
 
-@dataclass(frozen=True)
+@record
 class Link:
     name: str
     inertial: Inertial | None = None
@@ -193,7 +194,7 @@ class Link:
     extensions: tuple[Extension, ...] = field(default=(), compare=False)
 
 
-@dataclass(frozen=True)
+@record
 class Joint:
     """A joint: the child link's frame is ``origin`` in the parent link's frame at q = 0.
 
@@ -225,7 +226,7 @@ class Joint:
         return self.type.dof
 
 
-@dataclass(frozen=True)
+@record
 class Extension:
     """An element kept as written for rules and exporters: ``<gazebo>``,
     ``<transmission>``, ``<ros2_control>`` or anything unknown at the top level.
@@ -240,7 +241,7 @@ class Extension:
     span: Span | None = field(default=None, compare=False)
 
 
-@dataclass(frozen=True)
+@record
 class LoopClosure:
     """A joint cut from a closed chain to make the rest a tree (SDF).
 
@@ -252,7 +253,7 @@ class LoopClosure:
     child_anchor: Pose
 
 
-@dataclass(frozen=True)
+@record
 class Robot:
     """A robot as read from one file.
 

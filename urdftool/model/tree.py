@@ -9,11 +9,12 @@ traversal terminates, even on self-loops.
 from __future__ import annotations
 
 from collections.abc import Iterator, Mapping, Sequence
-from dataclasses import dataclass, field
+from dataclasses import field
 from functools import cached_property
 
 from urdftool.model.pose import Matrix, axis_angle_matrix, homogeneous, quaternion_to_matrix
 from urdftool.model.robot import Joint, JointType, Link, Robot
+from urdftool.records import record
 
 
 class _Forest:
@@ -57,7 +58,7 @@ class _Forest:
         self._top[a] = top
 
 
-@dataclass
+@record(frozen=False)
 class KinematicTree:
     """Parent/child maps over link and joint names."""
 

@@ -5,12 +5,13 @@ from __future__ import annotations
 import dataclasses
 import os
 from collections.abc import Mapping
-from dataclasses import dataclass, field
+from dataclasses import field
 from typing import TYPE_CHECKING
 
 from urdftool.diagnostics import Diagnostic
 from urdftool.model import Robot
 from urdftool.parse.packages import PackageResolver
+from urdftool.records import record
 from urdftool.safe_files import UnsafeFile, check_regular, read_head
 from urdftool.source import SourceIndex
 
@@ -32,7 +33,7 @@ class InputError(Exception):
     """The input cannot be read at all (missing file, unknown format): exit code 2."""
 
 
-@dataclass
+@record(frozen=False)
 class Loaded:
     """One model read from one file (``robot`` is ``None`` when nothing could be built)."""
 

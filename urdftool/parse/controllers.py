@@ -25,11 +25,12 @@ error becomes a ``controllers-yaml-invalid`` finding at its line.
 from __future__ import annotations
 
 import functools
-from dataclasses import dataclass, field
+from dataclasses import field
 from typing import TYPE_CHECKING, Any
 
 from urdftool.catalogue.ros2_control import ControllersYamlInvalid
 from urdftool.diagnostics import Diagnostic
+from urdftool.records import record
 from urdftool.safe_files import read_regular
 from urdftool.source import Span
 
@@ -39,7 +40,7 @@ else:  # PyYAML costs more to import than a structural check: only a controllers
     from urdftool.lazy import yaml
 
 
-@dataclass(frozen=True)
+@record
 class Value:
     """A YAML value and where it was written.
 
@@ -72,7 +73,7 @@ class Value:
         return self.value.get(key) if isinstance(self.value, dict) else None
 
 
-@dataclass(frozen=True)
+@record
 class Controller:
     """One controller: its name, its declared ``type`` and its own parameters."""
 
@@ -86,7 +87,7 @@ class Controller:
         return self.params.get(key)
 
 
-@dataclass
+@record(frozen=False)
 class ControllerConfig:
     """A controllers YAML as read: the controllers it declares and the reader's findings."""
 
@@ -175,7 +176,7 @@ def read_controllers(path: str) -> ControllerConfig:
     return config
 
 
-@dataclass
+@record(frozen=False)
 class Controllers:
     """The controllers YAML files of a model, and the parameter files that did not resolve."""
 

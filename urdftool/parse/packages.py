@@ -26,10 +26,11 @@ import os
 import re
 import sys
 from collections.abc import Iterable, Mapping
-from dataclasses import dataclass, field
+from dataclasses import field
 from pathlib import Path
 
 from urdftool.model import Resolution
+from urdftool.records import record
 
 _NAME = re.compile(rb"<name>\s*([^<\s]+)\s*</name>")
 _SKIP_DIRS = {
@@ -87,7 +88,7 @@ def _env_paths(name: str, environ: Mapping[str, str]) -> list[Path]:
     return [Path(p) for p in environ.get(name, "").split(os.pathsep) if p]
 
 
-@dataclass
+@record(frozen=False)
 class Lookup:
     """The result of resolving one URI or package name (:meth:`recorded` is what the model keeps)."""
 
@@ -104,7 +105,7 @@ class Lookup:
         return Resolution(self.path, tuple(self.tried), self.package, self.package_missing, self.package_dir)
 
 
-@dataclass
+@record(frozen=False)
 class PackageResolver:
     """Finds ROS packages and Gazebo models on disk; see the module docstring for the order."""
 

@@ -11,7 +11,6 @@ diagonal; a joint limit of ±1e16 means "no limit", an effort or velocity of
 from __future__ import annotations
 
 import dataclasses
-from dataclasses import dataclass
 
 from lxml import etree
 
@@ -38,6 +37,7 @@ from urdftool.model import (
 from urdftool.parse.packages import PackageResolver
 from urdftool.parse.sdf_values import SdfValues
 from urdftool.parse.xmlio import span_of
+from urdftool.records import record
 from urdftool.source import Span
 
 #: SDF joint type -> model type (``ball`` is the model's SPHERICAL)
@@ -61,7 +61,7 @@ SHAPES = ("box", "cylinder", "sphere", "capsule", "ellipsoid", "plane", "mesh")
 UNSUPPORTED_SHAPES = ("heightmap", "polyline", "image", "cone", "empty")
 
 
-@dataclass
+@record(frozen=False)
 class PlacedElement:
     """A visual or collision with its pose as written and the frame it is relative to."""
 
@@ -70,7 +70,7 @@ class PlacedElement:
     pose_span: object | None
 
 
-@dataclass
+@record(frozen=False)
 class LinkBodyReader:
     """Reads inertial, visual and collision elements of SDF links."""
 
@@ -223,7 +223,7 @@ def _relative_to(pose: etree._Element | None) -> str | None:
     return value or None
 
 
-@dataclass
+@record(frozen=False)
 class JointDetails:
     """A joint's type, axis as written (and the frame it is expressed in), limit and dynamics."""
 

@@ -11,7 +11,7 @@ at the attribute that causes them.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import field
 
 import numpy as np
 
@@ -20,13 +20,14 @@ from urdftool.catalogue.suggest import did_you_mean
 from urdftool.diagnostics import Diagnostic
 from urdftool.model import Pose
 from urdftool.model.pose import Matrix
+from urdftool.records import record
 from urdftool.source import Span
 
 MODEL_FRAME = "__model__"
 WORLD_FRAME = "world"
 
 
-@dataclass
+@record(frozen=False)
 class FrameNode:
     """One named frame: its pose as written, relative to ``relative_to`` (a scoped name)."""
 
@@ -41,7 +42,7 @@ class FrameNode:
     attached_span: Span | None = None
 
 
-@dataclass
+@record(frozen=False)
 class FrameGraph:
     """All frames of one model, by scoped name (``nested::link``)."""
 

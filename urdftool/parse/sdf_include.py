@@ -13,7 +13,7 @@ light and ground and need no files.
 from __future__ import annotations
 
 import os
-from dataclasses import dataclass, field
+from dataclasses import field
 from pathlib import Path
 
 from lxml import etree
@@ -22,12 +22,13 @@ from urdftool.catalogue.sdf import ModelIncludeNotFound
 from urdftool.diagnostics import Diagnostic, Severity
 from urdftool.parse.packages import PackageResolver
 from urdftool.parse.xmlio import XmlDocument, read_file, span_of
+from urdftool.records import record
 
 #: Gazebo's bundled models, recognised by name without their files
 STANDARD_MODELS = frozenset({"sun", "ground_plane"})
 
 
-@dataclass
+@record(frozen=False)
 class IncludedFile:
     """The document an include leads to (``None`` when it could not be read)."""
 

@@ -21,7 +21,7 @@ resolves all poses into the model frame and builds the URDF-style model:
 from __future__ import annotations
 
 import dataclasses
-from dataclasses import dataclass, field
+from dataclasses import field
 
 import numpy as np
 from lxml import etree
@@ -37,6 +37,7 @@ from urdftool.parse.sdf_include import read_include
 from urdftool.parse.sdf_tree import spanning_tree
 from urdftool.parse.sdf_values import SdfValues
 from urdftool.parse.xmlio import span_of
+from urdftool.records import record
 from urdftool.source import SRC_ATTRIBUTE, SourceIndex, Span
 
 #: model children the reader turns into the model; everything else is kept as an extension
@@ -49,14 +50,14 @@ _ROTATIONAL = {JointType.REVOLUTE, JointType.CONTINUOUS, JointType.SPHERICAL, Jo
 _TOLERANCE = 1e-12
 
 
-@dataclass
+@record(frozen=False)
 class _RawLink:
     name: str
     element: etree._Element
     version: tuple[int, int]
 
 
-@dataclass
+@record(frozen=False)
 class _RawJoint:
     name: str
     element: etree._Element
@@ -70,13 +71,13 @@ class _RawJoint:
     model_frame: str = ""
 
 
-@dataclass
+@record(frozen=False)
 class _RawFrame:
     name: str
     element: etree._Element
 
 
-@dataclass
+@record(frozen=False)
 class SdfModelReader:
     """Reads one top-level ``<model>``; create, then call :meth:`read`."""
 

@@ -20,7 +20,7 @@ a whole, per the declared version (see docs/sdf.md):
 from __future__ import annotations
 
 from collections.abc import Iterator
-from dataclasses import dataclass, field
+from dataclasses import field
 
 from lxml import etree
 
@@ -37,6 +37,7 @@ from urdftool.diagnostics import Diagnostic, Severity
 from urdftool.parse.sdf_spec import ELEMENTS, fmt, versions_of
 from urdftool.parse.sdf_values import SdfValues
 from urdftool.parse.xmlio import span_of
+from urdftool.records import record
 from urdftool.source import SourceIndex
 
 Version = tuple[int, int]
@@ -66,7 +67,7 @@ def reserved(name: str) -> bool:
     return name == "world" or (len(name) >= 4 and name.startswith("__") and name.endswith("__"))
 
 
-@dataclass
+@record(frozen=False)
 class _Scope:
     """Scoped frame names of a world: ``M``, ``M::L``, ``M::N::F``, with each model's canonical link."""
 
@@ -81,7 +82,7 @@ class _Scope:
         return any(name.startswith(prefix + "::") for prefix in self.opaque)
 
 
-@dataclass
+@record(frozen=False)
 class SdfSemantics:
     """Collects the findings of :func:`check_document`."""
 

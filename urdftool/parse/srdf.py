@@ -17,7 +17,7 @@ from __future__ import annotations
 
 import os
 from collections.abc import Callable
-from dataclasses import dataclass, field
+from dataclasses import field
 
 from lxml import etree
 
@@ -27,6 +27,7 @@ from urdftool.diagnostics import Diagnostic
 from urdftool.parse.packages import PackageResolver
 from urdftool.parse.values import parse_number
 from urdftool.parse.xmlio import read_file, span_of
+from urdftool.records import record
 from urdftool.source import Span
 
 #: Top-level elements of the SRDF specification (srdfdom).
@@ -46,7 +47,7 @@ KNOWN_REASONS = frozenset({"Adjacent", "Default", "Always", "Never", "User"})
 VIRTUAL_JOINT_TYPES = frozenset({"fixed", "floating", "planar"})
 
 
-@dataclass(frozen=True)
+@record
 class Named:
     """A name as written, and where."""
 
@@ -54,14 +55,14 @@ class Named:
     span: Span | None = None
 
 
-@dataclass(frozen=True)
+@record
 class Chain:
     base: Named
     tip: Named
     span: Span | None = None
 
 
-@dataclass(frozen=True)
+@record
 class Group:
     name: str
     links: tuple[Named, ...] = ()
@@ -71,7 +72,7 @@ class Group:
     span: Span | None = None
 
 
-@dataclass(frozen=True)
+@record
 class JointValue:
     """One ``<joint name value>`` of a group state; ``values`` is empty when none could be read."""
 
@@ -80,7 +81,7 @@ class JointValue:
     span: Span | None = None
 
 
-@dataclass(frozen=True)
+@record
 class GroupState:
     name: str
     #: ``None`` when not written: Pinocchio reads such a state, MoveIt skips it
@@ -89,7 +90,7 @@ class GroupState:
     span: Span | None = None
 
 
-@dataclass(frozen=True)
+@record
 class EndEffector:
     name: str
     parent_link: Named
@@ -98,7 +99,7 @@ class EndEffector:
     span: Span | None = None
 
 
-@dataclass(frozen=True)
+@record
 class VirtualJoint:
     name: str
     type: str
@@ -107,7 +108,7 @@ class VirtualJoint:
     span: Span | None = None
 
 
-@dataclass(frozen=True)
+@record
 class CollisionPair:
     """A ``<disable_collisions>`` (or ``<enable_collisions>``) entry."""
 
@@ -118,7 +119,7 @@ class CollisionPair:
     enable: bool = False
 
 
-@dataclass
+@record(frozen=False)
 class Srdf:
     """One SRDF file, read; ``diagnostics`` are the reader's findings."""
 

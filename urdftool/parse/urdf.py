@@ -8,7 +8,7 @@ reports everything urdfdom would refuse or silently ignore, then carries on.
 from __future__ import annotations
 
 from collections.abc import Callable, Iterator
-from dataclasses import dataclass, field
+from dataclasses import field
 
 from lxml import etree
 
@@ -58,10 +58,11 @@ from urdftool.parse.urdf_schema import (
 )
 from urdftool.parse.values import ValueReader
 from urdftool.parse.xmlio import XmlDocument, span_of
+from urdftool.records import record
 from urdftool.source import SRC_ATTRIBUTE, SourceIndex, Span
 
 
-@dataclass(eq=False)  # one run's state, equal only to itself: no __eq__ to generate at import
+@record(frozen=False, eq=False)  # one run's state, equal only to itself
 class UrdfReader(JointParts):
     """Reads one URDF document. Create, call :meth:`read`, take ``values.diagnostics``."""
 

@@ -10,7 +10,7 @@ from __future__ import annotations
 import functools
 import re
 from collections.abc import Callable
-from dataclasses import dataclass, field
+from dataclasses import field
 from typing import cast
 
 from lxml import etree
@@ -23,6 +23,7 @@ from urdftool.catalogue.syntax import (
 )
 from urdftool.diagnostics import Diagnostic
 from urdftool.parse.xmlio import span_of
+from urdftool.records import record
 from urdftool.source import SourceIndex, Span
 
 _NUMBER = re.compile(r"^[+-]?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?$")
@@ -98,7 +99,7 @@ class Unbounded:
 UNBOUNDED = Unbounded()
 
 
-@dataclass(eq=False)  # one run's state, equal only to itself: no __eq__ to generate at import
+@record(frozen=False, eq=False)  # one run's state, equal only to itself
 class ValueReader:
     """Reads numbers and vectors from elements, collecting diagnostics."""
 

@@ -27,7 +27,7 @@ import re
 import threading
 import xml.dom.minidom
 from collections.abc import Iterator, Mapping
-from dataclasses import dataclass, field
+from dataclasses import field
 from pathlib import Path
 from typing import Any
 
@@ -44,6 +44,7 @@ from urdftool.parse.packages import PackageResolver
 from urdftool.parse.xacro_args import KnownArgument, known_arguments, merge, misspelt_arguments
 from urdftool.parse.xacro_hints import text_property_help
 from urdftool.parse.xmlio import XmlDocument, encode_src, parse_bytes, read_up_to_cap, span_of, to_utf8
+from urdftool.records import record
 from urdftool.source import SRC_ATTRIBUTE, Span, element_starts
 
 _LOCK = threading.Lock()
@@ -59,7 +60,7 @@ class PackageNotFoundError(Exception):
         self.tried = tried
 
 
-@dataclass
+@record(frozen=False)
 class XacroResult:
     """The expanded document (or ``None``) and what happened on the way."""
 
@@ -71,7 +72,7 @@ class XacroResult:
     macro_library: bool = False
 
 
-@dataclass
+@record(frozen=False)
 class _Session:
     resolver: PackageResolver
     top: str

@@ -13,11 +13,11 @@ from __future__ import annotations
 
 import re
 from collections.abc import Iterable, Mapping
-from dataclasses import dataclass
 
 from urdftool.catalogue.suggest import closest
 from urdftool.catalogue.xacro import MisspeltXacroArgument
 from urdftool.diagnostics import Diagnostic
+from urdftool.records import record
 from urdftool.source import Span
 
 #: ``<xacro:arg …>`` (any prefix bound to xacro), its attributes in group 1
@@ -31,7 +31,7 @@ TYPO_CUTOFF = 0.85
 _USE = re.compile(r"""\$\(\s*arg\s+([^\s)]+)\s*\)|\barg\(\s*["']([^"']+)["']\s*\)""")
 
 
-@dataclass(frozen=True)
+@record
 class KnownArgument:
     """An argument a file declares or uses: where first seen, and its declared default."""
 

@@ -21,13 +21,13 @@ from __future__ import annotations
 import re
 import sys
 from collections.abc import Callable
-from dataclasses import dataclass
 
 from lxml import etree
 
 from urdftool.catalogue.syntax import XmlSyntax
 from urdftool.catalogue.xacro import XacroInUrdf
 from urdftool.diagnostics import Diagnostic, Severity
+from urdftool.records import record
 from urdftool.safe_files import DEFAULT_LIMITS, human, limit, open_regular
 from urdftool.source import SRC_ATTRIBUTE, Span, element_starts
 
@@ -134,7 +134,7 @@ def _parser() -> etree.XMLParser:
     )
 
 
-@dataclass(eq=False)  # one run's state, equal only to itself: no __eq__ to generate at import
+@record(frozen=False, eq=False)  # one run's state, equal only to itself
 class XmlDocument:
     """A parsed document whose elements carry their source positions.
 

@@ -10,7 +10,6 @@ moving joint has nothing to carry it.
 from __future__ import annotations
 
 from collections.abc import Mapping
-from dataclasses import dataclass
 from functools import cached_property
 from typing import TYPE_CHECKING
 
@@ -23,13 +22,14 @@ else:
 from urdftool.model import KinematicTree, Link, Robot
 from urdftool.model.pose import Matrix, Pose
 from urdftool.physics.inertia import shift_to_point
+from urdftool.records import record
 
 #: Masses (kg) and principal moments (kg·m²) at or below this count as zero:
 #: MuJoCo's ``mjMINVAL``, the smallest value its compiler accepts for a moving body.
 MIN_VALUE = 1e-15
 
 
-@dataclass(frozen=True)
+@record
 class RigidBody:
     """Links welded by fixed joints.
 
@@ -108,7 +108,7 @@ def body_of(bodies: list[RigidBody]) -> dict[str, RigidBody]:
     return {link.name: body for body in bodies for link, _ in body.links}
 
 
-@dataclass(frozen=True)
+@record
 class MassRole:
     """Why a link needs mass, and how bad it is when it has none.
 

@@ -8,7 +8,6 @@ real mass distribution obeys and what MuJoCo's compiler enforces.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 if TYPE_CHECKING:
@@ -18,6 +17,7 @@ else:
     from urdftool.lazy import numpy as np
 
 from urdftool.model.pose import Matrix
+from urdftool.records import record
 
 #: Relative tolerance (to the trace) below which a moment counts as zero or an
 #: inequality as met; absorbs rounding in tensors written with a few digits.
@@ -35,7 +35,7 @@ def principal_moments(tensor: Matrix) -> tuple[Matrix, Matrix]:
     return values, vectors
 
 
-@dataclass(frozen=True)
+@record
 class InertiaVerdict:
     """What is wrong with a tensor, if anything."""
 

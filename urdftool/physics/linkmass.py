@@ -12,7 +12,6 @@ from __future__ import annotations
 
 import math
 from collections.abc import Iterator
-from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 if TYPE_CHECKING:
@@ -31,6 +30,7 @@ from urdftool.physics.massprops import (
     place,
     rotate_into,
 )
+from urdftool.records import record
 
 #: Density (kg/m³) used to suggest a mass for a massless link: a solid of
 #: plastic, or a hollow aluminium part, which is what most robot links weigh.
@@ -71,7 +71,7 @@ def _shapes(elements: tuple[Collision, ...] | tuple[Visual, ...]) -> list[tuple[
     return [(e.geometry, e.origin) for e in elements]
 
 
-@dataclass(frozen=True)
+@record
 class InertiaComparison:
     """The declared tensor against a uniform solid of the declared mass, both in the inertial frame.
 

@@ -16,7 +16,6 @@ from __future__ import annotations
 
 import math
 from collections.abc import Iterable, Sequence
-from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 if TYPE_CHECKING:
@@ -36,9 +35,10 @@ from urdftool.physics.inertia import (
     shift_to_point,
     sphere_inertia,
 )
+from urdftool.records import record
 
 
-@dataclass(frozen=True)
+@record
 class SolidProperties:
     """A solid of density 1 kg/m³: volume (m³), centroid (m), inertia about the centroid, bounds.
 

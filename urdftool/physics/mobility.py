@@ -18,7 +18,6 @@
 from __future__ import annotations
 
 import dataclasses
-from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 if TYPE_CHECKING:
@@ -27,13 +26,14 @@ else:  # NumPy loads on first use: importing the rules must not pay for it
     from urdftool.lazy import numpy as np
 
 from urdftool.model import Cylinder, JointType, KinematicTree, Robot, Sphere
+from urdftool.records import record
 
 WORLD_LINK = "world"
 #: Name of the free joint added to a free root (made unique against the robot's joints).
 FREE_JOINT_NAME = "floating_base"
 
 
-@dataclass(frozen=True)
+@record
 class BasePlan:
     """``kind``: ``"free"``, ``"fixed"`` or ``"world"`` (the root link is the world body)."""
 

@@ -18,11 +18,11 @@ import os
 import re
 from collections import Counter
 from collections.abc import Iterable
-from dataclasses import dataclass
 from pathlib import Path
 
 from urdftool.diagnostics import Diagnostic, FileReport, Report
 from urdftool.export.write import write_text_atomic
+from urdftool.records import record
 
 FORMAT_VERSION = 1
 _NUMBER = re.compile(r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?")
@@ -80,7 +80,7 @@ def read_baseline(path: str | os.PathLike[str]) -> Counter[str]:
         raise BaselineError(f"{path}: cannot read the baseline: {exc}") from exc
 
 
-@dataclass(frozen=True)
+@record
 class BaselineResult:
     """The report without the known findings, and how many known ones were matched or are gone."""
 

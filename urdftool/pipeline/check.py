@@ -7,7 +7,7 @@ import dataclasses
 import gc
 import os
 from collections.abc import Callable, Iterable, Iterator, Mapping, Sequence
-from dataclasses import dataclass, field
+from dataclasses import field
 from typing import TYPE_CHECKING, Any
 
 from urdftool.catalogue.syntax import InternalError
@@ -18,6 +18,7 @@ from urdftool.model import KinematicTree, Robot
 from urdftool.parse import Loaded, read
 from urdftool.parse.packages import PackageResolver
 from urdftool.pipeline import controllers, srdf, suppress
+from urdftool.records import record
 from urdftool.rules import Selection
 from urdftool.rules.registry import model_rules
 from urdftool.safe_files import file_limits
@@ -31,7 +32,7 @@ else:
     provenance = LazyModule("urdftool.pipeline.provenance")
 
 
-@dataclass(frozen=True)
+@record
 class CheckOptions:
     """Everything a check run needs besides the files; picklable for worker processes."""
 

@@ -16,7 +16,7 @@ from __future__ import annotations
 import dataclasses
 import os
 from collections.abc import Callable
-from dataclasses import dataclass, field
+from dataclasses import field
 
 from urdftool.backends.collision_shapes import Simplified, simplify
 from urdftool.backends.meshes import MeshError
@@ -24,6 +24,7 @@ from urdftool.catalogue.collision import CollisionSimplified
 from urdftool.diagnostics import Diagnostic, Severity
 from urdftool.model import Box, Capsule, Collision, Cylinder, Link, Mesh, Pose, Robot, Sphere
 from urdftool.pipeline.convert import Conversion
+from urdftool.records import record
 from urdftool.safe_files import read_regular
 
 MODES = ("as-is", "hull", "decompose", "primitives")
@@ -33,7 +34,7 @@ FOLDER = "collision"
 CAPSULE_TARGETS = frozenset({"mjcf", "pybullet"})
 
 
-@dataclass(frozen=True)
+@record
 class CollisionOptions:
     mode: str = "as-is"
     threshold: float = 0.05
@@ -41,7 +42,7 @@ class CollisionOptions:
     tolerance: float = 0.15
 
 
-@dataclass
+@record(frozen=False)
 class Simplification:
     robot: Robot
     diagnostics: list[Diagnostic] = field(default_factory=list)

@@ -14,7 +14,7 @@ from __future__ import annotations
 import dataclasses
 import os
 from collections.abc import Sequence
-from dataclasses import dataclass, field
+from dataclasses import field
 from pathlib import Path
 
 from urdftool.catalogue.conversion import InertiaNotExportable, InertiaRepaired
@@ -26,6 +26,7 @@ from urdftool.model import Robot
 from urdftool.physics.bodies import kinematics_only
 from urdftool.physics.sdf_defaults import SDF_DEFAULT_INERTIAL, defaulted_links, sdf_default_inertials
 from urdftool.pipeline.check import run_rules
+from urdftool.records import record
 from urdftool.rules import Selection
 
 #: Targets that simulate the model, which a kinematic model (no inertia at all) cannot be.
@@ -35,7 +36,7 @@ SIMULATED = {"mjcf": "MuJoCo", "pybullet": "PyBullet"}
 STRUCTURAL = Selection.of(("S", "X"), ())
 
 
-@dataclass
+@record(frozen=False)
 class Conversion:
     """What converting one robot to one target gave.
 

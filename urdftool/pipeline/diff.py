@@ -20,7 +20,7 @@ import subprocess
 import tempfile
 from collections import Counter
 from collections.abc import Iterator, Mapping, Sequence
-from dataclasses import dataclass, field
+from dataclasses import field
 from typing import TYPE_CHECKING, Any
 
 from urdftool.diagnostics import Diagnostic, Severity
@@ -29,6 +29,7 @@ from urdftool.model.geometry import Mesh
 from urdftool.model.robot import Extension, Joint, Link
 from urdftool.pipeline.check import CheckOptions, report_for
 from urdftool.pipeline.load import load_one
+from urdftool.records import record
 from urdftool.source import SRC_ATTRIBUTE
 
 if TYPE_CHECKING:
@@ -43,7 +44,7 @@ MASS_TOL = 1e-12
 INERTIA_TOL = 1e-12
 
 
-@dataclass(frozen=True)
+@record
 class Change:
     """One thing that differs: ``kind`` (what sort), ``subject`` (the link or joint, as named in
     the new file), ``field``, the old and new values, and a size where one applies."""
@@ -69,7 +70,7 @@ class Change:
         return out
 
 
-@dataclass(frozen=True)
+@record
 class RobotDiff:
     """The changes from *old* to *new*, and the renames found."""
 

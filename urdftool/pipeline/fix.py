@@ -14,12 +14,13 @@ from __future__ import annotations
 import difflib
 import os
 from collections.abc import Iterable, Sequence
-from dataclasses import dataclass, field
+from dataclasses import field
 
 from urdftool.diagnostics import Applicability, Diagnostic, Edit, Report
 from urdftool.export.write import OutputError, write_bytes_atomic
 from urdftool.parse.xmlio import parse_bytes
 from urdftool.pipeline.check import CheckOptions, check_files
+from urdftool.records import record
 
 #: rounds of fix-and-recheck before giving up (each round applies every non-overlapping edit)
 MAX_ROUNDS = 6
@@ -69,7 +70,7 @@ def _overlaps(previous: Edit, start: int, end: int) -> bool:
     return start == p_end and (start == end or p_start == p_end)
 
 
-@dataclass
+@record(frozen=False)
 class FileChange:
     """One file the fixes changed: its bytes before and after, and the findings fixed."""
 
@@ -79,7 +80,7 @@ class FileChange:
     fixed: list[Diagnostic] = field(default_factory=list)
 
 
-@dataclass
+@record(frozen=False)
 class FixResult:
     """What a fix run did: the files changed, the files refused and the report after fixing."""
 

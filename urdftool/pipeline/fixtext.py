@@ -13,8 +13,9 @@ from __future__ import annotations
 
 import os
 import re
-from dataclasses import dataclass, field
+from dataclasses import field
 
+from urdftool.records import record
 from urdftool.source import Span
 
 _NAME = re.compile(rb"[A-Za-z_:][\w.:-]*")
@@ -43,7 +44,7 @@ def escape(value: str, quote: str = '"') -> str:
     return out.replace(quote, "&quot;" if quote == '"' else "&apos;")
 
 
-@dataclass(frozen=True)
+@record
 class Attribute:
     name: str
     name_start: int
@@ -59,7 +60,7 @@ class Attribute:
         return unescape(self.raw)
 
 
-@dataclass(frozen=True)
+@record
 class Tag:
     """One start tag: where it is, its name and its attributes (byte offsets into the file)."""
 
@@ -75,7 +76,7 @@ class Tag:
         return next((a for a in self.attributes if a.name == name), None)
 
 
-@dataclass
+@record(frozen=False)
 class SourceText:
     """The bytes of one file, with line starts, for turning positions into byte offsets."""
 

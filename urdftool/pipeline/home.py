@@ -15,20 +15,20 @@ from __future__ import annotations
 import dataclasses
 import math
 from collections.abc import Collection, Iterator, Mapping
-from dataclasses import dataclass
 from pathlib import Path
 
 from urdftool.parse import Loaded
 from urdftool.parse.packages import PackageResolver
 from urdftool.parse.srdf import Srdf, read_srdf
 from urdftool.pipeline.srdf import find_srdf
+from urdftool.records import record
 
 #: Names of group states taken as the home configuration, best first.
 PREFERRED = ("standing", "half_sitting", "home", "stand", "default", "neutral", "ready",
              "straight_standing", "init")
 
 
-@dataclass(frozen=True)
+@record
 class HomeState:
     """A named joint configuration (rad or m per one-DOF joint)."""
 

@@ -15,7 +15,7 @@ import fnmatch
 import os
 import sys
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass, field
+from dataclasses import field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -23,6 +23,7 @@ from urdftool.catalogue.registry import Family
 from urdftool.catalogue.suggest import did_you_mean
 from urdftool.diagnostics import Severity
 from urdftool.lazy import LazyModule
+from urdftool.records import record
 
 if TYPE_CHECKING:
     if sys.version_info >= (3, 11):
@@ -59,7 +60,7 @@ class SettingsError(ValueError):
     """A configuration file that cannot be used: unreadable TOML, an unknown key, a wrong type."""
 
 
-@dataclass(frozen=True)
+@record
 class ConfigFile:
     """One configuration file and its ``[tool.urdftool]`` table (or ``urdftool.toml`` body)."""
 
@@ -75,7 +76,7 @@ class ConfigFile:
         return f"{self.path} [tool.urdftool]" if self.path.name == "pyproject.toml" else str(self.path)
 
 
-@dataclass(frozen=True)
+@record
 class Settings:
     """What a check of one file runs with, and where each setting came from.
 
@@ -213,7 +214,7 @@ def _fits(kind: str, value: Any) -> bool:
     return False
 
 
-@dataclass(frozen=True)
+@record
 class Overrides:
     """What the command line (or the API's keywords) set; ``None`` and empty mean "not given"."""
 

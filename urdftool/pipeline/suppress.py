@@ -14,10 +14,11 @@ from __future__ import annotations
 
 import re
 from collections.abc import Iterable, Sequence
-from dataclasses import dataclass, field
+from dataclasses import field
 
 from urdftool.catalogue.syntax import UnusedSuppression
 from urdftool.diagnostics import Diagnostic
+from urdftool.records import record
 from urdftool.rules import Selection, lookup
 from urdftool.rules.selection import suggestion
 from urdftool.source import Span
@@ -28,7 +29,7 @@ COMMENT = re.compile(r"<!--\s*urdftool:\s*(ignore|ignore-file)\s*\[([^\]]*)\]\s*
 MAX_SCAN_BYTES = 64 * 1024 * 1024
 
 
-@dataclass(eq=False)  # one run's state, equal only to itself: no __eq__ to generate at import
+@record(frozen=False, eq=False)  # one run's state, equal only to itself
 class Suppression:
     """One comment: where it is, whether it covers the file, and the codes or names it lists."""
 

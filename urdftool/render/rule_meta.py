@@ -5,11 +5,11 @@ from __future__ import annotations
 
 import os
 from collections.abc import Iterator
-from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
 from urdftool.diagnostics import Diagnostic, Report, Severity
 from urdftool.lazy import LazyModule
+from urdftool.records import record
 from urdftool.rules.registry import info
 from urdftool.source import Span
 
@@ -24,7 +24,7 @@ PROJECT_URL = "https://github.com/urdftool/urdftool"
 RULE_DOCS_URL = f"{PROJECT_URL}/blob/main/docs/rules"
 
 
-@dataclass(frozen=True)
+@record
 class RuleMeta:
     """A rule as the reports describe it."""
 

@@ -16,7 +16,6 @@ values; this module measures them at the zero configuration:
 
 from __future__ import annotations
 
-from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 if TYPE_CHECKING:
@@ -29,6 +28,7 @@ from urdftool.facts.context import CheckContext
 from urdftool.facts.meshes import mesh_extents
 from urdftool.model import Capsule, Collision, Cylinder, Joint, Link, Mesh, Sphere, Visual
 from urdftool.model.pose import Matrix
+from urdftool.records import record
 
 #: Relative difference between declared and measured values that is reported.
 #: Wheel positions in real models agree with their plugins to a few millimetres;
@@ -36,7 +36,7 @@ from urdftool.model.pose import Matrix
 TOLERANCE = 0.05
 
 
-@dataclass(frozen=True)
+@record
 class Wheel:
     """A wheel at the zero configuration in the world (root) frame: centre (m) and axle."""
 

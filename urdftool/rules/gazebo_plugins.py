@@ -16,10 +16,11 @@ from __future__ import annotations
 
 import re
 from collections.abc import Iterator
-from dataclasses import dataclass, field
+from dataclasses import field
 from typing import Any
 
 from urdftool.model import Robot
+from urdftool.records import record
 from urdftool.source import SRC_ATTRIBUTE
 
 #: Plugin child elements whose text names one joint (or, for ``jointName``, a
@@ -65,7 +66,7 @@ TRANSMISSION_JOINT_TAGS = frozenset(
 _SPLIT = re.compile(r"[,\s]+")
 
 
-@dataclass(frozen=True)
+@record
 class JointRef:
     """A joint named by an extension: the name, the element naming it, and who names it."""
 
@@ -171,7 +172,7 @@ def gazebo_defined_joints(robot: Robot) -> set[str]:
 # -- drive plugins -------------------------------------------------------------------------
 
 
-@dataclass
+@record(frozen=False)
 class DrivePlugin:
     """A differential or skid-steer drive plugin's declared geometry.
 

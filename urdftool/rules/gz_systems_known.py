@@ -17,10 +17,10 @@ documentation.
 from __future__ import annotations
 
 import re
-from dataclasses import dataclass
 from typing import Any
 
 from urdftool.facts import ros2_control as rc
+from urdftool.records import record
 
 #: Library stem -> the classes that library registers.
 LIBRARIES: dict[str, tuple[str, ...]] = {
@@ -128,7 +128,7 @@ FORCE_TORQUE_INTERFACES = rc.FORCE_TORQUE_INTERFACES
 SENSOR_INTERFACES = {"imu": frozenset(IMU_INTERFACES), "force_torque": frozenset(FORCE_TORQUE_INTERFACES)}
 
 
-@dataclass(frozen=True)
+@record
 class Params:
     """Which of a system's parameters name links, and which must read as numbers or flags."""
 
@@ -181,7 +181,7 @@ PARAMS: dict[str, Params] = {
 }
 
 
-@dataclass(frozen=True)
+@record
 class System:
     """A ``<plugin>`` read as a gz-sim system: library stem and class (either may be unknown)."""
 

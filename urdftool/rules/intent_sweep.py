@@ -15,17 +15,18 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable, Iterator
-from dataclasses import dataclass, replace
+from dataclasses import replace
 
 from urdftool.catalogue.registry import register
 from urdftool.diagnostics import Diagnostic, Related, Severity
 from urdftool.facts.context import CheckContext
 from urdftool.facts.range_sweep import Sweep, range_sweeps, share_at
 from urdftool.physics.describe import fmt
+from urdftool.records import record
 from urdftool.rules.intent_common import IntentRule, option, where_joint
 
 
-@dataclass(frozen=True)
+@record
 class Passing:
     """Where a joint's child passes into its parent on the way from home to one limit.
 

@@ -15,10 +15,10 @@ from __future__ import annotations
 import functools
 import re
 from collections.abc import Iterable
-from dataclasses import dataclass
 from typing import Protocol
 
 from urdftool.catalogue.suggest import did_you_mean
+from urdftool.records import record
 from urdftool.rules.registry import INDEX, REDIRECTS
 
 
@@ -54,7 +54,7 @@ def _specificity(selector: str, rule: Named) -> int | None:
     return None
 
 
-@dataclass(frozen=True)
+@record
 class Selection:
     select: tuple[str, ...] | None = None
     ignore: tuple[str, ...] = ()

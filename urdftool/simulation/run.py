@@ -14,7 +14,7 @@ from __future__ import annotations
 import importlib.util
 import tempfile
 from collections.abc import Callable
-from dataclasses import dataclass, field
+from dataclasses import field
 from pathlib import Path
 
 from urdftool.diagnostics import Diagnostic
@@ -22,11 +22,12 @@ from urdftool.facts.simulation import ENGINE_INFO, SimResult, display_name
 from urdftool.facts.simulation.record import EngineRun
 from urdftool.facts.simulation.scene import Scene, SimOptions, prepare
 from urdftool.model import Robot
+from urdftool.records import record
 from urdftool.simulation.mujoco import run_mujoco
 from urdftool.simulation.pybullet import run_pybullet
 
 
-@dataclass
+@record(frozen=False)
 class Exported:
     """The file an engine is to load, or why there is none, and the command that writes it."""
 

@@ -23,7 +23,9 @@ Nothing here imports anything: the tables are data.
 from __future__ import annotations
 
 from collections.abc import Iterable, Mapping
-from dataclasses import dataclass, field
+from dataclasses import field
+
+from urdftool.records import record
 
 __all__ = [
     "TARGETS",
@@ -33,7 +35,7 @@ __all__ = [
 ]
 
 
-@dataclass(frozen=True)
+@record
 class Target:
     """What one consumer does with a URDF file.
 

@@ -16,7 +16,6 @@ from __future__ import annotations
 
 import os
 from collections.abc import Iterable, Mapping, Sequence
-from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
@@ -34,11 +33,12 @@ from urdftool.export.graph.render import (
 )
 from urdftool.export.write import write_text_atomic
 from urdftool.model import Robot
+from urdftool.records import record
 
 RANKDIRS = ("TB", "LR", "BT", "RL")
 
 
-@dataclass(frozen=True)
+@record
 class GraphOptions:
     """Everything that changes the diagram.
 

@@ -10,7 +10,6 @@ Everything is emitted in tree order, so the same robot gives the same text.
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass
 
 from urdftool.diagnostics import Diagnostic, Severity
 from urdftool.export.graph.dot import DotWriter, Html, html_text
@@ -25,6 +24,7 @@ from urdftool.export.graph.labels import (
     significant,
 )
 from urdftool.model import Joint, KinematicTree, Link, Pose, Robot
+from urdftool.records import record
 
 FONT = "Helvetica"
 _LINK_FILL = "#f7f7f7"
@@ -33,7 +33,7 @@ _MEMBERS_PER_LINE = 3
 Attributes = dict[str, "str | float | bool"]
 
 
-@dataclass(frozen=True)
+@record
 class GraphSettings:
     """How to draw: ``rankdir`` TB|LR|BT|RL, fixed chains merged or not."""
 

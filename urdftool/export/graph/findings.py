@@ -9,16 +9,17 @@ robot's own link and joint names rather than cut at the first bracket.
 from __future__ import annotations
 
 from collections.abc import Iterable
-from dataclasses import dataclass, field
+from dataclasses import field
 
 from urdftool.diagnostics import Diagnostic, Severity
 from urdftool.model import Robot
+from urdftool.records import record
 
 #: border and text colour of a node with findings, by worst severity
 SEVERITY_COLOURS = {Severity.ERROR: "#d62728", Severity.WARNING: "#e08000"}
 
 
-@dataclass
+@record(frozen=False)
 class Findings:
     """Error and warning findings grouped by the link or joint they are about."""
 

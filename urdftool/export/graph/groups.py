@@ -9,12 +9,13 @@ the top link's frame.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import field
 
 from urdftool.model import IDENTITY, Joint, JointType, KinematicTree, Pose
+from urdftool.records import record
 
 
-@dataclass
+@record(frozen=False)
 class LinkGroups:
     """Link name -> the top link of its group, and each top link's members in tree order."""
 

@@ -22,7 +22,7 @@ know). Units: kg, kg·m² (and kg·m for the coupling terms of a free flyer).
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass, field
+from dataclasses import field
 from functools import cached_property
 from typing import TYPE_CHECKING
 
@@ -36,6 +36,7 @@ from urdftool.backends.pinocchio import FREE_FLYER, PinocchioModel, build_model
 from urdftool.facts.dynamics.configurations import Configuration, Samples, sample
 from urdftool.model import Joint, JointType, KinematicTree, Robot
 from urdftool.model.pose import Matrix
+from urdftool.records import record
 
 #: Random configurations sampled besides the zero configuration.
 SAMPLES = 16
@@ -43,7 +44,7 @@ SAMPLES = 16
 GRAVITY = 9.81
 
 
-@dataclass(frozen=True)
+@record
 class Conditioning:
     """The worst-conditioned mass matrix among the samples.
 
@@ -78,7 +79,7 @@ class Conditioning:
         return self.names[int(np.argmax(np.abs(self._vectors[:, -1])))]
 
 
-@dataclass(frozen=True)
+@record
 class GravityLoad:
     """The largest static gravity torque (N·m) or force (N) a joint holds among the samples."""
 
@@ -88,7 +89,7 @@ class GravityLoad:
     sample: int
 
 
-@dataclass
+@record(frozen=False)
 class DynamicsAnalysis:
     """What the dynamics pass found on one robot."""
 

@@ -18,10 +18,10 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from dataclasses import dataclass
 from typing import Any
 
 from urdftool.model import Joint, JointType, KinematicTree
+from urdftool.records import record
 
 #: Seed of every sampled configuration set: reruns give the same numbers.
 SEED = 20240607
@@ -53,7 +53,7 @@ def sampled_joints(tree: KinematicTree) -> list[Joint]:
             if j.type.is_moving and j.mimic is None and j.type is not JointType.FLOATING]
 
 
-@dataclass(frozen=True)
+@record
 class Samples:
     """Configurations as an array: row 0 is the zero configuration, then the random ones.
 

@@ -10,11 +10,10 @@ invalid in that sense (they are what ``mass-matrix-singular`` is about).
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-
 from urdftool.model import Joint, JointType, KinematicTree, Link, Robot
 from urdftool.physics.inertia import MIN_MOMENT, assess
 from urdftool.physics.mobility import decide_base
+from urdftool.records import record
 
 #: Joint types the Pinocchio backend builds (the others have no model there).
 PINOCCHIO_JOINT_TYPES = frozenset({
@@ -23,7 +22,7 @@ PINOCCHIO_JOINT_TYPES = frozenset({
 })
 
 
-@dataclass(frozen=True)
+@record
 class NotCovered:
     """Why the dynamics pass does not run on a model: a sentence, and the links or joints behind it."""
 

@@ -8,7 +8,6 @@ from __future__ import annotations
 
 import importlib.util
 from collections.abc import Mapping
-from dataclasses import dataclass
 from typing import Any
 
 from urdftool.facts.dynamics.analysis import SAMPLES, analyse
@@ -17,6 +16,7 @@ from urdftool.facts.dynamics.linear import DENSE_DOF, gravity_loads, moving_dof
 from urdftool.model import KinematicTree, Robot
 from urdftool.physics.bodies import kinematics_only
 from urdftool.physics.sdf_defaults import sdf_default_inertials
+from urdftool.records import record
 
 #: Rule option that turns the pass on or off (default on).
 OPTION = "dynamics"
@@ -24,7 +24,7 @@ OPTION = "dynamics"
 SAMPLES_OPTION = "dynamics_samples"
 
 
-@dataclass(frozen=True)
+@record
 class Skipped:
     """The pass ran but could not say anything meaningful about the robot."""
 

@@ -11,12 +11,12 @@ runtime rules read :func:`simulation` and never run an engine themselves.
 from __future__ import annotations
 
 from collections.abc import Callable, Mapping
-from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
 from urdftool.facts.context import SIM_OPTION, CheckContext
 from urdftool.facts.simulation.options import ENGINES, SimOptions
 from urdftool.model import Robot
+from urdftool.records import record
 
 if TYPE_CHECKING:  # the scene and the records load physics code a run without --sim never needs
     from urdftool.facts.simulation.record import EngineRun
@@ -29,7 +29,7 @@ ENGINE_INFO = {"mujoco": ("mujoco", "MuJoCo"), "pybullet": ("pybullet", "PyBulle
 OPTION = SIM_OPTION
 
 
-@dataclass
+@record(frozen=False)
 class SimResult:
     """The scene and every engine's run, in the order asked for."""
 

@@ -3,14 +3,14 @@ loading the scene code (see :mod:`.scene`)."""
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from urdftool.records import record
 
 ENGINES = ("mujoco", "pybullet")
 #: Default length of a run (s).
 DURATION = 2.0
 
 
-@dataclass(frozen=True)
+@record
 class SimOptions:
     """How to run the smoke simulation.
 

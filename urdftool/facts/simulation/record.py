@@ -8,7 +8,7 @@ the world; for a robot bolted to the world it does not move.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import field
 from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:
@@ -19,12 +19,13 @@ else:
 
 from urdftool.diagnostics import Diagnostic
 from urdftool.model import Joint
+from urdftool.records import record
 
 #: Part of the run at the end over which "still moving" is measured (fraction).
 LATE_FRACTION = 0.1
 
 
-@dataclass(frozen=True)
+@record
 class Penetration:
     """Two links whose collision geometry overlaps at the first step, by ``depth`` (m)."""
 
@@ -33,7 +34,7 @@ class Penetration:
     depth: float
 
 
-@dataclass(frozen=True)
+@record
 class LimitViolation:
     """The furthest a joint went beyond a limit (rad or m), and when (s)."""
 
@@ -44,7 +45,7 @@ class LimitViolation:
     time: float
 
 
-@dataclass
+@record(frozen=False)
 class EngineRun:
     """One engine's run. ``refused`` holds why it did not run (exporter or engine findings)."""
 

@@ -14,7 +14,7 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import field
 from typing import Any
 
 from urdftool.facts.dynamics.configurations import zero_configuration
@@ -24,6 +24,7 @@ from urdftool.facts.simulation.options import ENGINES as ENGINES
 from urdftool.facts.simulation.options import SimOptions as SimOptions
 from urdftool.model import Joint, JointType, KinematicTree, Robot
 from urdftool.physics.bodies import body_of, rigid_bodies
+from urdftool.records import record
 
 #: Height (m) of the lowest collision point above the ground when a mobile robot is dropped.
 DROP_CLEARANCE = 0.002
@@ -36,7 +37,7 @@ PENETRATION_TOLERANCE = 0.001
 GRAVITY = 9.81
 
 
-@dataclass
+@record(frozen=False)
 class Scene:
     """One robot made ready to simulate."""
 

@@ -1,0 +1,221 @@
+"""Records: the model's frozen dataclasses, with their methods compiled ahead of time.
+
+``@record`` makes a class a frozen dataclass, as ``@dataclass(frozen=True)`` does: typed
+fields, ``dataclasses.fields``/``replace``/``asdict``, value equality and hashing over the
+fields that take part in comparison (``field(compare=False)`` leaves spans out), assignment
+refused with :class:`dataclasses.FrozenInstanceError`, and ``order=True`` for sorting.
+
+Why not ``@dataclass(frozen=True)`` itself: on the Python versions urdftool supports, the
+standard decorator writes each class's six methods as source text and compiles them one by
+one every time the module is imported, about 0.5–1 ms a class. The ~60 records a check
+imports cost more than reading a small file (docs/scale.md, "Fourth pass"). Here:
+
+- ``__init__`` is the same code ``dataclasses`` would write (fields set with
+  ``object.__setattr__``, defaults, ``default_factory``, ``__post_init__``), but it is
+  written once into the generated module :mod:`urdftool.records_compiled`, so Python's
+  bytecode cache keeps it. ``python -m urdftool.records`` regenerates that module;
+  ``tests/test_records.py`` fails when it is out of date. A class whose shape is not in it
+  (a record added or changed without regenerating) gets its ``__init__`` compiled at import,
+  as ``dataclasses`` would: slower, never wrong.
+- ``__eq__``, ``__hash__``, ``__repr__``, ordering and the frozen ``__setattr__`` are
+  shared functions that read the class's field list, so nothing is compiled per class.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import operator
+from collections.abc import Callable
+from typing import TYPE_CHECKING, Any, TypeVar, overload
+
+from urdftool.records_compiled import COMPILED
+
+if TYPE_CHECKING:
+    from typing_extensions import dataclass_transform
+else:  # the marker only informs type checkers; typing_extensions is slow to import
+
+    def dataclass_transform(**_: Any) -> Callable[[Any], Any]:
+        return lambda decorator: decorator
+
+
+T = TypeVar("T", bound=type)
+
+_MISSING = dataclasses.MISSING
+
+
+class _DefaultFactory:
+    """Marks an argument left to its ``default_factory`` (as dataclasses' own sentinel)."""
+
+    def __repr__(self) -> str:
+        return "<factory>"
+
+
+DEFAULT_FACTORY = _DefaultFactory()
+
+#: every record class, in definition order (what ``python -m urdftool.records`` compiles)
+REGISTERED: list[type] = []
+#: records whose ``__init__`` was compiled at import because the generated module lacks them
+FALLBACKS: list[str] = []
+
+
+def qualified_name(cls: type) -> str:
+    return f"{cls.__module__}.{cls.__qualname__}"
+
+
+def init_shape(cls: type) -> str:
+    """What the generated ``__init__`` depends on: field names in order, each marked ``=``
+    (has a default), ``*`` (has a default factory) and ``!`` (not an argument), and
+    ``|post_init``."""
+    parts = []
+    for f in dataclasses.fields(cls):
+        if f.kw_only:
+            raise TypeError(f"{qualified_name(cls)}.{f.name}: records take their fields positionally")
+        mark = "*" if f.default_factory is not _MISSING else "=" if f.default is not _MISSING else ""
+        parts.append(f.name + mark + ("" if f.init else "!"))
+    return ",".join(parts) + ("|post_init" if hasattr(cls, "__post_init__") else "")
+
+
+def init_source(cls: type, function_name: str = "make_init") -> str:
+    """Source of a function that returns *cls*'s ``__init__``, as ``dataclasses`` writes it.
+
+    The outer function takes the class's defaults and factories by field name, the
+    factory sentinel and ``object.__setattr__``; defaults are bound when it runs, at import.
+    A field with ``init=False`` is set from its default or factory, if it has one.
+    """
+    arguments, body = ["self"], []
+    for f in dataclasses.fields(cls):
+        name = f.name
+        if not f.init:
+            if f.default_factory is not _MISSING:
+                body.append(f"__set__(self, {name!r}, __factories__[{name!r}]())")
+            elif f.default is not _MISSING:
+                body.append(f"__set__(self, {name!r}, __defaults__[{name!r}])")
+            continue
+        if f.default_factory is not _MISSING:
+            arguments.append(f"{name}=__sentinel__")
+            body.append(f"__set__(self, {name!r}, "
+                        f"__factories__[{name!r}]() if {name} is __sentinel__ else {name})")
+        elif f.default is not _MISSING:
+            arguments.append(f"{name}=__defaults__[{name!r}]")
+            body.append(f"__set__(self, {name!r}, {name})")
+        else:
+            arguments.append(name)
+            body.append(f"__set__(self, {name!r}, {name})")
+    if hasattr(cls, "__post_init__"):
+        body.append("self.__post_init__()")
+    lines = [f"def {function_name}(__defaults__, __factories__, __sentinel__, __set__):",
+             f"    def __init__({', '.join(arguments)}):",
+             *(f"        {line}" for line in body or ["pass"]),
+             "    return __init__"]
+    return "\n".join(lines) + "\n"
+
+
+def _make_init(cls: type) -> Callable[..., None]:
+    fields = dataclasses.fields(cls)
+    defaults = {f.name: f.default for f in fields if f.default is not _MISSING}
+    factories = {f.name: f.default_factory for f in fields if f.default_factory is not _MISSING}
+    compiled = COMPILED.get(qualified_name(cls))
+    make_init: Callable[..., Callable[..., None]]
+    if compiled is not None and compiled[0] == init_shape(cls):
+        make_init = compiled[1]
+    else:  # not generated yet: compile it now, as dataclasses does for every class
+        FALLBACKS.append(qualified_name(cls))
+        namespace: dict[str, Any] = {}
+        exec(init_source(cls), {}, namespace)
+        make_init = namespace["make_init"]
+    init: Callable[..., None] = make_init(defaults, factories, DEFAULT_FACTORY, object.__setattr__)
+    init.__qualname__ = f"{cls.__qualname__}.__init__"
+    return init
+
+
+def _compared(cls: type) -> Callable[[Any], tuple[Any, ...]]:
+    """The key equality, hashing and ordering read: the compared fields, as a tuple."""
+    names = [f.name for f in dataclasses.fields(cls) if f.compare]
+    if len(names) == 1:
+        name = names[0]
+        return lambda record: (getattr(record, name),)
+    if not names:
+        return lambda record: ()
+    return operator.attrgetter(*names)
+
+
+def _eq(self: Any, other: Any) -> Any:
+    if other.__class__ is self.__class__:
+        key = self.__class__.__record_key__
+        return key(self) == key(other)
+    return NotImplemented
+
+
+def _hash(self: Any) -> int:
+    return hash(self.__class__.__record_key__(self))
+
+
+def _repr(self: Any) -> str:
+    shown = ", ".join(f"{f.name}={getattr(self, f.name)!r}" for f in dataclasses.fields(self) if f.repr)
+    return f"{self.__class__.__qualname__}({shown})"
+
+
+def _frozen_setattr(self: Any, name: str, value: Any) -> None:
+    raise dataclasses.FrozenInstanceError(f"cannot assign to field {name!r}")
+
+
+def _frozen_delattr(self: Any, name: str) -> None:
+    raise dataclasses.FrozenInstanceError(f"cannot delete field {name!r}")
+
+
+def _ordering(compare: Callable[[Any, Any], bool]) -> Callable[[Any, Any], Any]:
+    def method(self: Any, other: Any) -> Any:
+        if other.__class__ is self.__class__:
+            key = self.__class__.__record_key__
+            return compare(key(self), key(other))
+        return NotImplemented
+
+    return method
+
+
+_ORDER = {"__lt__": _ordering(operator.lt), "__le__": _ordering(operator.le),
+          "__gt__": _ordering(operator.gt), "__ge__": _ordering(operator.ge)}
+
+
+def _build(cls: T, frozen: bool, eq: bool, order: bool) -> T:
+    dataclasses.dataclass(init=False, repr=False, eq=False)(cls)
+    cls.__init__ = _make_init(cls)  # type: ignore[misc]
+    cls.__record_key__ = staticmethod(_compared(cls))  # type: ignore[attr-defined]
+    own = cls.__dict__
+    methods: dict[str, Any] = {}
+    if "__repr__" not in own:
+        methods["__repr__"] = _repr
+    if eq and "__eq__" not in own:
+        methods["__eq__"] = _eq
+    if eq and own.get("__hash__") is None:
+        # as dataclasses: frozen and compared means hashable; compared but mutable, unhashable
+        methods["__hash__"] = _hash if frozen else None
+    if frozen:
+        methods.update(__setattr__=_frozen_setattr, __delattr__=_frozen_delattr)
+    if order:
+        methods.update(_ORDER)
+    for name, method in methods.items():
+        setattr(cls, name, method)
+    REGISTERED.append(cls)
+    return cls
+
+
+@overload
+def record(cls: T, /) -> T: ...
+
+
+@overload
+def record(*, frozen: bool = True, eq: bool = True, order: bool = False) -> Callable[[T], T]: ...
+
+
+@dataclass_transform(frozen_default=True, field_specifiers=(dataclasses.field, dataclasses.Field))
+def record(cls: T | None = None, /, *, frozen: bool = True, eq: bool = True,
+           order: bool = False) -> T | Callable[[T], T]:
+    """Make *cls* a dataclass: ``@record``, or ``@record(order=True)`` to sort records.
+
+    ``@record(frozen=False, eq=False)`` is for one run's mutable state (a reader, a resolver):
+    equal only to itself, as ``@dataclass(eq=False)``.
+    """
+    if cls is None:
+        return lambda inner: _build(inner, frozen, eq, order)
+    return _build(cls, frozen, eq, order)
