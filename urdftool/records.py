@@ -178,6 +178,10 @@ _ORDER = {"__lt__": _ordering(operator.lt), "__le__": _ordering(operator.le),
 
 
 def _build(cls: T, frozen: bool, eq: bool, order: bool) -> T:
+    if not cls.__doc__:
+        # dataclasses would write the signature as the docstring, through inspect and tokenize
+        names = ", ".join(name for name in cls.__dict__.get("__annotations__", {}))
+        cls.__doc__ = f"{cls.__name__}({names})"
     dataclasses.dataclass(init=False, repr=False, eq=False)(cls)
     cls.__init__ = _make_init(cls)  # type: ignore[misc]
     cls.__record_key__ = staticmethod(_compared(cls))  # type: ignore[attr-defined]
