@@ -24,6 +24,7 @@ imports cost more than reading a small file (docs/scale.md, "Fourth pass"). Here
 from __future__ import annotations
 
 import dataclasses
+import inspect
 import operator
 from collections.abc import Callable
 from typing import TYPE_CHECKING, Any, TypeVar, overload
@@ -180,7 +181,7 @@ _ORDER = {"__lt__": _ordering(operator.lt), "__le__": _ordering(operator.le),
 def _build(cls: T, frozen: bool, eq: bool, order: bool) -> T:
     if not cls.__doc__:
         # dataclasses would write the signature as the docstring, through inspect and tokenize
-        names = ", ".join(name for name in cls.__dict__.get("__annotations__", {}))
+        names = ", ".join(inspect.get_annotations(cls))
         cls.__doc__ = f"{cls.__name__}({names})"
     dataclasses.dataclass(init=False, repr=False, eq=False)(cls)
     cls.__init__ = _make_init(cls)  # type: ignore[misc]

@@ -2,15 +2,14 @@
 
 from __future__ import annotations
 
-import contextlib
 import dataclasses
-import gc
 import os
-from collections.abc import Callable, Iterable, Iterator, Mapping, Sequence
+from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import field
 from typing import TYPE_CHECKING, Any
 
 from urdftool.catalogue.syntax import InternalError
+from urdftool.collector import collector_paused
 from urdftool.diagnostics import Diagnostic, FileReport, Report, Severity
 from urdftool.facts.context import CONTROLLERS_OPTION, SIM_OPTION, SRDF_OPTION, CheckContext
 from urdftool.lazy import LazyModule
@@ -122,27 +121,11 @@ def report_for(loaded: Loaded, selection: Selection, options: Mapping[str, Any] 
     )
 
 
-@contextlib.contextmanager
-def _collector_paused() -> Iterator[None]:
-    """Pause Python's cyclic garbage collector while one file is read and checked.
-
-    Reading builds many long-lived objects and few cycles; the collector's full
-    passes over them made a 100k-link model take 14× as long as a 10k one.
-    """
-    was_enabled = gc.isenabled()
-    gc.disable()
-    try:
-        yield
-    finally:
-        if was_enabled:
-            gc.enable()
-
-
 def check_file(path: str, options: CheckOptions) -> list[FileReport]:
     """Check every model in one file. Raises :class:`~urdftool.parse.InputError`."""
     selection = options.selection()
     resolver = options.resolver()
-    with file_limits(options.file_limits), _collector_paused():
+    with file_limits(options.file_limits), collector_paused():
         models = [controllers.attach(srdf.attach(m, options.srdf, resolver, options.discover_srdf),
                                      options.controllers, resolver)
                   for m in read(path, options.xacro_args, resolver)]
