@@ -1,22 +1,23 @@
-"""Records: the model's frozen dataclasses, with their methods compiled ahead of time.
+"""Records: urdftool's dataclasses, with their methods compiled ahead of time.
 
 ``@record`` makes a class a frozen dataclass, as ``@dataclass(frozen=True)`` does: typed
 fields, ``dataclasses.fields``/``replace``/``asdict``, value equality and hashing over the
 fields that take part in comparison (``field(compare=False)`` leaves spans out), assignment
 refused with :class:`dataclasses.FrozenInstanceError`, and ``order=True`` for sorting.
+``@record(frozen=False, eq=False)`` is one run's mutable state, equal only to itself.
 
-Why not ``@dataclass(frozen=True)`` itself: on the Python versions urdftool supports, the
-standard decorator writes each class's six methods as source text and compiles them one by
-one every time the module is imported, about 0.5–1 ms a class. The ~60 records a check
-imports cost more than reading a small file (docs/scale.md, "Fourth pass"). Here:
+Why not ``@dataclass`` itself: on Python 3.10–3.12 the standard decorator writes each
+class's methods as source text and compiles them one by one every time the module is
+imported, 0.5–1 ms a class; the ~70 records a ``check`` imports cost more than reading a
+small file (docs/scale.md, "Fourth pass"). Here:
 
 - ``__init__`` is the same code ``dataclasses`` would write (fields set with
-  ``object.__setattr__``, defaults, ``default_factory``, ``__post_init__``), but it is
-  written once into the generated module :mod:`urdftool.records_compiled`, so Python's
-  bytecode cache keeps it. ``python -m urdftool.records`` regenerates that module;
-  ``tests/test_records.py`` fails when it is out of date. A class whose shape is not in it
-  (a record added or changed without regenerating) gets its ``__init__`` compiled at import,
-  as ``dataclasses`` would: slower, never wrong.
+  ``object.__setattr__``, defaults, ``default_factory``, ``init=False``, ``__post_init__``),
+  but it is written once into the generated module :mod:`urdftool.records_compiled`, so
+  Python's bytecode cache keeps it. ``python -m urdftool.records_generate`` rewrites that
+  module; ``tests/test_records.py`` fails when it is out of date. A class whose shape is not
+  in it (a record added or changed without regenerating) gets its ``__init__`` compiled at
+  import, as ``dataclasses`` would: slower, never wrong.
 - ``__eq__``, ``__hash__``, ``__repr__``, ordering and the frozen ``__setattr__`` are
   shared functions that read the class's field list, so nothing is compiled per class.
 """
