@@ -5,6 +5,11 @@ conaffinity 0: seen, never touched) with their colour: a COLLADA mesh's own
 materials (one geom per colour), else the URDF material's; collision
 geoms use the class ``collision`` (group 3). Sizes follow MJCF: half extents
 for boxes, radius and half length for cylinders and capsules.
+
+An SDF model's links collide with each other only where ``<self_collide>`` asks
+(SDFormat's default is off); MuJoCo collides every pair of bodies not joined by a
+joint. The collision geoms of a link that does not self-collide carry
+:data:`NO_SELF_CONTACT` so that the exported robot touches what its source touches.
 """
 
 from __future__ import annotations
@@ -34,12 +39,18 @@ from urdftool.model import (
     Sphere,
 )
 from urdftool.model.pose import Pose
+from urdftool.physics.sdf_defaults import sdf_self_colliding
 from urdftool.source import Span
 
 VISUAL_CLASS = "visual"
 COLLISION_CLASS = "collision"
 VISUAL_GROUP = 2
 COLLISION_GROUP = 3
+#: MuJoCo pairs two geoms when ``contype`` of either shares a bit with ``conaffinity`` of the
+#: other. A link that does not self-collide has bit 1 in ``conaffinity`` and only bit 2 in
+#: ``contype``: two such links never pair (2 & 1 = 0 both ways), but each still pairs with the
+#: floor, the world and the self-colliding links, which keep MuJoCo's default (1, 1).
+NO_SELF_CONTACT = {"contype": "2", "conaffinity": "1"}
 
 
 def shape_attributes(geometry: Geometry, mesh_name: Callable[[Mesh], str]) -> dict[str, str]:
@@ -112,6 +123,8 @@ class GeomWriter:
         self.diagnostics = diagnostics
         self.materials = {m.name: m for m in robot.materials if m.name}
         self.friction = gazebo_friction(robot)
+        #: ``None``: every link collides with every other (URDF); else the SDF links that do
+        self.self_colliding = sdf_self_colliding(robot)
 
     def write(self, body: etree._Element, link: Link, moving: bool) -> None:
         for index, visual in enumerate(link.visuals):
@@ -134,6 +147,8 @@ class GeomWriter:
                 mu = self.friction.get(link.name)
                 if mu is not None:  # MuJoCo's default torsional and rolling friction are kept
                     attrs["friction"] = f"{min(mu, MU_MAX):g} 0.005 0.0001"
+                if self.self_colliding is not None and link.name not in self.self_colliding:
+                    attrs.update(NO_SELF_CONTACT)
                 etree.SubElement(body, "geom", {"class": COLLISION_CLASS, **attrs})
 
     def _shapes(self, geometry: Geometry | None, origin: Pose, where: str, moving: bool,

@@ -23,7 +23,7 @@ from __future__ import annotations
 
 import importlib.util
 import math
-from collections.abc import Callable, Iterable
+from collections.abc import Callable
 from dataclasses import field
 from typing import TYPE_CHECKING, Any
 
@@ -36,7 +36,8 @@ from urdftool.backends.collision import CollisionScene, build_scene, count_geome
 from urdftool.facts.context import CheckContext
 from urdftool.facts.meshes import existing_file, mesh_uses
 from urdftool.facts.srdf import srdf
-from urdftool.model import Extension, Joint, JointType, Robot
+from urdftool.model import Joint, JointType, Robot
+from urdftool.physics.sdf_defaults import sdf_self_colliding as self_colliding_links
 from urdftool.records import record
 
 #: Collision geometries above which the home check is skipped (with a note).
@@ -209,22 +210,10 @@ def _bodies_adjacent(scene: CollisionScene, adjacent_links: set[Pair]) -> set[tu
             if a in body and b in body}
 
 
-def _true(extensions: Iterable[Extension]) -> bool:
-    return any(e.tag == "self_collide" and e.element is not None
-               and (e.element.text or "").strip().lower() in ("true", "1") for e in extensions)
-
-
 def sdf_self_colliding(ctx: CheckContext) -> set[str] | None:
-    """For an SDF model, the links that collide with the model's other links (SDF: two links of a
-    model collide when either link's `<self_collide>` is true, or the model's is; both default to
-    false, so gz-sim computes no contact inside a model unless asked); ``None`` for other formats,
-    where every pair collides."""
-    robot = ctx.robot
-    if robot.format != "sdf":
-        return None
-    if _true(robot.extensions):
-        return {link.name for link in robot.links}
-    return {link.name for link in robot.links if _true(link.extensions)}
+    """For an SDF model, the links that collide with the model's other links; ``None`` for other
+    formats, where every pair collides (:func:`urdftool.physics.sdf_defaults.sdf_self_colliding`)."""
+    return self_colliding_links(ctx.robot)
 
 
 def home_overlaps(ctx: CheckContext) -> list[Overlap] | NotChecked | None:

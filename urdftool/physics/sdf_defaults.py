@@ -1,4 +1,5 @@
-"""SDFormat's default ``<inertial>``: what every SDF reader gives a link that declares none.
+"""SDFormat's defaults that other formats lack: the ``<inertial>`` of a link that declares
+none, and ``<self_collide>`` (off: no contact between a model's own links unless asked).
 
 libsdformat, gz-sim and Gazebo classic give such a link 1 kg and a unit inertia
 (1 kg·m² about each axis of the link frame, centre of mass at the link origin).
@@ -10,9 +11,10 @@ the mass is not the author's.
 
 from __future__ import annotations
 
+from collections.abc import Iterable
 from dataclasses import replace
 
-from urdftool.model import Inertial, Link, Robot
+from urdftool.model import Extension, Inertial, Link, Robot
 
 #: SDFormat's ``<inertial>`` when a link has none: 1 kg, a unit inertia (kg·m²) at the link origin
 SDF_DEFAULT_INERTIAL = Inertial(1.0, ((1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, 1.0)))
@@ -34,3 +36,23 @@ def sdf_default_inertials(robot: Robot) -> Robot:
     links = tuple(replace(link, inertial=SDF_DEFAULT_INERTIAL) if link.name in defaulted else link
                   for link in robot.links)
     return replace(robot, links=links)
+
+
+def _true(extensions: Iterable[Extension]) -> bool:
+    return any(e.tag == "self_collide" and e.element is not None
+               and (e.element.text or "").strip().lower() in ("true", "1") for e in extensions)
+
+
+def sdf_self_colliding(robot: Robot) -> set[str] | None:
+    """For an SDF model, the links that collide with the model's other links; ``None`` for other
+    formats, where every pair collides.
+
+    SDFormat: two links of a model collide when either link's ``<self_collide>`` is true, or the
+    model's is; both default to false, so gz-sim computes no contact inside a model unless asked
+    (links joined by a joint never collide).
+    """
+    if robot.format != "sdf":
+        return None
+    if _true(robot.extensions):
+        return {link.name for link in robot.links}
+    return {link.name for link in robot.links if _true(link.extensions)}
