@@ -9,7 +9,7 @@ the shape of its fields and a function that builds its ``__init__``.
 
 
 # urdftool.backends.collada.ColladaScene
-def _init_0(__defaults__, __factories__, __sentinel__, __set__):
+def _init_backends_collada_ColladaScene(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, parts, unit):
         __set__(self, 'parts', parts)
         __set__(self, 'unit', unit)
@@ -17,7 +17,7 @@ def _init_0(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.backends.collada.Part
-def _init_1(__defaults__, __factories__, __sentinel__, __set__):
+def _init_backends_collada_Part(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, vertices, normals, uv, textured, matrix):
         __set__(self, 'vertices', vertices)
         __set__(self, 'normals', normals)
@@ -28,7 +28,7 @@ def _init_1(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.backends.collision.CollisionScene
-def _init_2(__defaults__, __factories__, __sentinel__, __set__):
+def _init_backends_collision_CollisionScene(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, robot, pin, geometry, pieces=__sentinel__, meshes=__sentinel__, skipped=__sentinel__, _data=__defaults__['_data'], _gdata=__defaults__['_gdata'], _pairs=__sentinel__):
         __set__(self, 'robot', robot)
         __set__(self, 'pin', pin)
@@ -43,7 +43,7 @@ def _init_2(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.backends.collision.Piece
-def _init_3(__defaults__, __factories__, __sentinel__, __set__):
+def _init_backends_collision_Piece(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, link, index, body):
         __set__(self, 'link', link)
         __set__(self, 'index', index)
@@ -52,7 +52,7 @@ def _init_3(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.backends.collision_shapes.Primitive
-def _init_4(__defaults__, __factories__, __sentinel__, __set__):
+def _init_backends_collision_shapes_Primitive(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, kind, size, xyz, rpy):
         __set__(self, 'kind', kind)
         __set__(self, 'size', size)
@@ -62,7 +62,7 @@ def _init_4(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.backends.collision_shapes.Simplified
-def _init_5(__defaults__, __factories__, __sentinel__, __set__):
+def _init_backends_collision_shapes_Simplified(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, mode, parts=__defaults__['parts'], primitive=__defaults__['primitive'], volume=__defaults__['volume'], mesh_volume=__defaults__['mesh_volume'], note=__defaults__['note'], cached=__defaults__['cached']):
         __set__(self, 'mode', mode)
         __set__(self, 'parts', parts)
@@ -75,7 +75,7 @@ def _init_5(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.backends.collision_volume.Solid
-def _init_6(__defaults__, __factories__, __sentinel__, __set__):
+def _init_backends_collision_volume_Solid(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, shape, mesh, lower, upper, envelope=__defaults__['envelope']):
         __set__(self, 'shape', shape)
         __set__(self, 'mesh', mesh)
@@ -86,7 +86,7 @@ def _init_6(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.backends.mesh_formats.MeshFormat
-def _init_7(__defaults__, __factories__, __sentinel__, __set__):
+def _init_backends_mesh_formats_MeshFormat(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, kind, extension, faces=__defaults__['faces']):
         __set__(self, 'kind', kind)
         __set__(self, 'extension', extension)
@@ -94,8 +94,17 @@ def _init_7(__defaults__, __factories__, __sentinel__, __set__):
     return __init__
 
 
+# urdftool.backends.mesh_materials.ColouredPart
+def _init_backends_mesh_materials_ColouredPart(__defaults__, __factories__, __sentinel__, __set__):
+    def __init__(self, rgba, vertices, faces):
+        __set__(self, 'rgba', rgba)
+        __set__(self, 'vertices', vertices)
+        __set__(self, 'faces', faces)
+    return __init__
+
+
 # urdftool.backends.mesh_shape.ShapeFacts
-def _init_8(__defaults__, __factories__, __sentinel__, __set__):
+def _init_backends_mesh_shape_ShapeFacts(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, vertices, faces, watertight, winding_consistent, nonmanifold_edges, degenerate_faces, solid_volume, hull_volume, hull_vertices, objects, object_hull_volume):
         __set__(self, 'vertices', vertices)
         __set__(self, 'faces', faces)
@@ -112,7 +121,7 @@ def _init_8(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.backends.meshes.MeshFacts
-def _init_9(__defaults__, __factories__, __sentinel__, __set__):
+def _init_backends_meshes_MeshFacts(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, vertices, faces, watertight, volume, center_mass, second_moment, bounds_min, bounds_max, unit=__defaults__['unit']):
         __set__(self, 'vertices', vertices)
         __set__(self, 'faces', faces)
@@ -127,7 +136,7 @@ def _init_9(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.backends.meshes.MeshInfo
-def _init_10(__defaults__, __factories__, __sentinel__, __set__):
+def _init_backends_meshes_MeshInfo(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, path, vertices, faces, watertight, volume, center_mass, inertia_unit_density, bounds_min, bounds_max, unit=__defaults__['unit']):
         __set__(self, 'path', path)
         __set__(self, 'vertices', vertices)
@@ -143,7 +152,7 @@ def _init_10(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.backends.mujoco.EngineError
-def _init_11(__defaults__, __factories__, __sentinel__, __set__):
+def _init_backends_mujoco_EngineError(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, message, element=__defaults__['element'], line=__defaults__['line']):
         __set__(self, 'message', message)
         __set__(self, 'element', element)
@@ -152,7 +161,7 @@ def _init_11(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.backends.pinocchio.PinocchioModel
-def _init_12(__defaults__, __factories__, __sentinel__, __set__):
+def _init_backends_pinocchio_PinocchioModel(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, model, link_frames=__sentinel__, joints=__sentinel__, mimics=__sentinel__, free_flyer=__defaults__['free_flyer']):
         __set__(self, 'model', model)
         __set__(self, 'link_frames', __factories__['link_frames']() if link_frames is __sentinel__ else link_frames)
@@ -163,7 +172,7 @@ def _init_12(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.backends.pybullet.EngineJoint
-def _init_13(__defaults__, __factories__, __sentinel__, __set__):
+def _init_backends_pybullet_EngineJoint(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, name, index, type, child, axis, lower, upper, effort, velocity, dof):
         __set__(self, 'name', name)
         __set__(self, 'index', index)
@@ -179,7 +188,7 @@ def _init_13(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.backends.pybullet.EngineLink
-def _init_14(__defaults__, __factories__, __sentinel__, __set__):
+def _init_backends_pybullet_EngineLink(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, name, index, mass, inertia_diagonal, inertial_frame):
         __set__(self, 'name', name)
         __set__(self, 'index', index)
@@ -190,7 +199,7 @@ def _init_14(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.backends.pybullet.PyBulletLoad
-def _init_15(__defaults__, __factories__, __sentinel__, __set__):
+def _init_backends_pybullet_PyBulletLoad(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, path, flags=__defaults__['flags'], body=__defaults__['body'], error=__defaults__['error'], messages=__sentinel__, _client=__defaults__['_client'], _p=__defaults__['_p'], _joints=__defaults__['_joints']):
         __set__(self, 'path', path)
         __set__(self, 'flags', flags)
@@ -204,7 +213,7 @@ def _init_15(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.diagnostics.Diagnostic
-def _init_16(__defaults__, __factories__, __sentinel__, __set__):
+def _init_diagnostics_Diagnostic(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, code, name, severity, message, location=__defaults__['location'], element=__defaults__['element'], help=__defaults__['help'], data=__sentinel__, related=__defaults__['related'], fix=__defaults__['fix']):
         __set__(self, 'code', code)
         __set__(self, 'name', name)
@@ -220,7 +229,7 @@ def _init_16(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.diagnostics.Edit
-def _init_17(__defaults__, __factories__, __sentinel__, __set__):
+def _init_diagnostics_Edit(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, span, content):
         __set__(self, 'span', span)
         __set__(self, 'content', content)
@@ -228,7 +237,7 @@ def _init_17(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.diagnostics.FileReport
-def _init_18(__defaults__, __factories__, __sentinel__, __set__):
+def _init_diagnostics_FileReport(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, path, format, robot, diagnostics):
         __set__(self, 'path', path)
         __set__(self, 'format', format)
@@ -238,7 +247,7 @@ def _init_18(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.diagnostics.Fix
-def _init_19(__defaults__, __factories__, __sentinel__, __set__):
+def _init_diagnostics_Fix(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, message, edits, applicability=__defaults__['applicability']):
         __set__(self, 'message', message)
         __set__(self, 'edits', edits)
@@ -247,7 +256,7 @@ def _init_19(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.diagnostics.Related
-def _init_20(__defaults__, __factories__, __sentinel__, __set__):
+def _init_diagnostics_Related(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, span, label):
         __set__(self, 'span', span)
         __set__(self, 'label', label)
@@ -255,14 +264,14 @@ def _init_20(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.diagnostics.Report
-def _init_21(__defaults__, __factories__, __sentinel__, __set__):
+def _init_diagnostics_Report(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, files):
         __set__(self, 'files', files)
     return __init__
 
 
 # urdftool.export.ExportOptions
-def _init_22(__defaults__, __factories__, __sentinel__, __set__):
+def _init_export_ExportOptions(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, floating_base=__defaults__['floating_base'], actuators=__defaults__['actuators'], repair_inertia=__defaults__['repair_inertia'], copy_assets=__defaults__['copy_assets'], scene=__defaults__['scene'], absolute_mesh_paths=__defaults__['absolute_mesh_paths'], extra=__sentinel__, findings=__defaults__['findings'], fuse_fixed=__defaults__['fuse_fixed']):
         __set__(self, 'floating_base', floating_base)
         __set__(self, 'actuators', actuators)
@@ -277,7 +286,7 @@ def _init_22(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.export.ExportResult
-def _init_23(__defaults__, __factories__, __sentinel__, __set__):
+def _init_export_ExportResult(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, files=__sentinel__, diagnostics=__sentinel__):
         __set__(self, 'files', __factories__['files']() if files is __sentinel__ else files)
         __set__(self, 'diagnostics', __factories__['diagnostics']() if diagnostics is __sentinel__ else diagnostics)
@@ -285,7 +294,7 @@ def _init_23(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.export.VerifyResult
-def _init_24(__defaults__, __factories__, __sentinel__, __set__):
+def _init_export_VerifyResult(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, ok, rows=__sentinel__, diagnostics=__sentinel__):
         __set__(self, 'ok', ok)
         __set__(self, 'rows', __factories__['rows']() if rows is __sentinel__ else rows)
@@ -294,7 +303,7 @@ def _init_24(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.export.assets.MeshFile
-def _init_25(__defaults__, __factories__, __sentinel__, __set__):
+def _init_export_assets_MeshFile(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, reference, converted, source_hash):
         __set__(self, 'reference', reference)
         __set__(self, 'converted', converted)
@@ -303,7 +312,7 @@ def _init_25(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.export.assets.MeshFiles
-def _init_26(__defaults__, __factories__, __sentinel__, __set__):
+def _init_export_assets_MeshFiles(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, out_dir, native, convert, converted_suffix, copy=__defaults__['copy'], files=__sentinel__, _seen=__sentinel__):
         __set__(self, 'out_dir', out_dir)
         __set__(self, 'native', native)
@@ -316,7 +325,7 @@ def _init_26(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.export.graph.GraphOptions
-def _init_27(__defaults__, __factories__, __sentinel__, __set__):
+def _init_export_graph_GraphOptions(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, rankdir=__defaults__['rankdir'], collapse_fixed=__defaults__['collapse_fixed'], diagnostics=__defaults__['diagnostics'], select=__defaults__['select'], ignore=__defaults__['ignore']):
         __set__(self, 'rankdir', rankdir)
         __set__(self, 'collapse_fixed', collapse_fixed)
@@ -328,7 +337,7 @@ def _init_27(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.export.graph.build.GraphSettings
-def _init_28(__defaults__, __factories__, __sentinel__, __set__):
+def _init_export_graph_build_GraphSettings(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, rankdir=__defaults__['rankdir'], collapse_fixed=__defaults__['collapse_fixed']):
         __set__(self, 'rankdir', rankdir)
         __set__(self, 'collapse_fixed', collapse_fixed)
@@ -336,7 +345,7 @@ def _init_28(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.export.graph.findings.Findings
-def _init_29(__defaults__, __factories__, __sentinel__, __set__):
+def _init_export_graph_findings_Findings(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, links=__sentinel__, joints=__sentinel__, other=__sentinel__):
         __set__(self, 'links', __factories__['links']() if links is __sentinel__ else links)
         __set__(self, 'joints', __factories__['joints']() if joints is __sentinel__ else joints)
@@ -345,7 +354,7 @@ def _init_29(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.export.graph.groups.LinkGroups
-def _init_30(__defaults__, __factories__, __sentinel__, __set__):
+def _init_export_graph_groups_LinkGroups(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, top=__sentinel__, members=__sentinel__, offset=__sentinel__, merged_joints=__sentinel__):
         __set__(self, 'top', __factories__['top']() if top is __sentinel__ else top)
         __set__(self, 'members', __factories__['members']() if members is __sentinel__ else members)
@@ -355,7 +364,7 @@ def _init_30(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.export.mjcf_actuators.Drive
-def _init_31(__defaults__, __factories__, __sentinel__, __set__):
+def _init_export_mjcf_actuators_Drive(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, interface=__defaults__['interface'], reduction=__defaults__['reduction'], rotor_inertia=__defaults__['rotor_inertia']):
         __set__(self, 'interface', interface)
         __set__(self, 'reduction', reduction)
@@ -364,7 +373,7 @@ def _init_31(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.export.mjcf_assets.AssetPlan
-def _init_32(__defaults__, __factories__, __sentinel__, __set__):
+def _init_export_mjcf_assets_AssetPlan(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, out_dir, copy=__defaults__['copy'], meshes=__sentinel__, files=__sentinel__, materials=__sentinel__, _by_content=__sentinel__, _by_path=__sentinel__, _hashes=__sentinel__):
         __set__(self, 'out_dir', out_dir)
         __set__(self, 'copy', copy)
@@ -378,7 +387,7 @@ def _init_32(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.export.mjcf_assets.MeshAsset
-def _init_33(__defaults__, __factories__, __sentinel__, __set__):
+def _init_export_mjcf_assets_MeshAsset(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, name, file, scale):
         __set__(self, 'name', name)
         __set__(self, 'file', file)
@@ -387,7 +396,7 @@ def _init_33(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.export.mjcf_assets.VisualPart
-def _init_34(__defaults__, __factories__, __sentinel__, __set__):
+def _init_export_mjcf_assets_VisualPart(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, mesh, material):
         __set__(self, 'mesh', mesh)
         __set__(self, 'material', material)
@@ -395,7 +404,7 @@ def _init_34(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.export.mjcf_bodies.BodyTree
-def _init_35(__defaults__, __factories__, __sentinel__, __set__):
+def _init_export_mjcf_bodies_BodyTree(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, joints=__sentinel__, diagnostics=__sentinel__):
         __set__(self, 'joints', __factories__['joints']() if joints is __sentinel__ else joints)
         __set__(self, 'diagnostics', __factories__['diagnostics']() if diagnostics is __sentinel__ else diagnostics)
@@ -403,7 +412,7 @@ def _init_35(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.export.mjcf_bodies.MjJoint
-def _init_36(__defaults__, __factories__, __sentinel__, __set__):
+def _init_export_mjcf_bodies_MjJoint(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, name, kind, source, home, range=__defaults__['range']):
         __set__(self, 'name', name)
         __set__(self, 'kind', kind)
@@ -414,7 +423,7 @@ def _init_36(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.export.mjcf_classes._Member
-def _init_37(__defaults__, __factories__, __sentinel__, __set__):
+def _init_export_mjcf_classes__Member(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, joint, actuator):
         __set__(self, 'joint', joint)
         __set__(self, 'actuator', actuator)
@@ -422,7 +431,7 @@ def _init_37(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.export.mjcf_keyframe.LoopSolve
-def _init_38(__defaults__, __factories__, __sentinel__, __set__):
+def _init_export_mjcf_keyframe_LoopSolve(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, before, after, steps):
         __set__(self, 'before', before)
         __set__(self, 'after', after)
@@ -431,7 +440,7 @@ def _init_38(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.export.mjcf_verify.Errors
-def _init_39(__defaults__, __factories__, __sentinel__, __set__):
+def _init_export_mjcf_verify_Errors(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, position=__defaults__['position'], rotation=__defaults__['rotation'], matrix=__defaults__['matrix'], worst_link=__defaults__['worst_link']):
         __set__(self, 'position', position)
         __set__(self, 'rotation', rotation)
@@ -441,7 +450,7 @@ def _init_39(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.export.mjcf_verify.JointMap
-def _init_40(__defaults__, __factories__, __sentinel__, __set__):
+def _init_export_mjcf_verify_JointMap(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, joint, kind, mj_qpos, mj_dof, pin_q, pin_v, origin):
         __set__(self, 'joint', joint)
         __set__(self, 'kind', kind)
@@ -454,7 +463,7 @@ def _init_40(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.export.pybullet.BasePlan
-def _init_41(__defaults__, __factories__, __sentinel__, __set__):
+def _init_export_pybullet_BasePlan(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, robot, diagnostics=__defaults__['diagnostics']):
         __set__(self, 'robot', robot)
         __set__(self, 'diagnostics', diagnostics)
@@ -462,7 +471,7 @@ def _init_41(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.export.pybullet.ExportPlan
-def _init_42(__defaults__, __factories__, __sentinel__, __set__):
+def _init_export_pybullet_ExportPlan(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, robot, unfused, fusion, diagnostics=__defaults__['diagnostics']):
         __set__(self, 'robot', robot)
         __set__(self, 'unfused', unfused)
@@ -472,7 +481,7 @@ def _init_42(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.export.pybullet.PyBulletFlavor
-def _init_43(__defaults__, __factories__, __sentinel__, __set__):
+def _init_export_pybullet_PyBulletFlavor(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, name=__defaults__['name'], joint_types=__sentinel__, extra_shapes=__defaults__['extra_shapes'], filenames=__sentinel__):
         __set__(self, 'name', name)
         __set__(self, 'joint_types', __factories__['joint_types']() if joint_types is __sentinel__ else joint_types)
@@ -482,7 +491,7 @@ def _init_43(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.export.pybullet_fuse.FusedFrame
-def _init_44(__defaults__, __factories__, __sentinel__, __set__):
+def _init_export_pybullet_fuse_FusedFrame(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, link, into, pose, joint):
         __set__(self, 'link', link)
         __set__(self, 'into', into)
@@ -492,7 +501,7 @@ def _init_44(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.export.pybullet_fuse.Fusion
-def _init_45(__defaults__, __factories__, __sentinel__, __set__):
+def _init_export_pybullet_fuse_Fusion(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, robot, frames=__defaults__['frames']):
         __set__(self, 'robot', robot)
         __set__(self, 'frames', frames)
@@ -500,7 +509,7 @@ def _init_45(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.export.pybullet_inertia.PyBulletInertia
-def _init_46(__defaults__, __factories__, __sentinel__, __set__):
+def _init_export_pybullet_inertia_PyBulletInertia(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, inertials=__sentinel__, base=__defaults__['base'], diagnostics=__sentinel__):
         __set__(self, 'inertials', __factories__['inertials']() if inertials is __sentinel__ else inertials)
         __set__(self, 'base', base)
@@ -509,7 +518,7 @@ def _init_46(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.export.pybullet_meshes.MeshPlan
-def _init_47(__defaults__, __factories__, __sentinel__, __set__):
+def _init_export_pybullet_meshes_MeshPlan(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, files, filenames=__sentinel__, diagnostics=__sentinel__, _colours=__sentinel__):
         __set__(self, 'files', files)
         __set__(self, 'filenames', __factories__['filenames']() if filenames is __sentinel__ else filenames)
@@ -519,7 +528,7 @@ def _init_47(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.export.pybullet_verify.Comparison
-def _init_48(__defaults__, __factories__, __sentinel__, __set__):
+def _init_export_pybullet_verify_Comparison(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, robot, rows=__sentinel__):
         __set__(self, 'robot', robot)
         __set__(self, 'rows', __factories__['rows']() if rows is __sentinel__ else rows)
@@ -527,7 +536,7 @@ def _init_48(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.export.pybullet_verify.Worst
-def _init_49(__defaults__, __factories__, __sentinel__, __set__):
+def _init_export_pybullet_verify_Worst(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, quantity, tolerance=__defaults__['tolerance'], error=__defaults__['error'], element=__defaults__['element'], span=__defaults__['span']):
         __set__(self, 'quantity', quantity)
         __set__(self, 'tolerance', tolerance)
@@ -538,7 +547,7 @@ def _init_49(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.export.sdf.SdfWriter
-def _init_50(__defaults__, __factories__, __sentinel__, __set__):
+def _init_export_sdf_SdfWriter(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, robot, tree, diagnostics=__sentinel__):
         __set__(self, 'robot', robot)
         __set__(self, 'tree', tree)
@@ -547,7 +556,7 @@ def _init_50(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.export.urdf.UrdfFlavor
-def _init_51(__defaults__, __factories__, __sentinel__, __set__):
+def _init_export_urdf_UrdfFlavor(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, name=__defaults__['name'], joint_types=__sentinel__, extra_shapes=__defaults__['extra_shapes']):
         __set__(self, 'name', name)
         __set__(self, 'joint_types', __factories__['joint_types']() if joint_types is __sentinel__ else joint_types)
@@ -556,7 +565,7 @@ def _init_51(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.export.urdf.UrdfWriter
-def _init_52(__defaults__, __factories__, __sentinel__, __set__):
+def _init_export_urdf_UrdfWriter(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, robot, flavor=__defaults__['flavor'], diagnostics=__sentinel__):
         __set__(self, 'robot', robot)
         __set__(self, 'flavor', flavor)
@@ -565,7 +574,7 @@ def _init_52(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.facts.collisions.Matrix
-def _init_53(__defaults__, __factories__, __sentinel__, __set__):
+def _init_facts_collisions_Matrix(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, links, reasons=__sentinel__, samples=__defaults__['samples'], seed=__defaults__['seed'], sometimes=__sentinel__):
         __set__(self, 'links', links)
         __set__(self, 'reasons', __factories__['reasons']() if reasons is __sentinel__ else reasons)
@@ -576,14 +585,14 @@ def _init_53(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.facts.collisions.NotChecked
-def _init_54(__defaults__, __factories__, __sentinel__, __set__):
+def _init_facts_collisions_NotChecked(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, reason):
         __set__(self, 'reason', reason)
     return __init__
 
 
 # urdftool.facts.collisions.Overlap
-def _init_55(__defaults__, __factories__, __sentinel__, __set__):
+def _init_facts_collisions_Overlap(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, link1, link2, depth):
         __set__(self, 'link1', link1)
         __set__(self, 'link2', link2)
@@ -592,7 +601,7 @@ def _init_55(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.facts.context.CheckContext
-def _init_56(__defaults__, __factories__, __sentinel__, __set__):
+def _init_facts_context_CheckContext(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, robot, tree, options=__sentinel__, cache=__sentinel__, simulator=__defaults__['simulator']):
         __set__(self, 'robot', robot)
         __set__(self, 'tree', tree)
@@ -603,7 +612,7 @@ def _init_56(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.facts.dynamics.analysis.Conditioning
-def _init_57(__defaults__, __factories__, __sentinel__, __set__):
+def _init_facts_dynamics_analysis_Conditioning(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, condition, smallest, largest, configuration, sample, matrix, names):
         __set__(self, 'condition', condition)
         __set__(self, 'smallest', smallest)
@@ -616,7 +625,7 @@ def _init_57(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.facts.dynamics.analysis.DynamicsAnalysis
-def _init_58(__defaults__, __factories__, __sentinel__, __set__):
+def _init_facts_dynamics_analysis_DynamicsAnalysis(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, floating, base_reason, dof, samples, conditioning, gravity=__sentinel__, gravity_computed=__defaults__['gravity_computed'], dense=__defaults__['dense']):
         __set__(self, 'floating', floating)
         __set__(self, 'base_reason', base_reason)
@@ -630,7 +639,7 @@ def _init_58(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.facts.dynamics.analysis.GravityLoad
-def _init_59(__defaults__, __factories__, __sentinel__, __set__):
+def _init_facts_dynamics_analysis_GravityLoad(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, joint, torque, configuration, sample):
         __set__(self, 'joint', joint)
         __set__(self, 'torque', torque)
@@ -640,7 +649,7 @@ def _init_59(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.facts.dynamics.configurations.Samples
-def _init_60(__defaults__, __factories__, __sentinel__, __set__):
+def _init_facts_dynamics_configurations_Samples(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, joints, values, others):
         __set__(self, 'joints', joints)
         __set__(self, 'values', values)
@@ -649,7 +658,7 @@ def _init_60(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.facts.dynamics.coverage.NotCovered
-def _init_61(__defaults__, __factories__, __sentinel__, __set__):
+def _init_facts_dynamics_coverage_NotCovered(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, reason, elements=__defaults__['elements']):
         __set__(self, 'reason', reason)
         __set__(self, 'elements', elements)
@@ -657,14 +666,14 @@ def _init_61(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.facts.dynamics.run.Skipped
-def _init_62(__defaults__, __factories__, __sentinel__, __set__):
+def _init_facts_dynamics_run_Skipped(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, why):
         __set__(self, 'why', why)
     return __init__
 
 
 # urdftool.facts.meshes.MeshUse
-def _init_63(__defaults__, __factories__, __sentinel__, __set__):
+def _init_facts_meshes_MeshUse(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, link, role, mesh, origin):
         __set__(self, 'link', link)
         __set__(self, 'role', role)
@@ -674,7 +683,7 @@ def _init_63(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.facts.range_sweep.Sweep
-def _init_64(__defaults__, __factories__, __sentinel__, __set__):
+def _init_facts_range_sweep_Sweep(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, joint, parent, child, lower, upper, home, home_depth, angles, depths, step, exact):
         __set__(self, 'joint', joint)
         __set__(self, 'parent', parent)
@@ -691,7 +700,7 @@ def _init_64(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.facts.ros2_control.Block
-def _init_65(__defaults__, __factories__, __sentinel__, __set__):
+def _init_facts_ros2_control_Block(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, name, type, element, plugin, components=__defaults__['components'], hardware_params=__sentinel__):
         __set__(self, 'name', name)
         __set__(self, 'type', type)
@@ -703,7 +712,7 @@ def _init_65(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.facts.ros2_control.Component
-def _init_66(__defaults__, __factories__, __sentinel__, __set__):
+def _init_facts_ros2_control_Component(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, kind, name, element, command=__defaults__['command'], state=__defaults__['state'], params=__sentinel__):
         __set__(self, 'kind', kind)
         __set__(self, 'name', name)
@@ -715,7 +724,7 @@ def _init_66(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.facts.ros2_control.Interface
-def _init_67(__defaults__, __factories__, __sentinel__, __set__):
+def _init_facts_ros2_control_Interface(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, name, element, params=__sentinel__):
         __set__(self, 'name', name)
         __set__(self, 'element', element)
@@ -724,7 +733,7 @@ def _init_67(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.facts.simulation.SimResult
-def _init_68(__defaults__, __factories__, __sentinel__, __set__):
+def _init_facts_simulation_SimResult(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, scene, runs):
         __set__(self, 'scene', scene)
         __set__(self, 'runs', runs)
@@ -732,7 +741,7 @@ def _init_68(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.facts.simulation.options.SimOptions
-def _init_69(__defaults__, __factories__, __sentinel__, __set__):
+def _init_facts_simulation_options_SimOptions(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, engines=__defaults__['engines'], duration=__defaults__['duration'], timestep=__defaults__['timestep'], hold=__defaults__['hold'], repair_inertia=__defaults__['repair_inertia']):
         __set__(self, 'engines', engines)
         __set__(self, 'duration', duration)
@@ -743,7 +752,7 @@ def _init_69(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.facts.simulation.record.EngineRun
-def _init_70(__defaults__, __factories__, __sentinel__, __set__):
+def _init_facts_simulation_record_EngineRun(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, engine, refused=__sentinel__, loaded=__defaults__['loaded'], unavailable=__defaults__['unavailable'], timestep=__defaults__['timestep'], steps=__defaults__['steps'], wall_time=__defaults__['wall_time'], diverged_at=__defaults__['diverged_at'], max_joint_speed=__defaults__['max_joint_speed'], fastest_joint=__defaults__['fastest_joint'], late_joint_speed=__defaults__['late_joint_speed'], late_fastest_joint=__defaults__['late_fastest_joint'], max_base_speed=__defaults__['max_base_speed'], energy_initial=__defaults__['energy_initial'], energy_max=__defaults__['energy_max'], energy_final=__defaults__['energy_final'], energy_scale=__defaults__['energy_scale'], base_displacement=__defaults__['base_displacement'], base_late_speed=__defaults__['base_late_speed'], base_late_distance=__defaults__['base_late_distance'], penetrations=__sentinel__, loop_gap=__defaults__['loop_gap'], limit_violations=__sentinel__, mimic_error=__defaults__['mimic_error'], mimic_joint=__defaults__['mimic_joint']):
         __set__(self, 'engine', engine)
         __set__(self, 'refused', __factories__['refused']() if refused is __sentinel__ else refused)
@@ -774,7 +783,7 @@ def _init_70(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.facts.simulation.record.LimitViolation
-def _init_71(__defaults__, __factories__, __sentinel__, __set__):
+def _init_facts_simulation_record_LimitViolation(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, joint, amount, position, bound, time):
         __set__(self, 'joint', joint)
         __set__(self, 'amount', amount)
@@ -785,7 +794,7 @@ def _init_71(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.facts.simulation.record.Penetration
-def _init_72(__defaults__, __factories__, __sentinel__, __set__):
+def _init_facts_simulation_record_Penetration(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, link_a, link_b, depth):
         __set__(self, 'link_a', link_a)
         __set__(self, 'link_b', link_b)
@@ -794,7 +803,7 @@ def _init_72(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.facts.simulation.scene.Scene
-def _init_73(__defaults__, __factories__, __sentinel__, __set__):
+def _init_facts_simulation_scene_Scene(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, robot, tree, floating, base_reason, start, neighbours=__sentinel__, size=__defaults__['size']):
         __set__(self, 'robot', robot)
         __set__(self, 'tree', tree)
@@ -807,7 +816,7 @@ def _init_73(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.facts.srdf.GroupContents
-def _init_74(__defaults__, __factories__, __sentinel__, __set__):
+def _init_facts_srdf_GroupContents(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, joints=__sentinel__, links=__sentinel__):
         __set__(self, 'joints', __factories__['joints']() if joints is __sentinel__ else joints)
         __set__(self, 'links', __factories__['links']() if links is __sentinel__ else links)
@@ -815,7 +824,7 @@ def _init_74(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.lsp.analysis.LineEdit
-def _init_75(__defaults__, __factories__, __sentinel__, __set__):
+def _init_lsp_analysis_LineEdit(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, start, end, text):
         __set__(self, 'start', start)
         __set__(self, 'end', end)
@@ -824,7 +833,7 @@ def _init_75(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.lsp.analysis.Placed
-def _init_76(__defaults__, __factories__, __sentinel__, __set__):
+def _init_lsp_analysis_Placed(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, diagnostic, line, start, end):
         __set__(self, 'diagnostic', diagnostic)
         __set__(self, 'line', line)
@@ -834,7 +843,7 @@ def _init_76(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.lsp.analysis.TextEdit
-def _init_77(__defaults__, __factories__, __sentinel__, __set__):
+def _init_lsp_analysis_TextEdit(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, path, start, end, text):
         __set__(self, 'path', path)
         __set__(self, 'start', start)
@@ -844,7 +853,7 @@ def _init_77(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.model.geometry.Box
-def _init_78(__defaults__, __factories__, __sentinel__, __set__):
+def _init_model_geometry_Box(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, size, span=__defaults__['span']):
         __set__(self, 'size', size)
         __set__(self, 'span', span)
@@ -852,7 +861,7 @@ def _init_78(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.model.geometry.Capsule
-def _init_79(__defaults__, __factories__, __sentinel__, __set__):
+def _init_model_geometry_Capsule(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, radius, length, span=__defaults__['span']):
         __set__(self, 'radius', radius)
         __set__(self, 'length', length)
@@ -861,7 +870,7 @@ def _init_79(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.model.geometry.Cylinder
-def _init_80(__defaults__, __factories__, __sentinel__, __set__):
+def _init_model_geometry_Cylinder(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, radius, length, span=__defaults__['span']):
         __set__(self, 'radius', radius)
         __set__(self, 'length', length)
@@ -870,7 +879,7 @@ def _init_80(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.model.geometry.Ellipsoid
-def _init_81(__defaults__, __factories__, __sentinel__, __set__):
+def _init_model_geometry_Ellipsoid(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, radii, span=__defaults__['span']):
         __set__(self, 'radii', radii)
         __set__(self, 'span', span)
@@ -878,7 +887,7 @@ def _init_81(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.model.geometry.Mesh
-def _init_82(__defaults__, __factories__, __sentinel__, __set__):
+def _init_model_geometry_Mesh(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, filename, resolved=__defaults__['resolved'], scale=__defaults__['scale'], span=__defaults__['span'], resolution=__defaults__['resolution']):
         __set__(self, 'filename', filename)
         __set__(self, 'resolved', resolved)
@@ -889,7 +898,7 @@ def _init_82(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.model.geometry.Plane
-def _init_83(__defaults__, __factories__, __sentinel__, __set__):
+def _init_model_geometry_Plane(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, normal=__defaults__['normal'], size=__defaults__['size'], span=__defaults__['span']):
         __set__(self, 'normal', normal)
         __set__(self, 'size', size)
@@ -898,7 +907,7 @@ def _init_83(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.model.geometry.Resolution
-def _init_84(__defaults__, __factories__, __sentinel__, __set__):
+def _init_model_geometry_Resolution(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, path, tried=__defaults__['tried'], package=__defaults__['package'], package_missing=__defaults__['package_missing'], package_dir=__defaults__['package_dir']):
         __set__(self, 'path', path)
         __set__(self, 'tried', tried)
@@ -909,7 +918,7 @@ def _init_84(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.model.geometry.Sphere
-def _init_85(__defaults__, __factories__, __sentinel__, __set__):
+def _init_model_geometry_Sphere(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, radius, span=__defaults__['span']):
         __set__(self, 'radius', radius)
         __set__(self, 'span', span)
@@ -917,7 +926,7 @@ def _init_85(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.model.pose.Pose
-def _init_86(__defaults__, __factories__, __sentinel__, __set__):
+def _init_model_pose_Pose(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, xyz=__defaults__['xyz'], rpy=__defaults__['rpy']):
         __set__(self, 'xyz', xyz)
         __set__(self, 'rpy', rpy)
@@ -925,7 +934,7 @@ def _init_86(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.model.robot.Calibration
-def _init_87(__defaults__, __factories__, __sentinel__, __set__):
+def _init_model_robot_Calibration(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, rising=__defaults__['rising'], falling=__defaults__['falling'], span=__defaults__['span']):
         __set__(self, 'rising', rising)
         __set__(self, 'falling', falling)
@@ -934,7 +943,7 @@ def _init_87(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.model.robot.Collision
-def _init_88(__defaults__, __factories__, __sentinel__, __set__):
+def _init_model_robot_Collision(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, geometry, origin=__defaults__['origin'], name=__defaults__['name'], span=__defaults__['span']):
         __set__(self, 'geometry', geometry)
         __set__(self, 'origin', origin)
@@ -944,7 +953,7 @@ def _init_88(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.model.robot.Dynamics
-def _init_89(__defaults__, __factories__, __sentinel__, __set__):
+def _init_model_robot_Dynamics(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, damping=__defaults__['damping'], friction=__defaults__['friction'], span=__defaults__['span'], spring_stiffness=__defaults__['spring_stiffness'], spring_reference=__defaults__['spring_reference']):
         __set__(self, 'damping', damping)
         __set__(self, 'friction', friction)
@@ -955,7 +964,7 @@ def _init_89(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.model.robot.Extension
-def _init_90(__defaults__, __factories__, __sentinel__, __set__):
+def _init_model_robot_Extension(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, tag, attributes, element, span=__defaults__['span']):
         __set__(self, 'tag', tag)
         __set__(self, 'attributes', attributes)
@@ -965,7 +974,7 @@ def _init_90(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.model.robot.Inertial
-def _init_91(__defaults__, __factories__, __sentinel__, __set__):
+def _init_model_robot_Inertial(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, mass, inertia, origin=__defaults__['origin'], span=__defaults__['span'], mass_span=__defaults__['mass_span'], inertia_span=__defaults__['inertia_span']):
         __set__(self, 'mass', mass)
         __set__(self, 'inertia', inertia)
@@ -977,7 +986,7 @@ def _init_91(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.model.robot.Joint
-def _init_92(__defaults__, __factories__, __sentinel__, __set__):
+def _init_model_robot_Joint(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, name, type, parent, child, origin=__defaults__['origin'], axis=__defaults__['axis'], limit=__defaults__['limit'], dynamics=__defaults__['dynamics'], mimic=__defaults__['mimic'], safety_controller=__defaults__['safety_controller'], calibration=__defaults__['calibration'], span=__defaults__['span'], axis_span=__defaults__['axis_span'], axis2=__defaults__['axis2'], limit2=__defaults__['limit2'], extensions=__defaults__['extensions']):
         __set__(self, 'name', name)
         __set__(self, 'type', type)
@@ -999,7 +1008,7 @@ def _init_92(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.model.robot.Limit
-def _init_93(__defaults__, __factories__, __sentinel__, __set__):
+def _init_model_robot_Limit(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, lower=__defaults__['lower'], upper=__defaults__['upper'], effort=__defaults__['effort'], velocity=__defaults__['velocity'], span=__defaults__['span'], lower_span=__defaults__['lower_span'], upper_span=__defaults__['upper_span']):
         __set__(self, 'lower', lower)
         __set__(self, 'upper', upper)
@@ -1012,7 +1021,7 @@ def _init_93(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.model.robot.Link
-def _init_94(__defaults__, __factories__, __sentinel__, __set__):
+def _init_model_robot_Link(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, name, inertial=__defaults__['inertial'], visuals=__defaults__['visuals'], collisions=__defaults__['collisions'], span=__defaults__['span'], extensions=__defaults__['extensions']):
         __set__(self, 'name', name)
         __set__(self, 'inertial', inertial)
@@ -1024,7 +1033,7 @@ def _init_94(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.model.robot.LoopClosure
-def _init_95(__defaults__, __factories__, __sentinel__, __set__):
+def _init_model_robot_LoopClosure(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, joint, parent_anchor, child_anchor):
         __set__(self, 'joint', joint)
         __set__(self, 'parent_anchor', parent_anchor)
@@ -1033,7 +1042,7 @@ def _init_95(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.model.robot.Material
-def _init_96(__defaults__, __factories__, __sentinel__, __set__):
+def _init_model_robot_Material(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, name, color=__defaults__['color'], texture=__defaults__['texture'], span=__defaults__['span']):
         __set__(self, 'name', name)
         __set__(self, 'color', color)
@@ -1043,7 +1052,7 @@ def _init_96(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.model.robot.Mimic
-def _init_97(__defaults__, __factories__, __sentinel__, __set__):
+def _init_model_robot_Mimic(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, joint, multiplier=__defaults__['multiplier'], offset=__defaults__['offset'], span=__defaults__['span']):
         __set__(self, 'joint', joint)
         __set__(self, 'multiplier', multiplier)
@@ -1053,7 +1062,7 @@ def _init_97(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.model.robot.Robot
-def _init_98(__defaults__, __factories__, __sentinel__, __set__):
+def _init_model_robot_Robot(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, name, links=__defaults__['links'], joints=__defaults__['joints'], materials=__defaults__['materials'], extensions=__defaults__['extensions'], loop_closures=__defaults__['loop_closures'], path=__defaults__['path'], format=__defaults__['format'], span=__defaults__['span'], diagnostics=__defaults__['diagnostics'], home=__defaults__['home'], root_poses=__defaults__['root_poses'], world_plugins=__defaults__['world_plugins']):
         __set__(self, 'name', name)
         __set__(self, 'links', links)
@@ -1072,7 +1081,7 @@ def _init_98(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.model.robot.SafetyController
-def _init_99(__defaults__, __factories__, __sentinel__, __set__):
+def _init_model_robot_SafetyController(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, k_velocity, k_position=__defaults__['k_position'], soft_lower_limit=__defaults__['soft_lower_limit'], soft_upper_limit=__defaults__['soft_upper_limit'], span=__defaults__['span']):
         __set__(self, 'k_velocity', k_velocity)
         __set__(self, 'k_position', k_position)
@@ -1083,7 +1092,7 @@ def _init_99(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.model.robot.Visual
-def _init_100(__defaults__, __factories__, __sentinel__, __set__):
+def _init_model_robot_Visual(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, geometry, origin=__defaults__['origin'], name=__defaults__['name'], material=__defaults__['material'], span=__defaults__['span']):
         __set__(self, 'geometry', geometry)
         __set__(self, 'origin', origin)
@@ -1094,7 +1103,7 @@ def _init_100(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.model.tree.KinematicTree
-def _init_101(__defaults__, __factories__, __sentinel__, __set__):
+def _init_model_tree_KinematicTree(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, robot, parent_joint=__sentinel__, child_joints=__sentinel__, cycle_joints=__sentinel__):
         __set__(self, 'robot', robot)
         __set__(self, 'parent_joint', __factories__['parent_joint']() if parent_joint is __sentinel__ else parent_joint)
@@ -1104,7 +1113,7 @@ def _init_101(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.parse.Loaded
-def _init_102(__defaults__, __factories__, __sentinel__, __set__):
+def _init_parse_Loaded(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, path, format, robot, diagnostics=__sentinel__, files=__sentinel__, srdf=__defaults__['srdf'], controllers=__defaults__['controllers']):
         __set__(self, 'path', path)
         __set__(self, 'format', format)
@@ -1117,7 +1126,7 @@ def _init_102(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.parse.controllers.Controller
-def _init_103(__defaults__, __factories__, __sentinel__, __set__):
+def _init_parse_controllers_Controller(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, name, span, type=__defaults__['type'], params=__sentinel__):
         __set__(self, 'name', name)
         __set__(self, 'span', span)
@@ -1127,7 +1136,7 @@ def _init_103(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.parse.controllers.ControllerConfig
-def _init_104(__defaults__, __factories__, __sentinel__, __set__):
+def _init_parse_controllers_ControllerConfig(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, path, controllers=__sentinel__, diagnostics=__sentinel__):
         __set__(self, 'path', path)
         __set__(self, 'controllers', __factories__['controllers']() if controllers is __sentinel__ else controllers)
@@ -1136,7 +1145,7 @@ def _init_104(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.parse.controllers.Controllers
-def _init_105(__defaults__, __factories__, __sentinel__, __set__):
+def _init_parse_controllers_Controllers(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, configs=__sentinel__, missing=__sentinel__, given=__defaults__['given']):
         __set__(self, 'configs', __factories__['configs']() if configs is __sentinel__ else configs)
         __set__(self, 'missing', __factories__['missing']() if missing is __sentinel__ else missing)
@@ -1145,7 +1154,7 @@ def _init_105(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.parse.controllers.Value
-def _init_106(__defaults__, __factories__, __sentinel__, __set__):
+def _init_parse_controllers_Value(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, value, span):
         __set__(self, 'value', value)
         __set__(self, 'span', span)
@@ -1153,7 +1162,7 @@ def _init_106(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.parse.packages.Lookup
-def _init_107(__defaults__, __factories__, __sentinel__, __set__):
+def _init_parse_packages_Lookup(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, path, tried=__sentinel__, package=__defaults__['package'], package_missing=__defaults__['package_missing'], package_dir=__defaults__['package_dir']):
         __set__(self, 'path', path)
         __set__(self, 'tried', __factories__['tried']() if tried is __sentinel__ else tried)
@@ -1164,7 +1173,7 @@ def _init_107(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.parse.packages.PackageResolver
-def _init_108(__defaults__, __factories__, __sentinel__, __set__):
+def _init_parse_packages_PackageResolver(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, packages=__sentinel__, package_paths=__sentinel__, environ=__sentinel__, _scanned=__sentinel__, _found=__sentinel__):
         __set__(self, 'packages', __factories__['packages']() if packages is __sentinel__ else packages)
         __set__(self, 'package_paths', __factories__['package_paths']() if package_paths is __sentinel__ else package_paths)
@@ -1175,7 +1184,7 @@ def _init_108(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.parse.sdf_elements.JointDetails
-def _init_109(__defaults__, __factories__, __sentinel__, __set__):
+def _init_parse_sdf_elements_JointDetails(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, type, axis, axis_frame, limit, dynamics, axis_span, axis2=__defaults__['axis2'], axis2_frame=__defaults__['axis2_frame'], limit2=__defaults__['limit2']):
         __set__(self, 'type', type)
         __set__(self, 'axis', axis)
@@ -1190,7 +1199,7 @@ def _init_109(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.parse.sdf_elements.LinkBodyReader
-def _init_110(__defaults__, __factories__, __sentinel__, __set__):
+def _init_parse_sdf_elements_LinkBodyReader(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, values, resolver, path):
         __set__(self, 'values', values)
         __set__(self, 'resolver', resolver)
@@ -1199,7 +1208,7 @@ def _init_110(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.parse.sdf_elements.PlacedElement
-def _init_111(__defaults__, __factories__, __sentinel__, __set__):
+def _init_parse_sdf_elements_PlacedElement(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, item, relative_to, pose_span):
         __set__(self, 'item', item)
         __set__(self, 'relative_to', relative_to)
@@ -1208,7 +1217,7 @@ def _init_111(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.parse.sdf_frames.FrameGraph
-def _init_112(__defaults__, __factories__, __sentinel__, __set__):
+def _init_parse_sdf_frames_FrameGraph(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, nodes=__sentinel__, aliases=__sentinel__, diagnostics=__sentinel__, _poses=__sentinel__, _links=__sentinel__, _reported=__sentinel__):
         __set__(self, 'nodes', __factories__['nodes']() if nodes is __sentinel__ else nodes)
         __set__(self, 'aliases', __factories__['aliases']() if aliases is __sentinel__ else aliases)
@@ -1220,7 +1229,7 @@ def _init_112(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.parse.sdf_frames.FrameNode
-def _init_113(__defaults__, __factories__, __sentinel__, __set__):
+def _init_parse_sdf_frames_FrameNode(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, name, kind, pose, relative_to, attached_to, span=__defaults__['span'], attached_span=__defaults__['attached_span']):
         __set__(self, 'name', name)
         __set__(self, 'kind', kind)
@@ -1233,7 +1242,7 @@ def _init_113(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.parse.sdf_include.IncludedFile
-def _init_114(__defaults__, __factories__, __sentinel__, __set__):
+def _init_parse_sdf_include_IncludedFile(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, uri, path, document, diagnostics=__sentinel__, standard=__defaults__['standard']):
         __set__(self, 'uri', uri)
         __set__(self, 'path', path)
@@ -1244,7 +1253,7 @@ def _init_114(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.parse.sdf_model.SdfModelReader
-def _init_115(__defaults__, __factories__, __sentinel__, __set__):
+def _init_parse_sdf_model_SdfModelReader(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, path, resolver, values=__sentinel__, graph=__sentinel__, files=__sentinel__, links=__sentinel__, joints=__sentinel__, frames=__sentinel__, extensions=__sentinel__, merged_frames=__sentinel__):
         __set__(self, 'path', path)
         __set__(self, 'resolver', resolver)
@@ -1260,7 +1269,7 @@ def _init_115(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.parse.sdf_model._RawFrame
-def _init_116(__defaults__, __factories__, __sentinel__, __set__):
+def _init_parse_sdf_model__RawFrame(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, name, element):
         __set__(self, 'name', name)
         __set__(self, 'element', element)
@@ -1268,7 +1277,7 @@ def _init_116(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.parse.sdf_model._RawJoint
-def _init_117(__defaults__, __factories__, __sentinel__, __set__):
+def _init_parse_sdf_model__RawJoint(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, name, element, parent, child, scope, version, key=__defaults__['key'], model_frame=__defaults__['model_frame']):
         __set__(self, 'name', name)
         __set__(self, 'element', element)
@@ -1282,7 +1291,7 @@ def _init_117(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.parse.sdf_model._RawLink
-def _init_118(__defaults__, __factories__, __sentinel__, __set__):
+def _init_parse_sdf_model__RawLink(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, name, element, version):
         __set__(self, 'name', name)
         __set__(self, 'element', element)
@@ -1291,7 +1300,7 @@ def _init_118(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.parse.sdf_semantics.SdfSemantics
-def _init_119(__defaults__, __factories__, __sentinel__, __set__):
+def _init_parse_sdf_semantics_SdfSemantics(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, version, values=__sentinel__, out=__sentinel__):
         __set__(self, 'version', version)
         __set__(self, 'values', __factories__['values']() if values is __sentinel__ else values)
@@ -1300,7 +1309,7 @@ def _init_119(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.parse.sdf_semantics._Scope
-def _init_120(__defaults__, __factories__, __sentinel__, __set__):
+def _init_parse_sdf_semantics__Scope(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, names=__sentinel__, opaque=__sentinel__, canonical=__sentinel__):
         __set__(self, 'names', __factories__['names']() if names is __sentinel__ else names)
         __set__(self, 'opaque', __factories__['opaque']() if opaque is __sentinel__ else opaque)
@@ -1309,7 +1318,7 @@ def _init_120(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.parse.srdf.Chain
-def _init_121(__defaults__, __factories__, __sentinel__, __set__):
+def _init_parse_srdf_Chain(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, base, tip, span=__defaults__['span']):
         __set__(self, 'base', base)
         __set__(self, 'tip', tip)
@@ -1318,7 +1327,7 @@ def _init_121(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.parse.srdf.CollisionPair
-def _init_122(__defaults__, __factories__, __sentinel__, __set__):
+def _init_parse_srdf_CollisionPair(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, link1, link2, reason, span=__defaults__['span'], enable=__defaults__['enable']):
         __set__(self, 'link1', link1)
         __set__(self, 'link2', link2)
@@ -1329,7 +1338,7 @@ def _init_122(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.parse.srdf.EndEffector
-def _init_123(__defaults__, __factories__, __sentinel__, __set__):
+def _init_parse_srdf_EndEffector(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, name, parent_link, group, parent_group=__defaults__['parent_group'], span=__defaults__['span']):
         __set__(self, 'name', name)
         __set__(self, 'parent_link', parent_link)
@@ -1340,7 +1349,7 @@ def _init_123(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.parse.srdf.Group
-def _init_124(__defaults__, __factories__, __sentinel__, __set__):
+def _init_parse_srdf_Group(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, name, links=__defaults__['links'], joints=__defaults__['joints'], chains=__defaults__['chains'], subgroups=__defaults__['subgroups'], span=__defaults__['span']):
         __set__(self, 'name', name)
         __set__(self, 'links', links)
@@ -1352,7 +1361,7 @@ def _init_124(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.parse.srdf.GroupState
-def _init_125(__defaults__, __factories__, __sentinel__, __set__):
+def _init_parse_srdf_GroupState(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, name, group, joints=__defaults__['joints'], span=__defaults__['span']):
         __set__(self, 'name', name)
         __set__(self, 'group', group)
@@ -1362,7 +1371,7 @@ def _init_125(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.parse.srdf.JointValue
-def _init_126(__defaults__, __factories__, __sentinel__, __set__):
+def _init_parse_srdf_JointValue(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, name, values, span=__defaults__['span']):
         __set__(self, 'name', name)
         __set__(self, 'values', values)
@@ -1371,7 +1380,7 @@ def _init_126(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.parse.srdf.Named
-def _init_127(__defaults__, __factories__, __sentinel__, __set__):
+def _init_parse_srdf_Named(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, name, span=__defaults__['span']):
         __set__(self, 'name', name)
         __set__(self, 'span', span)
@@ -1379,7 +1388,7 @@ def _init_127(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.parse.srdf.Srdf
-def _init_128(__defaults__, __factories__, __sentinel__, __set__):
+def _init_parse_srdf_Srdf(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, path, robot_name=__defaults__['robot_name'], groups=__sentinel__, group_states=__sentinel__, end_effectors=__sentinel__, virtual_joints=__sentinel__, passive_joints=__sentinel__, collisions=__sentinel__, default_disabled=__sentinel__, diagnostics=__sentinel__, span=__defaults__['span'], files=__sentinel__):
         __set__(self, 'path', path)
         __set__(self, 'robot_name', robot_name)
@@ -1397,7 +1406,7 @@ def _init_128(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.parse.srdf.VirtualJoint
-def _init_129(__defaults__, __factories__, __sentinel__, __set__):
+def _init_parse_srdf_VirtualJoint(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, name, type, parent_frame, child_link, span=__defaults__['span']):
         __set__(self, 'name', name)
         __set__(self, 'type', type)
@@ -1408,7 +1417,7 @@ def _init_129(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.parse.urdf.UrdfReader
-def _init_130(__defaults__, __factories__, __sentinel__, __set__):
+def _init_parse_urdf_UrdfReader(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, path, sources, resolver, expanded=__defaults__['expanded'], document=__defaults__['document']):
         __set__(self, 'path', path)
         __set__(self, 'sources', sources)
@@ -1420,7 +1429,7 @@ def _init_130(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.parse.values.ValueReader
-def _init_131(__defaults__, __factories__, __sentinel__, __set__):
+def _init_parse_values_ValueReader(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, sources, diagnostics=__sentinel__, check_substitutions=__defaults__['check_substitutions'], locate=__defaults__['locate']):
         __set__(self, 'sources', sources)
         __set__(self, 'diagnostics', __factories__['diagnostics']() if diagnostics is __sentinel__ else diagnostics)
@@ -1430,7 +1439,7 @@ def _init_131(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.parse.xacro.XacroResult
-def _init_132(__defaults__, __factories__, __sentinel__, __set__):
+def _init_parse_xacro_XacroResult(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, document, diagnostics=__sentinel__, files=__sentinel__, macro_library=__defaults__['macro_library']):
         __set__(self, 'document', document)
         __set__(self, 'diagnostics', __factories__['diagnostics']() if diagnostics is __sentinel__ else diagnostics)
@@ -1440,7 +1449,7 @@ def _init_132(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.parse.xacro._Session
-def _init_133(__defaults__, __factories__, __sentinel__, __set__):
+def _init_parse_xacro__Session(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, resolver, top, diagnostics=__sentinel__, files=__sentinel__, found_packages=__sentinel__, syntax_failed=__defaults__['syntax_failed'], macros=__sentinel__, top_builds_robot=__defaults__['top_builds_robot'], top_macros=__sentinel__, arguments=__sentinel__):
         __set__(self, 'resolver', resolver)
         __set__(self, 'top', top)
@@ -1456,7 +1465,7 @@ def _init_133(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.parse.xacro_args.KnownArgument
-def _init_134(__defaults__, __factories__, __sentinel__, __set__):
+def _init_parse_xacro_args_KnownArgument(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, span, default):
         __set__(self, 'span', span)
         __set__(self, 'default', default)
@@ -1464,7 +1473,7 @@ def _init_134(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.parse.xmlio.XmlDocument
-def _init_135(__defaults__, __factories__, __sentinel__, __set__):
+def _init_parse_xmlio_XmlDocument(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, root, path, positions=__defaults__['positions'], may_use_xacro=__defaults__['may_use_xacro']):
         __set__(self, 'root', root)
         __set__(self, 'path', path)
@@ -1474,7 +1483,7 @@ def _init_135(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.physics.bodies.MassRole
-def _init_136(__defaults__, __factories__, __sentinel__, __set__):
+def _init_physics_bodies_MassRole(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, why, severity, joint, carrier, carrier_mass):
         __set__(self, 'why', why)
         __set__(self, 'severity', severity)
@@ -1485,7 +1494,7 @@ def _init_136(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.physics.bodies.RigidBody
-def _init_137(__defaults__, __factories__, __sentinel__, __set__):
+def _init_physics_bodies_RigidBody(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, head, links, joint):
         __set__(self, 'head', head)
         __set__(self, 'links', links)
@@ -1494,7 +1503,7 @@ def _init_137(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.physics.inertia.InertiaVerdict
-def _init_138(__defaults__, __factories__, __sentinel__, __set__):
+def _init_physics_inertia_InertiaVerdict(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, moments, positive_definite, triangle_violation):
         __set__(self, 'moments', moments)
         __set__(self, 'positive_definite', positive_definite)
@@ -1503,7 +1512,7 @@ def _init_138(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.physics.linkmass.InertiaComparison
-def _init_139(__defaults__, __factories__, __sentinel__, __set__):
+def _init_physics_linkmass_InertiaComparison(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, source, solid, computed, ratio, worst):
         __set__(self, 'source', source)
         __set__(self, 'solid', solid)
@@ -1514,7 +1523,7 @@ def _init_139(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.physics.massprops.SolidProperties
-def _init_140(__defaults__, __factories__, __sentinel__, __set__):
+def _init_physics_massprops_SolidProperties(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, volume, center, inertia, bounds_min, bounds_max, label, approximate=__defaults__['approximate']):
         __set__(self, 'volume', volume)
         __set__(self, 'center', center)
@@ -1527,7 +1536,7 @@ def _init_140(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.physics.mobility.BasePlan
-def _init_141(__defaults__, __factories__, __sentinel__, __set__):
+def _init_physics_mobility_BasePlan(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, kind, reason, free_joint=__defaults__['free_joint']):
         __set__(self, 'kind', kind)
         __set__(self, 'reason', reason)
@@ -1536,7 +1545,7 @@ def _init_141(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.pipeline.baseline.BaselineResult
-def _init_142(__defaults__, __factories__, __sentinel__, __set__):
+def _init_pipeline_baseline_BaselineResult(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, report, known, fixed):
         __set__(self, 'report', report)
         __set__(self, 'known', known)
@@ -1545,7 +1554,7 @@ def _init_142(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.pipeline.check.CheckOptions
-def _init_143(__defaults__, __factories__, __sentinel__, __set__):
+def _init_pipeline_check_CheckOptions(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, select=__defaults__['select'], ignore=__defaults__['ignore'], xacro_args=__sentinel__, packages=__sentinel__, package_paths=__defaults__['package_paths'], rule_options=__sentinel__, file_limits=__sentinel__, suppressions=__defaults__['suppressions'], severity=__sentinel__, srdf=__defaults__['srdf'], discover_srdf=__defaults__['discover_srdf'], controllers=__defaults__['controllers']):
         __set__(self, 'select', select)
         __set__(self, 'ignore', ignore)
@@ -1563,7 +1572,7 @@ def _init_143(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.pipeline.collision.CollisionOptions
-def _init_144(__defaults__, __factories__, __sentinel__, __set__):
+def _init_pipeline_collision_CollisionOptions(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, mode=__defaults__['mode'], threshold=__defaults__['threshold'], max_parts=__defaults__['max_parts'], tolerance=__defaults__['tolerance']):
         __set__(self, 'mode', mode)
         __set__(self, 'threshold', threshold)
@@ -1573,7 +1582,7 @@ def _init_144(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.pipeline.collision.Simplification
-def _init_145(__defaults__, __factories__, __sentinel__, __set__):
+def _init_pipeline_collision_Simplification(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, robot, diagnostics=__sentinel__, files=__sentinel__):
         __set__(self, 'robot', robot)
         __set__(self, 'diagnostics', __factories__['diagnostics']() if diagnostics is __sentinel__ else diagnostics)
@@ -1582,7 +1591,7 @@ def _init_145(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.pipeline.convert.Conversion
-def _init_146(__defaults__, __factories__, __sentinel__, __set__):
+def _init_pipeline_convert_Conversion(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, robot, target, out, files=__sentinel__, diagnostics=__sentinel__, refused=__defaults__['refused'], inputs=__sentinel__):
         __set__(self, 'robot', robot)
         __set__(self, 'target', target)
@@ -1595,7 +1604,7 @@ def _init_146(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.pipeline.diff.Change
-def _init_147(__defaults__, __factories__, __sentinel__, __set__):
+def _init_pipeline_diff_Change(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, kind, subject, field=__defaults__['field'], old=__defaults__['old'], new=__defaults__['new'], size=__defaults__['size'], unit=__defaults__['unit'], severity=__defaults__['severity']):
         __set__(self, 'kind', kind)
         __set__(self, 'subject', subject)
@@ -1609,7 +1618,7 @@ def _init_147(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.pipeline.diff.RobotDiff
-def _init_148(__defaults__, __factories__, __sentinel__, __set__):
+def _init_pipeline_diff_RobotDiff(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, old, new, changes, link_renames=__sentinel__, joint_renames=__sentinel__):
         __set__(self, 'old', old)
         __set__(self, 'new', new)
@@ -1620,7 +1629,7 @@ def _init_148(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.pipeline.fix.FileChange
-def _init_149(__defaults__, __factories__, __sentinel__, __set__):
+def _init_pipeline_fix_FileChange(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, path, before, after, fixed=__sentinel__):
         __set__(self, 'path', path)
         __set__(self, 'before', before)
@@ -1630,7 +1639,7 @@ def _init_149(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.pipeline.fix.FixResult
-def _init_150(__defaults__, __factories__, __sentinel__, __set__):
+def _init_pipeline_fix_FixResult(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, changes, refused, report, rounds):
         __set__(self, 'changes', changes)
         __set__(self, 'refused', refused)
@@ -1640,7 +1649,7 @@ def _init_150(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.pipeline.fixtext.Attribute
-def _init_151(__defaults__, __factories__, __sentinel__, __set__):
+def _init_pipeline_fixtext_Attribute(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, name, name_start, name_end, value_start, value_end, quote, raw):
         __set__(self, 'name', name)
         __set__(self, 'name_start', name_start)
@@ -1653,7 +1662,7 @@ def _init_151(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.pipeline.fixtext.SourceText
-def _init_152(__defaults__, __factories__, __sentinel__, __set__):
+def _init_pipeline_fixtext_SourceText(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, path, data, _starts=__sentinel__):
         __set__(self, 'path', path)
         __set__(self, 'data', data)
@@ -1662,7 +1671,7 @@ def _init_152(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.pipeline.fixtext.Tag
-def _init_153(__defaults__, __factories__, __sentinel__, __set__):
+def _init_pipeline_fixtext_Tag(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, name, start, name_end, end, self_closing, attributes):
         __set__(self, 'name', name)
         __set__(self, 'start', start)
@@ -1674,7 +1683,7 @@ def _init_153(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.pipeline.home.HomeState
-def _init_154(__defaults__, __factories__, __sentinel__, __set__):
+def _init_pipeline_home_HomeState(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, name, values):
         __set__(self, 'name', name)
         __set__(self, 'values', values)
@@ -1682,7 +1691,7 @@ def _init_154(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.pipeline.settings.ConfigFile
-def _init_155(__defaults__, __factories__, __sentinel__, __set__):
+def _init_pipeline_settings_ConfigFile(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, path, table):
         __set__(self, 'path', path)
         __set__(self, 'table', table)
@@ -1690,7 +1699,7 @@ def _init_155(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.pipeline.settings.Overrides
-def _init_156(__defaults__, __factories__, __sentinel__, __set__):
+def _init_pipeline_settings_Overrides(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, select=__defaults__['select'], ignore=__defaults__['ignore'], extend_select=__defaults__['extend_select'], strict=__defaults__['strict'], package_paths=__defaults__['package_paths'], packages=__sentinel__, xacro_args=__sentinel__, format=__defaults__['format'], isolated=__defaults__['isolated']):
         __set__(self, 'select', select)
         __set__(self, 'ignore', ignore)
@@ -1705,7 +1714,7 @@ def _init_156(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.pipeline.settings.Settings
-def _init_157(__defaults__, __factories__, __sentinel__, __set__):
+def _init_pipeline_settings_Settings(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, select=__defaults__['select'], ignore=__defaults__['ignore'], severity=__sentinel__, strict=__defaults__['strict'], package_paths=__defaults__['package_paths'], packages=__sentinel__, xacro_args=__sentinel__, target=__defaults__['target'], budgets=__sentinel__, format=__defaults__['format'], config=__defaults__['config'], sources=__sentinel__):
         __set__(self, 'select', select)
         __set__(self, 'ignore', ignore)
@@ -1723,7 +1732,7 @@ def _init_157(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.pipeline.suppress.Suppression
-def _init_158(__defaults__, __factories__, __sentinel__, __set__):
+def _init_pipeline_suppress_Suppression(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, span, whole_file, selectors, used=__sentinel__):
         __set__(self, 'span', span)
         __set__(self, 'whole_file', whole_file)
@@ -1733,7 +1742,7 @@ def _init_158(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.render.rule_meta.RuleMeta
-def _init_159(__defaults__, __factories__, __sentinel__, __set__):
+def _init_render_rule_meta_RuleMeta(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, code, name, summary, severity, help_uri):
         __set__(self, 'code', code)
         __set__(self, 'name', name)
@@ -1744,7 +1753,7 @@ def _init_159(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.rules.gazebo_drive.Wheel
-def _init_160(__defaults__, __factories__, __sentinel__, __set__):
+def _init_rules_gazebo_drive_Wheel(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, joint, centre, axle, diameter):
         __set__(self, 'joint', joint)
         __set__(self, 'centre', centre)
@@ -1754,7 +1763,7 @@ def _init_160(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.rules.gazebo_plugins.DrivePlugin
-def _init_161(__defaults__, __factories__, __sentinel__, __set__):
+def _init_rules_gazebo_plugins_DrivePlugin(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, element, kind, pairs=__sentinel__, separations=__sentinel__, diameter=__defaults__['diameter']):
         __set__(self, 'element', element)
         __set__(self, 'kind', kind)
@@ -1765,7 +1774,7 @@ def _init_161(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.rules.gazebo_plugins.JointRef
-def _init_162(__defaults__, __factories__, __sentinel__, __set__):
+def _init_rules_gazebo_plugins_JointRef(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, name, element, owner):
         __set__(self, 'name', name)
         __set__(self, 'element', element)
@@ -1774,7 +1783,7 @@ def _init_162(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.rules.gz_systems_known.Params
-def _init_163(__defaults__, __factories__, __sentinel__, __set__):
+def _init_rules_gz_systems_known_Params(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, links=__defaults__['links'], link_attributes=__defaults__['link_attributes'], numbers=__defaults__['numbers'], integers=__defaults__['integers'], flags=__defaults__['flags'], positive=__defaults__['positive']):
         __set__(self, 'links', links)
         __set__(self, 'link_attributes', link_attributes)
@@ -1786,7 +1795,7 @@ def _init_163(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.rules.gz_systems_known.System
-def _init_164(__defaults__, __factories__, __sentinel__, __set__):
+def _init_rules_gz_systems_known_System(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, element, filename, name, stem, cls):
         __set__(self, 'element', element)
         __set__(self, 'filename', filename)
@@ -1797,7 +1806,7 @@ def _init_164(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.rules.intent_sweep.Passing
-def _init_165(__defaults__, __factories__, __sentinel__, __set__):
+def _init_rules_intent_sweep_Passing(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, side, limit, start, fullest, depth, share, home_share):
         __set__(self, 'side', side)
         __set__(self, 'limit', limit)
@@ -1810,7 +1819,7 @@ def _init_165(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.rules.selection.Selection
-def _init_166(__defaults__, __factories__, __sentinel__, __set__):
+def _init_rules_selection_Selection(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, select=__defaults__['select'], ignore=__defaults__['ignore']):
         __set__(self, 'select', select)
         __set__(self, 'ignore', ignore)
@@ -1818,7 +1827,7 @@ def _init_166(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.simulation.run.Exported
-def _init_167(__defaults__, __factories__, __sentinel__, __set__):
+def _init_simulation_run_Exported(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, command, path=__defaults__['path'], refused=__sentinel__):
         __set__(self, 'command', command)
         __set__(self, 'path', path)
@@ -1827,7 +1836,7 @@ def _init_167(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.source.SourceIndex
-def _init_168(__defaults__, __factories__, __sentinel__, __set__):
+def _init_source_SourceIndex(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, files=__sentinel__, _lines=__sentinel__):
         __set__(self, 'files', __factories__['files']() if files is __sentinel__ else files)
         __set__(self, '_lines', __factories__['_lines']() if _lines is __sentinel__ else _lines)
@@ -1835,7 +1844,7 @@ def _init_168(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.source.Span
-def _init_169(__defaults__, __factories__, __sentinel__, __set__):
+def _init_source_Span(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, path, line=__defaults__['line'], column=__defaults__['column'], end_line=__defaults__['end_line'], end_column=__defaults__['end_column'], offset=__defaults__['offset'], end_offset=__defaults__['end_offset']):
         __set__(self, 'path', path)
         __set__(self, 'line', line)
@@ -1848,7 +1857,7 @@ def _init_169(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.targets.Target
-def _init_170(__defaults__, __factories__, __sentinel__, __set__):
+def _init_targets_Target(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, name, label, verified, engine_tested=__defaults__['engine_tested'], missing_inertial=__defaults__['missing_inertial'], massless_stops=__defaults__['massless_stops'], floating_root=__defaults__['floating_root'], fixed_joints=__defaults__['fixed_joints'], hulls_collision_meshes=__defaults__['hulls_collision_meshes'], mimic=__defaults__['mimic'], joint_types=__sentinel__, collision_formats=__defaults__['collision_formats'], unread_format_fails=__defaults__['unread_format_fails'], face_budget=__defaults__['face_budget'], hull_vertex_limit=__defaults__['hull_vertex_limit'], root_inertia_ignored=__defaults__['root_inertia_ignored'], inertia_from_collision=__defaults__['inertia_from_collision'], needs_srdf=__defaults__['needs_srdf'], keep_fixed=__defaults__['keep_fixed']):
         __set__(self, 'name', name)
         __set__(self, 'label', label)
@@ -1873,175 +1882,176 @@ def _init_170(__defaults__, __factories__, __sentinel__, __set__):
 
 
 COMPILED = {
-    'urdftool.backends.collada.ColladaScene': ('parts,unit', _init_0),
-    'urdftool.backends.collada.Part': ('vertices,normals,uv,textured,matrix', _init_1),
-    'urdftool.backends.collision.CollisionScene': ('robot,pin,geometry,pieces*,meshes*,skipped*,_data=,_gdata=,_pairs*', _init_2),
-    'urdftool.backends.collision.Piece': ('link,index,body', _init_3),
-    'urdftool.backends.collision_shapes.Primitive': ('kind,size,xyz,rpy', _init_4),
-    'urdftool.backends.collision_shapes.Simplified': ('mode,parts=,primitive=,volume=,mesh_volume=,note=,cached=', _init_5),
-    'urdftool.backends.collision_volume.Solid': ('shape,mesh,lower,upper,envelope=', _init_6),
-    'urdftool.backends.mesh_formats.MeshFormat': ('kind,extension,faces=', _init_7),
-    'urdftool.backends.mesh_shape.ShapeFacts': ('vertices,faces,watertight,winding_consistent,nonmanifold_edges,degenerate_faces,solid_volume,hull_volume,hull_vertices,objects,object_hull_volume', _init_8),
-    'urdftool.backends.meshes.MeshFacts': ('vertices,faces,watertight,volume,center_mass,second_moment,bounds_min,bounds_max,unit=', _init_9),
-    'urdftool.backends.meshes.MeshInfo': ('path,vertices,faces,watertight,volume,center_mass,inertia_unit_density,bounds_min,bounds_max,unit=', _init_10),
-    'urdftool.backends.mujoco.EngineError': ('message,element=,line=', _init_11),
-    'urdftool.backends.pinocchio.PinocchioModel': ('model,link_frames*,joints*,mimics*,free_flyer=', _init_12),
-    'urdftool.backends.pybullet.EngineJoint': ('name,index,type,child,axis,lower,upper,effort,velocity,dof', _init_13),
-    'urdftool.backends.pybullet.EngineLink': ('name,index,mass,inertia_diagonal,inertial_frame', _init_14),
-    'urdftool.backends.pybullet.PyBulletLoad': ('path,flags=,body=,error=,messages*,_client=,_p=,_joints=', _init_15),
-    'urdftool.diagnostics.Diagnostic': ('code,name,severity,message,location=,element=,help=,data*,related=,fix=', _init_16),
-    'urdftool.diagnostics.Edit': ('span,content', _init_17),
-    'urdftool.diagnostics.FileReport': ('path,format,robot,diagnostics', _init_18),
-    'urdftool.diagnostics.Fix': ('message,edits,applicability=', _init_19),
-    'urdftool.diagnostics.Related': ('span,label', _init_20),
-    'urdftool.diagnostics.Report': ('files', _init_21),
-    'urdftool.export.ExportOptions': ('floating_base=,actuators=,repair_inertia=,copy_assets=,scene=,absolute_mesh_paths=,extra*,findings=,fuse_fixed=', _init_22),
-    'urdftool.export.ExportResult': ('files*,diagnostics*', _init_23),
-    'urdftool.export.VerifyResult': ('ok,rows*,diagnostics*', _init_24),
-    'urdftool.export.assets.MeshFile': ('reference,converted,source_hash', _init_25),
-    'urdftool.export.assets.MeshFiles': ('out_dir,native,convert,converted_suffix,copy=,files*,_seen*', _init_26),
-    'urdftool.export.graph.GraphOptions': ('rankdir=,collapse_fixed=,diagnostics=,select=,ignore=|post_init', _init_27),
-    'urdftool.export.graph.build.GraphSettings': ('rankdir=,collapse_fixed=', _init_28),
-    'urdftool.export.graph.findings.Findings': ('links*,joints*,other*', _init_29),
-    'urdftool.export.graph.groups.LinkGroups': ('top*,members*,offset*,merged_joints*', _init_30),
-    'urdftool.export.mjcf_actuators.Drive': ('interface=,reduction=,rotor_inertia=', _init_31),
-    'urdftool.export.mjcf_assets.AssetPlan': ('out_dir,copy=,meshes*,files*,materials*,_by_content*,_by_path*,_hashes*', _init_32),
-    'urdftool.export.mjcf_assets.MeshAsset': ('name,file,scale', _init_33),
-    'urdftool.export.mjcf_assets.VisualPart': ('mesh,material', _init_34),
-    'urdftool.export.mjcf_bodies.BodyTree': ('joints*,diagnostics*', _init_35),
-    'urdftool.export.mjcf_bodies.MjJoint': ('name,kind,source,home,range=', _init_36),
-    'urdftool.export.mjcf_classes._Member': ('joint,actuator', _init_37),
-    'urdftool.export.mjcf_keyframe.LoopSolve': ('before,after,steps', _init_38),
-    'urdftool.export.mjcf_verify.Errors': ('position=,rotation=,matrix=,worst_link=', _init_39),
-    'urdftool.export.mjcf_verify.JointMap': ('joint,kind,mj_qpos,mj_dof,pin_q,pin_v,origin', _init_40),
-    'urdftool.export.pybullet.BasePlan': ('robot,diagnostics=', _init_41),
-    'urdftool.export.pybullet.ExportPlan': ('robot,unfused,fusion,diagnostics=', _init_42),
-    'urdftool.export.pybullet.PyBulletFlavor': ('name=,joint_types*,extra_shapes=,filenames*', _init_43),
-    'urdftool.export.pybullet_fuse.FusedFrame': ('link,into,pose,joint', _init_44),
-    'urdftool.export.pybullet_fuse.Fusion': ('robot,frames=', _init_45),
-    'urdftool.export.pybullet_inertia.PyBulletInertia': ('inertials*,base=,diagnostics*', _init_46),
-    'urdftool.export.pybullet_meshes.MeshPlan': ('files,filenames*,diagnostics*,_colours*', _init_47),
-    'urdftool.export.pybullet_verify.Comparison': ('robot,rows*', _init_48),
-    'urdftool.export.pybullet_verify.Worst': ('quantity,tolerance=,error=,element=,span=', _init_49),
-    'urdftool.export.sdf.SdfWriter': ('robot,tree,diagnostics*', _init_50),
-    'urdftool.export.urdf.UrdfFlavor': ('name=,joint_types*,extra_shapes=', _init_51),
-    'urdftool.export.urdf.UrdfWriter': ('robot,flavor=,diagnostics*', _init_52),
-    'urdftool.facts.collisions.Matrix': ('links,reasons*,samples=,seed=,sometimes*', _init_53),
-    'urdftool.facts.collisions.NotChecked': ('reason', _init_54),
-    'urdftool.facts.collisions.Overlap': ('link1,link2,depth', _init_55),
-    'urdftool.facts.context.CheckContext': ('robot,tree,options*,cache*,simulator=', _init_56),
-    'urdftool.facts.dynamics.analysis.Conditioning': ('condition,smallest,largest,configuration,sample,matrix,names', _init_57),
-    'urdftool.facts.dynamics.analysis.DynamicsAnalysis': ('floating,base_reason,dof,samples,conditioning,gravity*,gravity_computed=,dense=', _init_58),
-    'urdftool.facts.dynamics.analysis.GravityLoad': ('joint,torque,configuration,sample', _init_59),
-    'urdftool.facts.dynamics.configurations.Samples': ('joints,values,others', _init_60),
-    'urdftool.facts.dynamics.coverage.NotCovered': ('reason,elements=', _init_61),
-    'urdftool.facts.dynamics.run.Skipped': ('why', _init_62),
-    'urdftool.facts.meshes.MeshUse': ('link,role,mesh,origin', _init_63),
-    'urdftool.facts.range_sweep.Sweep': ('joint,parent,child,lower,upper,home,home_depth,angles,depths,step,exact', _init_64),
-    'urdftool.facts.ros2_control.Block': ('name,type,element,plugin,components=,hardware_params*', _init_65),
-    'urdftool.facts.ros2_control.Component': ('kind,name,element,command=,state=,params*', _init_66),
-    'urdftool.facts.ros2_control.Interface': ('name,element,params*', _init_67),
-    'urdftool.facts.simulation.SimResult': ('scene,runs', _init_68),
-    'urdftool.facts.simulation.options.SimOptions': ('engines=,duration=,timestep=,hold=,repair_inertia=', _init_69),
-    'urdftool.facts.simulation.record.EngineRun': ('engine,refused*,loaded=,unavailable=,timestep=,steps=,wall_time=,diverged_at=,max_joint_speed=,fastest_joint=,late_joint_speed=,late_fastest_joint=,max_base_speed=,energy_initial=,energy_max=,energy_final=,energy_scale=,base_displacement=,base_late_speed=,base_late_distance=,penetrations*,loop_gap=,limit_violations*,mimic_error=,mimic_joint=', _init_70),
-    'urdftool.facts.simulation.record.LimitViolation': ('joint,amount,position,bound,time', _init_71),
-    'urdftool.facts.simulation.record.Penetration': ('link_a,link_b,depth', _init_72),
-    'urdftool.facts.simulation.scene.Scene': ('robot,tree,floating,base_reason,start,neighbours*,size=', _init_73),
-    'urdftool.facts.srdf.GroupContents': ('joints*,links*', _init_74),
-    'urdftool.lsp.analysis.LineEdit': ('start,end,text', _init_75),
-    'urdftool.lsp.analysis.Placed': ('diagnostic,line,start,end', _init_76),
-    'urdftool.lsp.analysis.TextEdit': ('path,start,end,text', _init_77),
-    'urdftool.model.geometry.Box': ('size,span=', _init_78),
-    'urdftool.model.geometry.Capsule': ('radius,length,span=', _init_79),
-    'urdftool.model.geometry.Cylinder': ('radius,length,span=', _init_80),
-    'urdftool.model.geometry.Ellipsoid': ('radii,span=', _init_81),
-    'urdftool.model.geometry.Mesh': ('filename,resolved=,scale=,span=,resolution=', _init_82),
-    'urdftool.model.geometry.Plane': ('normal=,size=,span=', _init_83),
-    'urdftool.model.geometry.Resolution': ('path,tried=,package=,package_missing=,package_dir=', _init_84),
-    'urdftool.model.geometry.Sphere': ('radius,span=', _init_85),
-    'urdftool.model.pose.Pose': ('xyz=,rpy=', _init_86),
-    'urdftool.model.robot.Calibration': ('rising=,falling=,span=', _init_87),
-    'urdftool.model.robot.Collision': ('geometry,origin=,name=,span=', _init_88),
-    'urdftool.model.robot.Dynamics': ('damping=,friction=,span=,spring_stiffness=,spring_reference=', _init_89),
-    'urdftool.model.robot.Extension': ('tag,attributes,element,span=', _init_90),
-    'urdftool.model.robot.Inertial': ('mass,inertia,origin=,span=,mass_span=,inertia_span=', _init_91),
-    'urdftool.model.robot.Joint': ('name,type,parent,child,origin=,axis=,limit=,dynamics=,mimic=,safety_controller=,calibration=,span=,axis_span=,axis2=,limit2=,extensions=', _init_92),
-    'urdftool.model.robot.Limit': ('lower=,upper=,effort=,velocity=,span=,lower_span=,upper_span=', _init_93),
-    'urdftool.model.robot.Link': ('name,inertial=,visuals=,collisions=,span=,extensions=', _init_94),
-    'urdftool.model.robot.LoopClosure': ('joint,parent_anchor,child_anchor', _init_95),
-    'urdftool.model.robot.Material': ('name,color=,texture=,span=', _init_96),
-    'urdftool.model.robot.Mimic': ('joint,multiplier=,offset=,span=', _init_97),
-    'urdftool.model.robot.Robot': ('name,links=,joints=,materials=,extensions=,loop_closures=,path=,format=,span=,diagnostics=,home=,root_poses=,world_plugins=', _init_98),
-    'urdftool.model.robot.SafetyController': ('k_velocity,k_position=,soft_lower_limit=,soft_upper_limit=,span=', _init_99),
-    'urdftool.model.robot.Visual': ('geometry,origin=,name=,material=,span=', _init_100),
-    'urdftool.model.tree.KinematicTree': ('robot,parent_joint*,child_joints*,cycle_joints*', _init_101),
-    'urdftool.parse.Loaded': ('path,format,robot,diagnostics*,files*,srdf=,controllers=', _init_102),
-    'urdftool.parse.controllers.Controller': ('name,span,type=,params*', _init_103),
-    'urdftool.parse.controllers.ControllerConfig': ('path,controllers*,diagnostics*', _init_104),
-    'urdftool.parse.controllers.Controllers': ('configs*,missing*,given=', _init_105),
-    'urdftool.parse.controllers.Value': ('value,span', _init_106),
-    'urdftool.parse.packages.Lookup': ('path,tried*,package=,package_missing=,package_dir=', _init_107),
-    'urdftool.parse.packages.PackageResolver': ('packages*,package_paths*,environ*,_scanned*,_found*', _init_108),
-    'urdftool.parse.sdf_elements.JointDetails': ('type,axis,axis_frame,limit,dynamics,axis_span,axis2=,axis2_frame=,limit2=', _init_109),
-    'urdftool.parse.sdf_elements.LinkBodyReader': ('values,resolver,path', _init_110),
-    'urdftool.parse.sdf_elements.PlacedElement': ('item,relative_to,pose_span', _init_111),
-    'urdftool.parse.sdf_frames.FrameGraph': ('nodes*,aliases*,diagnostics*,_poses*,_links*,_reported*', _init_112),
-    'urdftool.parse.sdf_frames.FrameNode': ('name,kind,pose,relative_to,attached_to,span=,attached_span=', _init_113),
-    'urdftool.parse.sdf_include.IncludedFile': ('uri,path,document,diagnostics*,standard=', _init_114),
-    'urdftool.parse.sdf_model.SdfModelReader': ('path,resolver,values*,graph*,files*,links*,joints*,frames*,extensions*,merged_frames*', _init_115),
-    'urdftool.parse.sdf_model._RawFrame': ('name,element', _init_116),
-    'urdftool.parse.sdf_model._RawJoint': ('name,element,parent,child,scope,version,key=,model_frame=', _init_117),
-    'urdftool.parse.sdf_model._RawLink': ('name,element,version', _init_118),
-    'urdftool.parse.sdf_semantics.SdfSemantics': ('version,values*,out*', _init_119),
-    'urdftool.parse.sdf_semantics._Scope': ('names*,opaque*,canonical*', _init_120),
-    'urdftool.parse.srdf.Chain': ('base,tip,span=', _init_121),
-    'urdftool.parse.srdf.CollisionPair': ('link1,link2,reason,span=,enable=', _init_122),
-    'urdftool.parse.srdf.EndEffector': ('name,parent_link,group,parent_group=,span=', _init_123),
-    'urdftool.parse.srdf.Group': ('name,links=,joints=,chains=,subgroups=,span=', _init_124),
-    'urdftool.parse.srdf.GroupState': ('name,group,joints=,span=', _init_125),
-    'urdftool.parse.srdf.JointValue': ('name,values,span=', _init_126),
-    'urdftool.parse.srdf.Named': ('name,span=', _init_127),
-    'urdftool.parse.srdf.Srdf': ('path,robot_name=,groups*,group_states*,end_effectors*,virtual_joints*,passive_joints*,collisions*,default_disabled*,diagnostics*,span=,files*', _init_128),
-    'urdftool.parse.srdf.VirtualJoint': ('name,type,parent_frame,child_link,span=', _init_129),
-    'urdftool.parse.urdf.UrdfReader': ('path,sources,resolver,expanded=,document=,values!,span!|post_init', _init_130),
-    'urdftool.parse.values.ValueReader': ('sources,diagnostics*,check_substitutions=,locate=', _init_131),
-    'urdftool.parse.xacro.XacroResult': ('document,diagnostics*,files*,macro_library=', _init_132),
-    'urdftool.parse.xacro._Session': ('resolver,top,diagnostics*,files*,found_packages*,syntax_failed=,macros*,top_builds_robot=,top_macros*,arguments*', _init_133),
-    'urdftool.parse.xacro_args.KnownArgument': ('span,default', _init_134),
-    'urdftool.parse.xmlio.XmlDocument': ('root,path,positions=,may_use_xacro=', _init_135),
-    'urdftool.physics.bodies.MassRole': ('why,severity,joint,carrier,carrier_mass', _init_136),
-    'urdftool.physics.bodies.RigidBody': ('head,links,joint', _init_137),
-    'urdftool.physics.inertia.InertiaVerdict': ('moments,positive_definite,triangle_violation', _init_138),
-    'urdftool.physics.linkmass.InertiaComparison': ('source,solid,computed,ratio,worst', _init_139),
-    'urdftool.physics.massprops.SolidProperties': ('volume,center,inertia,bounds_min,bounds_max,label,approximate=', _init_140),
-    'urdftool.physics.mobility.BasePlan': ('kind,reason,free_joint=', _init_141),
-    'urdftool.pipeline.baseline.BaselineResult': ('report,known,fixed', _init_142),
-    'urdftool.pipeline.check.CheckOptions': ('select=,ignore=,xacro_args*,packages*,package_paths=,rule_options*,file_limits*,suppressions=,severity*,srdf=,discover_srdf=,controllers=', _init_143),
-    'urdftool.pipeline.collision.CollisionOptions': ('mode=,threshold=,max_parts=,tolerance=', _init_144),
-    'urdftool.pipeline.collision.Simplification': ('robot,diagnostics*,files*', _init_145),
-    'urdftool.pipeline.convert.Conversion': ('robot,target,out,files*,diagnostics*,refused=,inputs*', _init_146),
-    'urdftool.pipeline.diff.Change': ('kind,subject,field=,old=,new=,size=,unit=,severity=', _init_147),
-    'urdftool.pipeline.diff.RobotDiff': ('old,new,changes,link_renames*,joint_renames*', _init_148),
-    'urdftool.pipeline.fix.FileChange': ('path,before,after,fixed*', _init_149),
-    'urdftool.pipeline.fix.FixResult': ('changes,refused,report,rounds', _init_150),
-    'urdftool.pipeline.fixtext.Attribute': ('name,name_start,name_end,value_start,value_end,quote,raw', _init_151),
-    'urdftool.pipeline.fixtext.SourceText': ('path,data,_starts*', _init_152),
-    'urdftool.pipeline.fixtext.Tag': ('name,start,name_end,end,self_closing,attributes', _init_153),
-    'urdftool.pipeline.home.HomeState': ('name,values', _init_154),
-    'urdftool.pipeline.settings.ConfigFile': ('path,table', _init_155),
-    'urdftool.pipeline.settings.Overrides': ('select=,ignore=,extend_select=,strict=,package_paths=,packages*,xacro_args*,format=,isolated=', _init_156),
-    'urdftool.pipeline.settings.Settings': ('select=,ignore=,severity*,strict=,package_paths=,packages*,xacro_args*,target=,budgets*,format=,config=,sources*', _init_157),
-    'urdftool.pipeline.suppress.Suppression': ('span,whole_file,selectors,used*', _init_158),
-    'urdftool.render.rule_meta.RuleMeta': ('code,name,summary,severity,help_uri', _init_159),
-    'urdftool.rules.gazebo_drive.Wheel': ('joint,centre,axle,diameter', _init_160),
-    'urdftool.rules.gazebo_plugins.DrivePlugin': ('element,kind,pairs*,separations*,diameter=', _init_161),
-    'urdftool.rules.gazebo_plugins.JointRef': ('name,element,owner', _init_162),
-    'urdftool.rules.gz_systems_known.Params': ('links=,link_attributes=,numbers=,integers=,flags=,positive=', _init_163),
-    'urdftool.rules.gz_systems_known.System': ('element,filename,name,stem,cls', _init_164),
-    'urdftool.rules.intent_sweep.Passing': ('side,limit,start,fullest,depth,share,home_share', _init_165),
-    'urdftool.rules.selection.Selection': ('select=,ignore=', _init_166),
-    'urdftool.simulation.run.Exported': ('command,path=,refused*', _init_167),
-    'urdftool.source.SourceIndex': ('files*,_lines*', _init_168),
-    'urdftool.source.Span': ('path,line=,column=,end_line=,end_column=,offset=,end_offset=', _init_169),
-    'urdftool.targets.Target': ('name,label,verified,engine_tested=,missing_inertial=,massless_stops=,floating_root=,fixed_joints=,hulls_collision_meshes=,mimic=,joint_types*,collision_formats=,unread_format_fails=,face_budget=,hull_vertex_limit=,root_inertia_ignored=,inertia_from_collision=,needs_srdf=,keep_fixed=', _init_170),
+    'urdftool.backends.collada.ColladaScene': ('parts,unit', _init_backends_collada_ColladaScene),
+    'urdftool.backends.collada.Part': ('vertices,normals,uv,textured,matrix', _init_backends_collada_Part),
+    'urdftool.backends.collision.CollisionScene': ('robot,pin,geometry,pieces*,meshes*,skipped*,_data=,_gdata=,_pairs*', _init_backends_collision_CollisionScene),
+    'urdftool.backends.collision.Piece': ('link,index,body', _init_backends_collision_Piece),
+    'urdftool.backends.collision_shapes.Primitive': ('kind,size,xyz,rpy', _init_backends_collision_shapes_Primitive),
+    'urdftool.backends.collision_shapes.Simplified': ('mode,parts=,primitive=,volume=,mesh_volume=,note=,cached=', _init_backends_collision_shapes_Simplified),
+    'urdftool.backends.collision_volume.Solid': ('shape,mesh,lower,upper,envelope=', _init_backends_collision_volume_Solid),
+    'urdftool.backends.mesh_formats.MeshFormat': ('kind,extension,faces=', _init_backends_mesh_formats_MeshFormat),
+    'urdftool.backends.mesh_materials.ColouredPart': ('rgba,vertices,faces', _init_backends_mesh_materials_ColouredPart),
+    'urdftool.backends.mesh_shape.ShapeFacts': ('vertices,faces,watertight,winding_consistent,nonmanifold_edges,degenerate_faces,solid_volume,hull_volume,hull_vertices,objects,object_hull_volume', _init_backends_mesh_shape_ShapeFacts),
+    'urdftool.backends.meshes.MeshFacts': ('vertices,faces,watertight,volume,center_mass,second_moment,bounds_min,bounds_max,unit=', _init_backends_meshes_MeshFacts),
+    'urdftool.backends.meshes.MeshInfo': ('path,vertices,faces,watertight,volume,center_mass,inertia_unit_density,bounds_min,bounds_max,unit=', _init_backends_meshes_MeshInfo),
+    'urdftool.backends.mujoco.EngineError': ('message,element=,line=', _init_backends_mujoco_EngineError),
+    'urdftool.backends.pinocchio.PinocchioModel': ('model,link_frames*,joints*,mimics*,free_flyer=', _init_backends_pinocchio_PinocchioModel),
+    'urdftool.backends.pybullet.EngineJoint': ('name,index,type,child,axis,lower,upper,effort,velocity,dof', _init_backends_pybullet_EngineJoint),
+    'urdftool.backends.pybullet.EngineLink': ('name,index,mass,inertia_diagonal,inertial_frame', _init_backends_pybullet_EngineLink),
+    'urdftool.backends.pybullet.PyBulletLoad': ('path,flags=,body=,error=,messages*,_client=,_p=,_joints=', _init_backends_pybullet_PyBulletLoad),
+    'urdftool.diagnostics.Diagnostic': ('code,name,severity,message,location=,element=,help=,data*,related=,fix=', _init_diagnostics_Diagnostic),
+    'urdftool.diagnostics.Edit': ('span,content', _init_diagnostics_Edit),
+    'urdftool.diagnostics.FileReport': ('path,format,robot,diagnostics', _init_diagnostics_FileReport),
+    'urdftool.diagnostics.Fix': ('message,edits,applicability=', _init_diagnostics_Fix),
+    'urdftool.diagnostics.Related': ('span,label', _init_diagnostics_Related),
+    'urdftool.diagnostics.Report': ('files', _init_diagnostics_Report),
+    'urdftool.export.ExportOptions': ('floating_base=,actuators=,repair_inertia=,copy_assets=,scene=,absolute_mesh_paths=,extra*,findings=,fuse_fixed=', _init_export_ExportOptions),
+    'urdftool.export.ExportResult': ('files*,diagnostics*', _init_export_ExportResult),
+    'urdftool.export.VerifyResult': ('ok,rows*,diagnostics*', _init_export_VerifyResult),
+    'urdftool.export.assets.MeshFile': ('reference,converted,source_hash', _init_export_assets_MeshFile),
+    'urdftool.export.assets.MeshFiles': ('out_dir,native,convert,converted_suffix,copy=,files*,_seen*', _init_export_assets_MeshFiles),
+    'urdftool.export.graph.GraphOptions': ('rankdir=,collapse_fixed=,diagnostics=,select=,ignore=|post_init', _init_export_graph_GraphOptions),
+    'urdftool.export.graph.build.GraphSettings': ('rankdir=,collapse_fixed=', _init_export_graph_build_GraphSettings),
+    'urdftool.export.graph.findings.Findings': ('links*,joints*,other*', _init_export_graph_findings_Findings),
+    'urdftool.export.graph.groups.LinkGroups': ('top*,members*,offset*,merged_joints*', _init_export_graph_groups_LinkGroups),
+    'urdftool.export.mjcf_actuators.Drive': ('interface=,reduction=,rotor_inertia=', _init_export_mjcf_actuators_Drive),
+    'urdftool.export.mjcf_assets.AssetPlan': ('out_dir,copy=,meshes*,files*,materials*,_by_content*,_by_path*,_hashes*', _init_export_mjcf_assets_AssetPlan),
+    'urdftool.export.mjcf_assets.MeshAsset': ('name,file,scale', _init_export_mjcf_assets_MeshAsset),
+    'urdftool.export.mjcf_assets.VisualPart': ('mesh,material', _init_export_mjcf_assets_VisualPart),
+    'urdftool.export.mjcf_bodies.BodyTree': ('joints*,diagnostics*', _init_export_mjcf_bodies_BodyTree),
+    'urdftool.export.mjcf_bodies.MjJoint': ('name,kind,source,home,range=', _init_export_mjcf_bodies_MjJoint),
+    'urdftool.export.mjcf_classes._Member': ('joint,actuator', _init_export_mjcf_classes__Member),
+    'urdftool.export.mjcf_keyframe.LoopSolve': ('before,after,steps', _init_export_mjcf_keyframe_LoopSolve),
+    'urdftool.export.mjcf_verify.Errors': ('position=,rotation=,matrix=,worst_link=', _init_export_mjcf_verify_Errors),
+    'urdftool.export.mjcf_verify.JointMap': ('joint,kind,mj_qpos,mj_dof,pin_q,pin_v,origin', _init_export_mjcf_verify_JointMap),
+    'urdftool.export.pybullet.BasePlan': ('robot,diagnostics=', _init_export_pybullet_BasePlan),
+    'urdftool.export.pybullet.ExportPlan': ('robot,unfused,fusion,diagnostics=', _init_export_pybullet_ExportPlan),
+    'urdftool.export.pybullet.PyBulletFlavor': ('name=,joint_types*,extra_shapes=,filenames*', _init_export_pybullet_PyBulletFlavor),
+    'urdftool.export.pybullet_fuse.FusedFrame': ('link,into,pose,joint', _init_export_pybullet_fuse_FusedFrame),
+    'urdftool.export.pybullet_fuse.Fusion': ('robot,frames=', _init_export_pybullet_fuse_Fusion),
+    'urdftool.export.pybullet_inertia.PyBulletInertia': ('inertials*,base=,diagnostics*', _init_export_pybullet_inertia_PyBulletInertia),
+    'urdftool.export.pybullet_meshes.MeshPlan': ('files,filenames*,diagnostics*,_colours*', _init_export_pybullet_meshes_MeshPlan),
+    'urdftool.export.pybullet_verify.Comparison': ('robot,rows*', _init_export_pybullet_verify_Comparison),
+    'urdftool.export.pybullet_verify.Worst': ('quantity,tolerance=,error=,element=,span=', _init_export_pybullet_verify_Worst),
+    'urdftool.export.sdf.SdfWriter': ('robot,tree,diagnostics*', _init_export_sdf_SdfWriter),
+    'urdftool.export.urdf.UrdfFlavor': ('name=,joint_types*,extra_shapes=', _init_export_urdf_UrdfFlavor),
+    'urdftool.export.urdf.UrdfWriter': ('robot,flavor=,diagnostics*', _init_export_urdf_UrdfWriter),
+    'urdftool.facts.collisions.Matrix': ('links,reasons*,samples=,seed=,sometimes*', _init_facts_collisions_Matrix),
+    'urdftool.facts.collisions.NotChecked': ('reason', _init_facts_collisions_NotChecked),
+    'urdftool.facts.collisions.Overlap': ('link1,link2,depth', _init_facts_collisions_Overlap),
+    'urdftool.facts.context.CheckContext': ('robot,tree,options*,cache*,simulator=', _init_facts_context_CheckContext),
+    'urdftool.facts.dynamics.analysis.Conditioning': ('condition,smallest,largest,configuration,sample,matrix,names', _init_facts_dynamics_analysis_Conditioning),
+    'urdftool.facts.dynamics.analysis.DynamicsAnalysis': ('floating,base_reason,dof,samples,conditioning,gravity*,gravity_computed=,dense=', _init_facts_dynamics_analysis_DynamicsAnalysis),
+    'urdftool.facts.dynamics.analysis.GravityLoad': ('joint,torque,configuration,sample', _init_facts_dynamics_analysis_GravityLoad),
+    'urdftool.facts.dynamics.configurations.Samples': ('joints,values,others', _init_facts_dynamics_configurations_Samples),
+    'urdftool.facts.dynamics.coverage.NotCovered': ('reason,elements=', _init_facts_dynamics_coverage_NotCovered),
+    'urdftool.facts.dynamics.run.Skipped': ('why', _init_facts_dynamics_run_Skipped),
+    'urdftool.facts.meshes.MeshUse': ('link,role,mesh,origin', _init_facts_meshes_MeshUse),
+    'urdftool.facts.range_sweep.Sweep': ('joint,parent,child,lower,upper,home,home_depth,angles,depths,step,exact', _init_facts_range_sweep_Sweep),
+    'urdftool.facts.ros2_control.Block': ('name,type,element,plugin,components=,hardware_params*', _init_facts_ros2_control_Block),
+    'urdftool.facts.ros2_control.Component': ('kind,name,element,command=,state=,params*', _init_facts_ros2_control_Component),
+    'urdftool.facts.ros2_control.Interface': ('name,element,params*', _init_facts_ros2_control_Interface),
+    'urdftool.facts.simulation.SimResult': ('scene,runs', _init_facts_simulation_SimResult),
+    'urdftool.facts.simulation.options.SimOptions': ('engines=,duration=,timestep=,hold=,repair_inertia=', _init_facts_simulation_options_SimOptions),
+    'urdftool.facts.simulation.record.EngineRun': ('engine,refused*,loaded=,unavailable=,timestep=,steps=,wall_time=,diverged_at=,max_joint_speed=,fastest_joint=,late_joint_speed=,late_fastest_joint=,max_base_speed=,energy_initial=,energy_max=,energy_final=,energy_scale=,base_displacement=,base_late_speed=,base_late_distance=,penetrations*,loop_gap=,limit_violations*,mimic_error=,mimic_joint=', _init_facts_simulation_record_EngineRun),
+    'urdftool.facts.simulation.record.LimitViolation': ('joint,amount,position,bound,time', _init_facts_simulation_record_LimitViolation),
+    'urdftool.facts.simulation.record.Penetration': ('link_a,link_b,depth', _init_facts_simulation_record_Penetration),
+    'urdftool.facts.simulation.scene.Scene': ('robot,tree,floating,base_reason,start,neighbours*,size=', _init_facts_simulation_scene_Scene),
+    'urdftool.facts.srdf.GroupContents': ('joints*,links*', _init_facts_srdf_GroupContents),
+    'urdftool.lsp.analysis.LineEdit': ('start,end,text', _init_lsp_analysis_LineEdit),
+    'urdftool.lsp.analysis.Placed': ('diagnostic,line,start,end', _init_lsp_analysis_Placed),
+    'urdftool.lsp.analysis.TextEdit': ('path,start,end,text', _init_lsp_analysis_TextEdit),
+    'urdftool.model.geometry.Box': ('size,span=', _init_model_geometry_Box),
+    'urdftool.model.geometry.Capsule': ('radius,length,span=', _init_model_geometry_Capsule),
+    'urdftool.model.geometry.Cylinder': ('radius,length,span=', _init_model_geometry_Cylinder),
+    'urdftool.model.geometry.Ellipsoid': ('radii,span=', _init_model_geometry_Ellipsoid),
+    'urdftool.model.geometry.Mesh': ('filename,resolved=,scale=,span=,resolution=', _init_model_geometry_Mesh),
+    'urdftool.model.geometry.Plane': ('normal=,size=,span=', _init_model_geometry_Plane),
+    'urdftool.model.geometry.Resolution': ('path,tried=,package=,package_missing=,package_dir=', _init_model_geometry_Resolution),
+    'urdftool.model.geometry.Sphere': ('radius,span=', _init_model_geometry_Sphere),
+    'urdftool.model.pose.Pose': ('xyz=,rpy=', _init_model_pose_Pose),
+    'urdftool.model.robot.Calibration': ('rising=,falling=,span=', _init_model_robot_Calibration),
+    'urdftool.model.robot.Collision': ('geometry,origin=,name=,span=', _init_model_robot_Collision),
+    'urdftool.model.robot.Dynamics': ('damping=,friction=,span=,spring_stiffness=,spring_reference=', _init_model_robot_Dynamics),
+    'urdftool.model.robot.Extension': ('tag,attributes,element,span=', _init_model_robot_Extension),
+    'urdftool.model.robot.Inertial': ('mass,inertia,origin=,span=,mass_span=,inertia_span=', _init_model_robot_Inertial),
+    'urdftool.model.robot.Joint': ('name,type,parent,child,origin=,axis=,limit=,dynamics=,mimic=,safety_controller=,calibration=,span=,axis_span=,axis2=,limit2=,extensions=', _init_model_robot_Joint),
+    'urdftool.model.robot.Limit': ('lower=,upper=,effort=,velocity=,span=,lower_span=,upper_span=', _init_model_robot_Limit),
+    'urdftool.model.robot.Link': ('name,inertial=,visuals=,collisions=,span=,extensions=', _init_model_robot_Link),
+    'urdftool.model.robot.LoopClosure': ('joint,parent_anchor,child_anchor', _init_model_robot_LoopClosure),
+    'urdftool.model.robot.Material': ('name,color=,texture=,span=', _init_model_robot_Material),
+    'urdftool.model.robot.Mimic': ('joint,multiplier=,offset=,span=', _init_model_robot_Mimic),
+    'urdftool.model.robot.Robot': ('name,links=,joints=,materials=,extensions=,loop_closures=,path=,format=,span=,diagnostics=,home=,root_poses=,world_plugins=', _init_model_robot_Robot),
+    'urdftool.model.robot.SafetyController': ('k_velocity,k_position=,soft_lower_limit=,soft_upper_limit=,span=', _init_model_robot_SafetyController),
+    'urdftool.model.robot.Visual': ('geometry,origin=,name=,material=,span=', _init_model_robot_Visual),
+    'urdftool.model.tree.KinematicTree': ('robot,parent_joint*,child_joints*,cycle_joints*', _init_model_tree_KinematicTree),
+    'urdftool.parse.Loaded': ('path,format,robot,diagnostics*,files*,srdf=,controllers=', _init_parse_Loaded),
+    'urdftool.parse.controllers.Controller': ('name,span,type=,params*', _init_parse_controllers_Controller),
+    'urdftool.parse.controllers.ControllerConfig': ('path,controllers*,diagnostics*', _init_parse_controllers_ControllerConfig),
+    'urdftool.parse.controllers.Controllers': ('configs*,missing*,given=', _init_parse_controllers_Controllers),
+    'urdftool.parse.controllers.Value': ('value,span', _init_parse_controllers_Value),
+    'urdftool.parse.packages.Lookup': ('path,tried*,package=,package_missing=,package_dir=', _init_parse_packages_Lookup),
+    'urdftool.parse.packages.PackageResolver': ('packages*,package_paths*,environ*,_scanned*,_found*', _init_parse_packages_PackageResolver),
+    'urdftool.parse.sdf_elements.JointDetails': ('type,axis,axis_frame,limit,dynamics,axis_span,axis2=,axis2_frame=,limit2=', _init_parse_sdf_elements_JointDetails),
+    'urdftool.parse.sdf_elements.LinkBodyReader': ('values,resolver,path', _init_parse_sdf_elements_LinkBodyReader),
+    'urdftool.parse.sdf_elements.PlacedElement': ('item,relative_to,pose_span', _init_parse_sdf_elements_PlacedElement),
+    'urdftool.parse.sdf_frames.FrameGraph': ('nodes*,aliases*,diagnostics*,_poses*,_links*,_reported*', _init_parse_sdf_frames_FrameGraph),
+    'urdftool.parse.sdf_frames.FrameNode': ('name,kind,pose,relative_to,attached_to,span=,attached_span=', _init_parse_sdf_frames_FrameNode),
+    'urdftool.parse.sdf_include.IncludedFile': ('uri,path,document,diagnostics*,standard=', _init_parse_sdf_include_IncludedFile),
+    'urdftool.parse.sdf_model.SdfModelReader': ('path,resolver,values*,graph*,files*,links*,joints*,frames*,extensions*,merged_frames*', _init_parse_sdf_model_SdfModelReader),
+    'urdftool.parse.sdf_model._RawFrame': ('name,element', _init_parse_sdf_model__RawFrame),
+    'urdftool.parse.sdf_model._RawJoint': ('name,element,parent,child,scope,version,key=,model_frame=', _init_parse_sdf_model__RawJoint),
+    'urdftool.parse.sdf_model._RawLink': ('name,element,version', _init_parse_sdf_model__RawLink),
+    'urdftool.parse.sdf_semantics.SdfSemantics': ('version,values*,out*', _init_parse_sdf_semantics_SdfSemantics),
+    'urdftool.parse.sdf_semantics._Scope': ('names*,opaque*,canonical*', _init_parse_sdf_semantics__Scope),
+    'urdftool.parse.srdf.Chain': ('base,tip,span=', _init_parse_srdf_Chain),
+    'urdftool.parse.srdf.CollisionPair': ('link1,link2,reason,span=,enable=', _init_parse_srdf_CollisionPair),
+    'urdftool.parse.srdf.EndEffector': ('name,parent_link,group,parent_group=,span=', _init_parse_srdf_EndEffector),
+    'urdftool.parse.srdf.Group': ('name,links=,joints=,chains=,subgroups=,span=', _init_parse_srdf_Group),
+    'urdftool.parse.srdf.GroupState': ('name,group,joints=,span=', _init_parse_srdf_GroupState),
+    'urdftool.parse.srdf.JointValue': ('name,values,span=', _init_parse_srdf_JointValue),
+    'urdftool.parse.srdf.Named': ('name,span=', _init_parse_srdf_Named),
+    'urdftool.parse.srdf.Srdf': ('path,robot_name=,groups*,group_states*,end_effectors*,virtual_joints*,passive_joints*,collisions*,default_disabled*,diagnostics*,span=,files*', _init_parse_srdf_Srdf),
+    'urdftool.parse.srdf.VirtualJoint': ('name,type,parent_frame,child_link,span=', _init_parse_srdf_VirtualJoint),
+    'urdftool.parse.urdf.UrdfReader': ('path,sources,resolver,expanded=,document=,values!,span!|post_init', _init_parse_urdf_UrdfReader),
+    'urdftool.parse.values.ValueReader': ('sources,diagnostics*,check_substitutions=,locate=', _init_parse_values_ValueReader),
+    'urdftool.parse.xacro.XacroResult': ('document,diagnostics*,files*,macro_library=', _init_parse_xacro_XacroResult),
+    'urdftool.parse.xacro._Session': ('resolver,top,diagnostics*,files*,found_packages*,syntax_failed=,macros*,top_builds_robot=,top_macros*,arguments*', _init_parse_xacro__Session),
+    'urdftool.parse.xacro_args.KnownArgument': ('span,default', _init_parse_xacro_args_KnownArgument),
+    'urdftool.parse.xmlio.XmlDocument': ('root,path,positions=,may_use_xacro=', _init_parse_xmlio_XmlDocument),
+    'urdftool.physics.bodies.MassRole': ('why,severity,joint,carrier,carrier_mass', _init_physics_bodies_MassRole),
+    'urdftool.physics.bodies.RigidBody': ('head,links,joint', _init_physics_bodies_RigidBody),
+    'urdftool.physics.inertia.InertiaVerdict': ('moments,positive_definite,triangle_violation', _init_physics_inertia_InertiaVerdict),
+    'urdftool.physics.linkmass.InertiaComparison': ('source,solid,computed,ratio,worst', _init_physics_linkmass_InertiaComparison),
+    'urdftool.physics.massprops.SolidProperties': ('volume,center,inertia,bounds_min,bounds_max,label,approximate=', _init_physics_massprops_SolidProperties),
+    'urdftool.physics.mobility.BasePlan': ('kind,reason,free_joint=', _init_physics_mobility_BasePlan),
+    'urdftool.pipeline.baseline.BaselineResult': ('report,known,fixed', _init_pipeline_baseline_BaselineResult),
+    'urdftool.pipeline.check.CheckOptions': ('select=,ignore=,xacro_args*,packages*,package_paths=,rule_options*,file_limits*,suppressions=,severity*,srdf=,discover_srdf=,controllers=', _init_pipeline_check_CheckOptions),
+    'urdftool.pipeline.collision.CollisionOptions': ('mode=,threshold=,max_parts=,tolerance=', _init_pipeline_collision_CollisionOptions),
+    'urdftool.pipeline.collision.Simplification': ('robot,diagnostics*,files*', _init_pipeline_collision_Simplification),
+    'urdftool.pipeline.convert.Conversion': ('robot,target,out,files*,diagnostics*,refused=,inputs*', _init_pipeline_convert_Conversion),
+    'urdftool.pipeline.diff.Change': ('kind,subject,field=,old=,new=,size=,unit=,severity=', _init_pipeline_diff_Change),
+    'urdftool.pipeline.diff.RobotDiff': ('old,new,changes,link_renames*,joint_renames*', _init_pipeline_diff_RobotDiff),
+    'urdftool.pipeline.fix.FileChange': ('path,before,after,fixed*', _init_pipeline_fix_FileChange),
+    'urdftool.pipeline.fix.FixResult': ('changes,refused,report,rounds', _init_pipeline_fix_FixResult),
+    'urdftool.pipeline.fixtext.Attribute': ('name,name_start,name_end,value_start,value_end,quote,raw', _init_pipeline_fixtext_Attribute),
+    'urdftool.pipeline.fixtext.SourceText': ('path,data,_starts*', _init_pipeline_fixtext_SourceText),
+    'urdftool.pipeline.fixtext.Tag': ('name,start,name_end,end,self_closing,attributes', _init_pipeline_fixtext_Tag),
+    'urdftool.pipeline.home.HomeState': ('name,values', _init_pipeline_home_HomeState),
+    'urdftool.pipeline.settings.ConfigFile': ('path,table', _init_pipeline_settings_ConfigFile),
+    'urdftool.pipeline.settings.Overrides': ('select=,ignore=,extend_select=,strict=,package_paths=,packages*,xacro_args*,format=,isolated=', _init_pipeline_settings_Overrides),
+    'urdftool.pipeline.settings.Settings': ('select=,ignore=,severity*,strict=,package_paths=,packages*,xacro_args*,target=,budgets*,format=,config=,sources*', _init_pipeline_settings_Settings),
+    'urdftool.pipeline.suppress.Suppression': ('span,whole_file,selectors,used*', _init_pipeline_suppress_Suppression),
+    'urdftool.render.rule_meta.RuleMeta': ('code,name,summary,severity,help_uri', _init_render_rule_meta_RuleMeta),
+    'urdftool.rules.gazebo_drive.Wheel': ('joint,centre,axle,diameter', _init_rules_gazebo_drive_Wheel),
+    'urdftool.rules.gazebo_plugins.DrivePlugin': ('element,kind,pairs*,separations*,diameter=', _init_rules_gazebo_plugins_DrivePlugin),
+    'urdftool.rules.gazebo_plugins.JointRef': ('name,element,owner', _init_rules_gazebo_plugins_JointRef),
+    'urdftool.rules.gz_systems_known.Params': ('links=,link_attributes=,numbers=,integers=,flags=,positive=', _init_rules_gz_systems_known_Params),
+    'urdftool.rules.gz_systems_known.System': ('element,filename,name,stem,cls', _init_rules_gz_systems_known_System),
+    'urdftool.rules.intent_sweep.Passing': ('side,limit,start,fullest,depth,share,home_share', _init_rules_intent_sweep_Passing),
+    'urdftool.rules.selection.Selection': ('select=,ignore=', _init_rules_selection_Selection),
+    'urdftool.simulation.run.Exported': ('command,path=,refused*', _init_simulation_run_Exported),
+    'urdftool.source.SourceIndex': ('files*,_lines*', _init_source_SourceIndex),
+    'urdftool.source.Span': ('path,line=,column=,end_line=,end_column=,offset=,end_offset=', _init_source_Span),
+    'urdftool.targets.Target': ('name,label,verified,engine_tested=,missing_inertial=,massless_stops=,floating_root=,fixed_joints=,hulls_collision_meshes=,mimic=,joint_types*,collision_formats=,unread_format_fails=,face_budget=,hull_vertex_limit=,root_inertia_ignored=,inertia_from_collision=,needs_srdf=,keep_fixed=', _init_targets_Target),
 }

@@ -35,8 +35,8 @@ def render() -> str:
     ours = {qualified_name(c): c for c in REGISTERED if c.__module__.startswith("urdftool.")}
     classes = sorted(ours.items())
     out, entries = [_HEADER], []
-    for index, (name, cls) in enumerate(classes):
-        function = f"_init_{index}"
+    for name, cls in classes:
+        function = "_init_" + name.removeprefix("urdftool.").replace(".", "_")
         out += ["", f"# {name}", init_source(cls, function)]
         entries.append(f"    {name!r}: ({init_shape(cls)!r}, {function}),")
     out += ["", "COMPILED = {", *entries, "}", ""]

@@ -17,7 +17,6 @@ carried), nor has a primitive without a material: both come back with colour
 
 from __future__ import annotations
 
-from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:
@@ -31,6 +30,7 @@ from urdftool.backends.meshes import (
     collada_unit,
     quiet_numerics,
 )
+from urdftool.records import record
 from urdftool.safe_files import check_regular
 
 #: A part MuJoCo can compile as a mesh of its own needs 4 distinct vertices and some area (m²):
@@ -43,7 +43,7 @@ MIN_AREA = 1e-8
 RGBA8 = tuple[int, int, int, int]
 
 
-@dataclass(frozen=True, eq=False)  # compared by identity: its fields are arrays
+@record(eq=False)  # compared by identity: its fields are arrays
 class ColouredPart:
     """The triangles of one colour: ``vertices`` (n × 3, metres, the file's frame) and ``faces``."""
 
