@@ -164,3 +164,33 @@ def test_cache_entry_packs_and_unpacks() -> None:
     assert mjcf_assets._unpack_parts(mjcf_assets._pack_parts(parts)) == parts
     assert mjcf_assets._unpack_parts(mjcf_assets._pack_parts(())) == ()
     assert mesh_cache.SCHEMA == 3  # a new kind of entry, not a new meaning for the old ones
+
+
+def test_obj_visual_split_by_its_mtl_colours(tmp_path: Path, fresh_cache: Path) -> None:
+    """An OBJ's ``.mtl`` materials colour its parts, as Assimp shows them in RViz and as obj2mjcf
+    splits them for MuJoCo (which reads no ``.mtl``); an OBJ without one keeps the URDF colour."""
+    for suffix in (".obj", ".mtl"):
+        shutil.copy(FIXTURES / "robots" / f"two_colours{suffix}", tmp_path / f"two_colours{suffix}")
+    lines = (FIXTURES / "robots" / "two_colours.obj").read_text().splitlines()
+    (tmp_path / "plain.obj").write_text(  # the same cubes without materials
+        "\n".join(line for line in lines if not line.startswith(("mtllib", "usemtl"))) + "\n")
+    (tmp_path / "robot.urdf").write_text(
+        '<robot name="colours"><material name="blue"><color rgba="0 0 1 1"/></material>'
+        f'<link name="base">{INERTIAL}'
+        '<visual><geometry><mesh filename="two_colours.obj"/></geometry><material name="blue"/></visual>'
+        '<visual><geometry><mesh filename="plain.obj"/></geometry><material name="blue"/></visual>'
+        '<collision><geometry><mesh filename="two_colours.obj"/></geometry></collision></link></robot>')
+    robot = read(tmp_path / "robot.urdf")[0].robot
+    out = tmp_path / "out" / "robot.xml"
+    root = _export(robot, out)
+    visual = root.findall(".//geom[@class='visual']")
+    assert [g.get("material") for g in visual] == ["rgba_808080ff", "rgba_ff0000ff", None]
+    assert visual[2].get("rgba") == "0 0 1 1"
+    model = mujoco.MjModel.from_xml_path(str(out))
+    by_name = {mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_MATERIAL, i): model.mat_rgba[i]
+               for i in range(model.nmat)}
+    assert np.allclose(by_name["rgba_ff0000ff"], [1, 0, 0, 1])
+    assert np.allclose(by_name["rgba_808080ff"], [0.502, 0.502, 0.502, 1], atol=1e-3)
+    # each colour's part is its own cube: 8 vertices, 12 triangles
+    assert [int(model.mesh_facenum[model.geom_dataid[g]]) for g in range(model.ngeom)
+            if model.geom_group[g] == 2 and model.geom_matid[g] >= 0] == [12, 12]

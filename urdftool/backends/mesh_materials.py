@@ -1,4 +1,4 @@
-"""A COLLADA file's triangles split by the colour of their material, for visual exports.
+"""A COLLADA or OBJ file's triangles split by the colour of their material, for visual exports.
 
 The lean reader (:mod:`urdftool.backends.collada`) takes geometry only, which is
 all a check needs. An export that shows the robot as RViz shows it needs the
@@ -7,7 +7,8 @@ colours too: a ``.dae`` visual often holds several materials (the Panda's
 file with trimesh's COLLADA loader (pycollada), which keeps each primitive's
 material, and returns one triangle soup per distinct diffuse colour, placed by
 the scene graph and scaled by ``<unit meter>`` as :func:`~urdftool.backends.meshes.load_trimesh`
-places and scales the whole mesh.
+places and scales the whole mesh. An OBJ file's colours are in the ``.mtl`` library it names
+(``mtllib``, ``usemtl``), which trimesh reads too; OBJ has no unit (metres, as URDF reads it).
 
 Colours are trimesh's: the material's diffuse colour (``baseColorFactor``),
 8 bits per channel. A textured material has no colour here (the texture is not
@@ -72,11 +73,15 @@ def material_rgba(visual: Any) -> RGBA8 | None:
     return (r, g, b, a or 255)
 
 
+#: The mesh formats whose files carry material colours (STL carries none).
+COLOURED_SUFFIXES = (".dae", ".obj")
+
+
 def coloured_parts(path: str) -> list[ColouredPart]:
-    """The COLLADA file at *path* as one part per diffuse colour (sorted: no colour first, then by
-    colour; patches too small for a MuJoCo mesh joined to the largest part); ``[]`` when it has no
-    coloured material or trimesh cannot read it (the caller then uses the mesh as one piece,
-    without a colour of its own)."""
+    """The COLLADA or OBJ file at *path* as one part per diffuse colour (sorted: no colour first,
+    then by colour; patches too small for a MuJoCo mesh joined to the largest part); ``[]`` when it
+    has no coloured material or trimesh cannot read it (the caller then uses the mesh as one
+    piece, without a colour of its own)."""
     import trimesh
 
     _quiet_trimesh_log()
@@ -84,7 +89,8 @@ def coloured_parts(path: str) -> list[ColouredPart]:
         check_regular(path, "mesh")
     except OSError:
         return []
-    if not path.lower().endswith(".dae") or collada_declares_entities(path):
+    collada = path.lower().endswith(".dae")
+    if not path.lower().endswith(COLOURED_SUFFIXES) or (collada and collada_declares_entities(path)):
         return []
     try:
         with quiet_numerics():
@@ -102,7 +108,7 @@ def coloured_parts(path: str) -> list[ColouredPart]:
         groups.setdefault(material_rgba(geometry.visual), []).append(placed)
     if not any(key is not None for key in groups):
         return []
-    unit = collada_unit(path)
+    unit = collada_unit(path) if collada else 1.0
     parts = []
     for rgba, meshes in groups.items():
         vertices = np.concatenate([m.vertices for m in meshes]) * unit

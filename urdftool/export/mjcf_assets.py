@@ -6,10 +6,11 @@ mesh trimesh can load (DAE, ASCII STL, PLY, ...) is converted to binary STL in
 With ``copy_assets`` the readable meshes are copied there too; otherwise they
 are referenced by their path relative to OUT's folder.
 
-A COLLADA visual with materials of several colours is split into one mesh
+A COLLADA or OBJ visual with materials of several colours is split into one mesh
 per colour, each with a ``<material>`` of that colour (:meth:`AssetPlan.visual_parts`),
 as MuJoCo Menagerie writes its Panda (``link0_0`` … with ``off_white``,
-``black``); collision geometry always uses the whole mesh.
+``black``) and as ``obj2mjcf`` splits an OBJ by its ``.mtl`` materials; collision
+geometry always uses the whole mesh.
 
 Asset files and ``<mesh>`` names carry a hash of the file's content, so two
 files that share a name (``visual/x.stl``, ``collision/x.stl``) never collide
@@ -30,7 +31,7 @@ import numpy as np
 
 from urdftool.backends import mesh_cache
 from urdftool.backends.collision_shapes import is_generated
-from urdftool.backends.mesh_materials import RGBA8, coloured_parts
+from urdftool.backends.mesh_materials import COLOURED_SUFFIXES, RGBA8, coloured_parts
 from urdftool.backends.meshes import MeshError, load_trimesh
 from urdftool.export.assets import (
     MeshUnavailable,
@@ -140,8 +141,8 @@ def _parts_cached(content: str, path: str) -> tuple[tuple[RGBA8 | None, bytes, s
 
 
 def split_by_colour(path: str) -> tuple[tuple[RGBA8 | None, bytes, str], ...]:
-    """The visual COLLADA file at *path* as (colour, file bytes, suffix) per colour. Empty when it
-    has no colour; one entry with empty bytes when all its triangles share one colour (the whole
+    """The visual COLLADA or OBJ file at *path* as (colour, file bytes, suffix) per colour. Empty
+    when it has no colour; one entry with empty bytes when all its triangles share one colour (the whole
     mesh is used then, the same asset as its collision use)."""
     parts = coloured_parts(path)
     if len(parts) == 1:
@@ -218,12 +219,12 @@ class AssetPlan:
                            reference)
 
     def visual_parts(self, mesh: Mesh) -> list[VisualPart]:
-        """The visual geoms for this geometry: one per colour of a multi-colour COLLADA file
-        (with its material), else the whole mesh: with the material of a single-colour COLLADA
+        """The visual geoms for this geometry: one per colour of a multi-colour COLLADA or OBJ
+        file (with its material), else the whole mesh: with the material of a single-colour
         file, without a colour of its own otherwise. Raises :class:`MeshUnavailable`.
         """
         path = mesh.resolved
-        if path is None or not path.lower().endswith(".dae"):
+        if path is None or not path.lower().endswith(COLOURED_SUFFIXES):
             return [VisualPart(self.mesh_name(mesh), None)]
         content = self._content(path)
         parts = _parts_cached(content, path)
