@@ -204,3 +204,29 @@ def test_cli_suppressions_and_baseline(tmp_path: Path) -> None:
     assert code == 0 and "recorded" in err and baseline.is_file()
     code, out, err = _cli("check", "--no-dynamics", "--baseline", baseline, plain)
     assert code == 0 and "known finding(s) hidden" in err, out
+
+
+@pytest.mark.parametrize("text", [
+    "[tool.urdftool]\nselect = ['S']\n",
+    "[ tool . \"urdftool\" ]\nselect = ['S']\n",
+    "tool.urdftool.select = ['S']\n",
+    "[tool]\nurdftool = { select = ['S'] }\n",
+    "[tool]\nurdftool.select = ['S']\n",
+    "tool = { urdftool = { select = ['S'] } }\n",
+])
+def test_every_spelling_of_the_tool_table_is_found(tmp_path: Path, text: str) -> None:
+    (tmp_path / "pyproject.toml").write_text(text + "[project]\nname = 'arm'\n")
+    config = find_config(tmp_path / "robot.urdf")
+    assert config is not None and config.table == {"select": ["S"]}
+
+
+def test_a_project_naming_urdftool_only_as_a_dependency_is_passed_over(tmp_path: Path) -> None:
+    """No table to read: discovery goes on upward (and a cold start need not import a TOML parser)."""
+    (tmp_path / "urdftool.toml").write_text("select = ['X']\n")
+    project = tmp_path / "arm"
+    project.mkdir()
+    (project / "pyproject.toml").write_text(
+        "[project]\nname = 'arm'\ndependencies = ['urdftool>=0.1']\n"
+        "[project.scripts]\nurdftool-arm = 'arm.cli:main'\n[tool.ruff]\nline-length = 100\n")
+    config = find_config(project / "robot.urdf")
+    assert config is not None and config.path == tmp_path / "urdftool.toml"

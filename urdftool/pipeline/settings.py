@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import fnmatch
 import os
+import re
 import sys
 from collections.abc import Mapping, Sequence
 from dataclasses import field
@@ -145,15 +146,25 @@ def find_config(start: str | os.PathLike[str]) -> ConfigFile | None:
     return None
 
 
+#: Where a TOML document can name urdftool's table: a dotted ``tool.urdftool`` (a table header
+#: ``[tool.urdftool]`` or ``[tool.urdftool.severity]``, or a dotted key), or a ``[tool]`` table or
+#: a ``tool = {…}`` inline table, which may hold an ``urdftool`` key; keys bare or quoted.
+_TOOL_TABLE = re.compile(
+    rb"""["']?tool["']?[ \t]*\.[ \t]*["']?urdftool|^[ \t]*\[[ \t]*["']?tool["']?[ \t]*\]"""
+    rb"""|^[ \t]*["']?tool["']?[ \t]*=""", re.MULTILINE)
+
+
 def _may_configure(path: Path) -> bool:
-    """Whether a ``pyproject.toml`` can hold urdftool's table: TOML spells the key ``urdftool``
-    however the table is written (``[tool.urdftool]``, ``urdftool = {…}`` under ``[tool]``, a
-    dotted key), so a file without that word is passed over unread (and the TOML parser, a few
-    milliseconds of a cold start, is not imported); an unreadable file is read to say why."""
+    """Whether a ``pyproject.toml`` can hold urdftool's table (:data:`_TOOL_TABLE`).
+
+    A project that names urdftool only as a dependency or a script is passed over unread, and
+    the TOML parser, a few milliseconds of a cold start, is not imported; an unreadable file is
+    read to say why."""
     try:
-        return b"urdftool" in path.read_bytes()
+        text = path.read_bytes()
     except OSError:
         return True
+    return b"urdftool" in text and _TOOL_TABLE.search(text) is not None
 
 
 def _load_toml(path: Path) -> dict[str, Any]:
