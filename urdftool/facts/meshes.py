@@ -34,6 +34,7 @@ __all__ = [
     "describe_path",
     "engines_refusing",
     "existing_file",
+    "existing_files",
     "lookup",
     "mesh_extents",
     "mesh_format",
@@ -121,14 +122,41 @@ def existing_file(use: MeshUse) -> str | None:
     return path if os.path.isfile(path) else None
 
 
+def existing_files(ctx: CheckContext) -> list[tuple[MeshUse, str | None]]:
+    """Every mesh element (:func:`mesh_uses`) with its :func:`existing_file`, each file looked
+    at once per check (a robot's meshes are asked for by most of the mesh rules)."""
+    if "mesh-files" not in ctx.cache:
+        ctx.cache["mesh-files"] = [(use, existing_file(use)) for use in mesh_uses(ctx)]
+    found: list[tuple[MeshUse, str | None]] = ctx.cache["mesh-files"]
+    return found
+
+
 def by_file(ctx: CheckContext, role: str | None = None) -> dict[str, list[MeshUse]]:
-    """Existing mesh files -> the elements using them (optionally only visuals or collisions)."""
-    out: dict[str, list[MeshUse]] = {}
-    for use in mesh_uses(ctx):
-        path = existing_file(use)
-        if path is not None and (role is None or use.role == role):
-            out.setdefault(path, []).append(use)
-    return out
+    """Existing mesh files -> the elements using them (optionally only visuals or collisions).
+
+    Shared by every rule of the run: read it, never write into it.
+    """
+    key = ("mesh-by-file", role)
+    if key not in ctx.cache:
+        out: dict[str, list[MeshUse]] = {}
+        for use, path in existing_files(ctx):
+            if path is not None and (role is None or use.role == role):
+                out.setdefault(path, []).append(use)
+        ctx.cache[key] = out
+    found: dict[str, list[MeshUse]] = ctx.cache[key]
+    return found
+
+
+def scaled_diagonal(
+    ctx: CheckContext, path: str, facts: MeshFacts, scale: tuple[float, float, float]
+) -> float:
+    """The bounding-box diagonal (m) of the mesh at *path* (its *facts*) under *scale*, once per
+    file and scale: a robot's links repeat a few meshes many times."""
+    key = ("mesh-diagonal", path, scale)
+    if key not in ctx.cache:
+        ctx.cache[key] = scaled_info(path, facts, scale).diagonal
+    diagonal: float = ctx.cache[key]
+    return diagonal
 
 
 def mesh_format(ctx: CheckContext, path: str) -> MeshFormat | None:
