@@ -14,7 +14,16 @@ import os
 from collections.abc import Iterator
 
 from urdftool.backends.mesh_formats import ENGINE_NAMES, MeshFormat, engines_refusing, sniff
-from urdftool.backends.meshes import MeshError, MeshFacts, MeshInfo, load_many, mesh_info, scaled_info
+from urdftool.backends.meshes import (
+    MeshError,
+    MeshFacts,
+    MeshInfo,
+    box_diagonal,
+    load_many,
+    mesh_info,
+    scaled_bounds,
+    scaled_info,
+)
 from urdftool.facts.context import CheckContext
 from urdftool.model import Link, Mesh, Pose, Resolution
 from urdftool.parse.packages import PackageResolver
@@ -35,6 +44,7 @@ __all__ = [
     "engines_refusing",
     "existing_file",
     "existing_files",
+    "is_file",
     "lookup",
     "mesh_extents",
     "mesh_format",
@@ -126,9 +136,23 @@ def existing_files(ctx: CheckContext) -> list[tuple[MeshUse, str | None]]:
     """Every mesh element (:func:`mesh_uses`) with its :func:`existing_file`, each file looked
     at once per check (a robot's meshes are asked for by most of the mesh rules)."""
     if "mesh-files" not in ctx.cache:
-        ctx.cache["mesh-files"] = [(use, existing_file(use)) for use in mesh_uses(ctx)]
-    found: list[tuple[MeshUse, str | None]] = ctx.cache["mesh-files"]
-    return found
+        found = []
+        for use in mesh_uses(ctx):
+            path = use.mesh.resolved
+            readable = path is not None and not has_substitution(use.mesh.filename) and is_file(ctx, path)
+            found.append((use, path if readable else None))
+        ctx.cache["mesh-files"] = found
+    files: list[tuple[MeshUse, str | None]] = ctx.cache["mesh-files"]
+    return files
+
+
+def is_file(ctx: CheckContext, path: str) -> bool:
+    """``os.path.isfile(path)``, asked of the file system once per check (a robot's visual and
+    collision elements often share one file)."""
+    known: dict[str, bool] = ctx.cache.setdefault("mesh-is-file", {})
+    if path not in known:
+        known[path] = os.path.isfile(path)
+    return known[path]
 
 
 def by_file(ctx: CheckContext, role: str | None = None) -> dict[str, list[MeshUse]]:
@@ -154,7 +178,8 @@ def scaled_diagonal(
     file and scale: a robot's links repeat a few meshes many times."""
     key = ("mesh-diagonal", path, scale)
     if key not in ctx.cache:
-        ctx.cache[key] = scaled_info(path, facts, scale).diagonal
+        lo, hi = scaled_bounds(facts, scale)
+        ctx.cache[key] = box_diagonal(lo, hi)
     diagonal: float = ctx.cache[key]
     return diagonal
 
