@@ -59,6 +59,8 @@ _WORDS = {
     "RIGHT": "LEFT",
 }
 _LETTERS = {"l": "r", "r": "l", "L": "R", "R": "L"}
+#: Every side marker holds one of these letters; a token without any has no other side.
+_SIDE_LETTERS = frozenset(_LETTERS)
 
 
 def mirror_names(name: str) -> list[str]:
@@ -78,6 +80,8 @@ _WORD_LETTER = re.compile(r"^(.*)(left|right|Left|Right)([LR])$")
 
 
 def _swap_token(token: str) -> list[str]:
+    if _SIDE_LETTERS.isdisjoint(token):  # most tokens of a robot's names: "joint", "2", "base"
+        return []
     out = []
     both = _WORD_LETTER.match(token)  # minitaur's ``leftL``: the leg's side and the motor's
     if both:
