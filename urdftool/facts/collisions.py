@@ -176,11 +176,13 @@ def _clamp(joint: Joint, value: float) -> float:
     return min(max(value, lo), hi)
 
 
+_ONE_DOF = (JointType.REVOLUTE, JointType.CONTINUOUS, JointType.PRISMATIC)
+
+
 def _one_dof(robot: Robot, scene: CollisionScene) -> list[tuple[Joint, int]]:
     out = []
     for joint in robot.joints:
-        if joint.type in (JointType.REVOLUTE, JointType.CONTINUOUS, JointType.PRISMATIC) \
-                and joint.name in scene.pin.joints:
+        if joint.type in _ONE_DOF and joint.name in scene.pin.joints:
             out.append((joint, scene.pin.idx_q(joint.name)))
     return out
 
@@ -194,11 +196,17 @@ def _configuration(robot: Robot, scene: CollisionScene, values: dict[str, float]
 
 
 def apply_mimics(robot: Robot, scene: CollisionScene, q: Any) -> None:
-    """Set every mimic follower of *q* (one configuration or a stack of them) from its leader."""
-    for joint, idx in _one_dof(robot, scene):
+    """Set every mimic follower of *q* (one configuration or a stack of them) from its leader.
+
+    Called for every sample of a range sweep: only the followers are looked up in the model.
+    """
+    for joint in robot.joints:
         mimic = joint.mimic
-        if mimic is not None and mimic.joint in scene.pin.joints:
-            q[..., idx] = mimic.offset + mimic.multiplier * q[..., scene.pin.idx_q(mimic.joint)]
+        if mimic is None or joint.type not in _ONE_DOF or joint.name not in scene.pin.joints \
+                or mimic.joint not in scene.pin.joints:
+            continue
+        idx = scene.pin.idx_q(joint.name)
+        q[..., idx] = mimic.offset + mimic.multiplier * q[..., scene.pin.idx_q(mimic.joint)]
 
 
 def _bodies_adjacent(scene: CollisionScene, adjacent_links: set[Pair]) -> set[tuple[int, int]]:
