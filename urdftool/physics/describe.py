@@ -14,7 +14,7 @@ else:
     # NumPy is imported on first use: a structural check must not pay for it.
     from urdftool.lazy import numpy as np
 
-from urdftool.model import Link
+from urdftool.model import Inertial, Link
 from urdftool.model.pose import Matrix
 from urdftool.physics.inertia import assess
 from urdftool.physics.linkmass import TYPICAL_DENSITY, Sources, geometry_sources, geometry_tensor
@@ -67,6 +67,12 @@ def is_zero_tensor(tensor: Matrix) -> bool:
     residue from a converter, and MuJoCo refuses it as not positive definite.
     """
     return not np.any(np.asarray(tensor, dtype=float))
+
+
+def is_zero_inertia(inertial: Inertial) -> bool:
+    """:func:`is_zero_tensor` of the tensor as written, read from its six numbers without
+    building the matrix (every inertia rule asks it of every link)."""
+    return not any(value for row in inertial.inertia for value in row)
 
 
 def suggested_mass(link: Link, sources: Sources | None = None) -> str | None:

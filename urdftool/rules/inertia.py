@@ -36,7 +36,7 @@ from urdftool.physics.bodies import (
 )
 from urdftool.physics.describe import (
     fmt,
-    is_zero_tensor,
+    is_zero_inertia,
     suggested_mass,
     tensor_data,
     valid_tensor_help,
@@ -195,7 +195,7 @@ class ZeroMass(_Inertia):
                 continue
             what = (
                 "zero mass and zero inertia"
-                if is_zero_tensor(inertial.inertia_matrix)
+                if is_zero_inertia(inertial)
                 else "zero mass"
             )
             yield self.diagnostic(
@@ -296,9 +296,7 @@ class InertiaNotPositiveDefinite(_Inertia):
             inertial = link.inertial
             if inertial is None:
                 continue
-            tensor = inertial.inertia_matrix
-            location = inertial.inertia_span or inertial.span or link.span
-            if is_zero_tensor(tensor):
+            if is_zero_inertia(inertial):
                 finding = self._point_mass(ctx, link)
                 if finding is not None:
                     yield finding
@@ -310,10 +308,10 @@ class InertiaNotPositiveDefinite(_Inertia):
             yield self.diagnostic(
                 f"link '{link.name}': inertia is not positive definite, principal moments "
                 f"{fmt(a)}, {fmt(b)}, {fmt(c)} kg·m² (all three must be positive)",
-                location,
+                inertial.inertia_span or inertial.span or link.span,
                 element=_where(link, "inertial", "inertia"),
                 help=valid_tensor_help(link, link_mass.geometry_sources(ctx, link)),
-                data={"moments": [a, b, c], **tensor_data(tensor)},
+                data={"moments": [a, b, c], **tensor_data(inertial.inertia_matrix)},
             )
 
     def _point_mass(self, ctx: CheckContext, link: Link) -> Diagnostic | None:
@@ -397,7 +395,7 @@ class InertiaTriangleInequality(_Inertia):
     def check(self, ctx: CheckContext) -> Iterator[Diagnostic]:
         for link in ctx.robot.links:
             inertial = link.inertial
-            if inertial is None or is_zero_tensor(inertial.inertia_matrix):
+            if inertial is None or is_zero_inertia(inertial):
                 continue
             verdict = link_mass.declared_verdict(ctx, inertial, abs_tol=MIN_MOMENT)
             if not verdict.positive_definite or verdict.triangle_violation is None:
