@@ -1,7 +1,7 @@
 """Facts the default check shares between rules give what the rules computed on their own.
 
 The default check measures each link's geometry, decomposes each declared tensor
-and finds did-you-mean suggestions once (docs/scale.md, "Fourth pass"); these
+and finds did-you-mean suggestions once (docs/scale.md, "Fifth pass"); these
 tests hold the shared answers to the per-call functions they replace, on the
 robots of example-robot-data and on names made up here.
 """
