@@ -18,16 +18,21 @@ def closest(word: str, candidates: Iterable[str], cutoff: float = 0.6) -> str | 
     similarity ratio, 0 to 1)."""
     # difflib.get_close_matches(word, sorted(set(candidates)), n=1, cutoff=cutoff), the same
     # answer (the highest ratio, ties to the later name) without its exact ratio for every name:
-    # each quicker ratio bounds the exact one from above, so a name whose bound is below the best
-    # ratio so far cannot win. Matters for a misspelt name among a large robot's thousand links.
+    # quick_ratio bounds the exact ratio from above, so the names are tried best bound first and
+    # the search stops at the first bound below the best ratio found. Matters for a misspelt name
+    # among a large robot's thousand links.
     matcher = difflib.SequenceMatcher()
     matcher.set_seq2(word)
-    best: tuple[float, str] | None = None
+    bounded: list[tuple[float, str]] = []
     for candidate in set(candidates):
-        floor = cutoff if best is None else max(cutoff, best[0])
         matcher.set_seq1(candidate)
-        if matcher.real_quick_ratio() < floor or matcher.quick_ratio() < floor:
-            continue
+        if matcher.real_quick_ratio() >= cutoff and (bound := matcher.quick_ratio()) >= cutoff:
+            bounded.append((bound, candidate))
+    best: tuple[float, str] | None = None
+    for bound, candidate in sorted(bounded, reverse=True):
+        if best is not None and bound < best[0]:
+            break
+        matcher.set_seq1(candidate)
         score = matcher.ratio()
         if score >= cutoff and (best is None or (score, candidate) > best):
             best = (score, candidate)
