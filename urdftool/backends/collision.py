@@ -86,7 +86,8 @@ class CollisionScene:
         for i, j in pairs:
             self.geometry.addCollisionPair(pin.CollisionPair(i, j))
             self._pairs.append((i, j))
-        self._data = self.pin.model.createData()
+        if self._data is None:  # the kinematics' scratch space does not depend on the pairs
+            self._data = self.pin.model.createData()
         self._gdata = pin.GeometryData(self.geometry)
 
     def neutral(self) -> Any:
@@ -107,7 +108,8 @@ class CollisionScene:
         import pinocchio as pin
 
         pin.computeDistances(self.pin.model, self._data, self.geometry, self._gdata, q)
-        return [float(self._gdata.distanceResults[k].min_distance) for k in range(len(self._pairs))]
+        results = self._gdata.distanceResults  # each attribute read wraps the whole vector again
+        return [float(results[k].min_distance) for k in range(len(self._pairs))]
 
     def placement(self, k: int) -> tuple[Any, Any]:
         """Piece *k*'s rotation (3 × 3) and position (m) in the world frame, as placed by the last

@@ -117,7 +117,12 @@ class MeshInfo:
     @property
     def diagonal(self) -> float:
         """Length of the bounding box diagonal (m): the mesh's size in one number."""
-        return float(np.linalg.norm(self.extents))
+        return box_diagonal(self.bounds_min, self.bounds_max)
+
+
+def box_diagonal(lo: Vec3, hi: Vec3) -> float:
+    """Length (m) of the diagonal of the box from corner *lo* to corner *hi*."""
+    return float(np.linalg.norm((hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2])))
 
 
 # -- per-process memory ----------------------------------------------------------
@@ -558,7 +563,7 @@ def scaled_info(path: str, facts: MeshFacts, scale: Vec3 = (1.0, 1.0, 1.0)) -> M
     det = float(abs(np.prod(s)))
     second = det * (s[:, None] * np.asarray(facts.second_moment, dtype=float) * s[None, :])
     inertia = np.trace(second) * np.eye(3) - second
-    ends = np.array([np.asarray(facts.bounds_min) * s, np.asarray(facts.bounds_max) * s])
+    bounds_min, bounds_max = scaled_bounds(facts, scale)
     return MeshInfo(
         path=path,
         vertices=facts.vertices,
@@ -567,10 +572,17 @@ def scaled_info(path: str, facts: MeshFacts, scale: Vec3 = (1.0, 1.0, 1.0)) -> M
         volume=facts.volume * det,
         center_mass=_vec3(np.asarray(facts.center_mass) * s),
         inertia_unit_density=inertia,
-        bounds_min=_vec3(ends.min(axis=0)),
-        bounds_max=_vec3(ends.max(axis=0)),
+        bounds_min=bounds_min,
+        bounds_max=bounds_max,
         unit=facts.unit,
     )
+
+
+def scaled_bounds(facts: MeshFacts, scale: Vec3 = (1.0, 1.0, 1.0)) -> tuple[Vec3, Vec3]:
+    """The bounds (m) of :func:`scaled_info`, alone: what a size check needs, without the inertia."""
+    s = np.asarray(scale, dtype=float)
+    ends = np.array([np.asarray(facts.bounds_min) * s, np.asarray(facts.bounds_max) * s])
+    return _vec3(ends.min(axis=0)), _vec3(ends.max(axis=0))
 
 
 def mesh_info(path: str, scale: Vec3 = (1.0, 1.0, 1.0)) -> MeshInfo:

@@ -176,11 +176,13 @@ def _clamp(joint: Joint, value: float) -> float:
     return min(max(value, lo), hi)
 
 
+_ONE_DOF = (JointType.REVOLUTE, JointType.CONTINUOUS, JointType.PRISMATIC)
+
+
 def _one_dof(robot: Robot, scene: CollisionScene) -> list[tuple[Joint, int]]:
     out = []
     for joint in robot.joints:
-        if joint.type in (JointType.REVOLUTE, JointType.CONTINUOUS, JointType.PRISMATIC) \
-                and joint.name in scene.pin.joints:
+        if joint.type in _ONE_DOF and joint.name in scene.pin.joints:
             out.append((joint, scene.pin.idx_q(joint.name)))
     return out
 
@@ -193,12 +195,33 @@ def _configuration(robot: Robot, scene: CollisionScene, values: dict[str, float]
     return q
 
 
-def apply_mimics(robot: Robot, scene: CollisionScene, q: Any) -> None:
-    """Set every mimic follower of *q* (one configuration or a stack of them) from its leader."""
-    for joint, idx in _one_dof(robot, scene):
+#: A mimic follower in the configuration vector: its index, its leader's, multiplier, offset.
+Follower = tuple[int, int, float, float]
+
+
+def mimic_followers(robot: Robot, scene: CollisionScene) -> list[Follower]:
+    """Every 1-DOF mimic follower whose leader is in the model, in joint order."""
+    out = []
+    for joint in robot.joints:
         mimic = joint.mimic
-        if mimic is not None and mimic.joint in scene.pin.joints:
-            q[..., idx] = mimic.offset + mimic.multiplier * q[..., scene.pin.idx_q(mimic.joint)]
+        if mimic is None or joint.type not in _ONE_DOF or joint.name not in scene.pin.joints \
+                or mimic.joint not in scene.pin.joints:
+            continue
+        leader = scene.pin.idx_q(mimic.joint)
+        out.append((scene.pin.idx_q(joint.name), leader, mimic.multiplier, mimic.offset))
+    return out
+
+
+def apply_mimics(
+    robot: Robot, scene: CollisionScene, q: Any, followers: list[Follower] | None = None
+) -> None:
+    """Set every mimic follower of *q* (one configuration or a stack of them) from its leader.
+
+    *followers*: :func:`mimic_followers`, when a caller sets many configurations of one scene (a
+    range sweep's samples).
+    """
+    for idx, leader, multiplier, offset in mimic_followers(robot, scene) if followers is None else followers:
+        q[..., idx] = offset + multiplier * q[..., leader]
 
 
 def _bodies_adjacent(scene: CollisionScene, adjacent_links: set[Pair]) -> set[tuple[int, int]]:

@@ -14,7 +14,16 @@ import os
 from collections.abc import Iterator
 
 from urdftool.backends.mesh_formats import ENGINE_NAMES, MeshFormat, engines_refusing, sniff
-from urdftool.backends.meshes import MeshError, MeshFacts, MeshInfo, load_many, mesh_info, scaled_info
+from urdftool.backends.meshes import (
+    MeshError,
+    MeshFacts,
+    MeshInfo,
+    box_diagonal,
+    load_many,
+    mesh_info,
+    scaled_bounds,
+    scaled_info,
+)
 from urdftool.facts.context import CheckContext
 from urdftool.model import Link, Mesh, Pose, Resolution
 from urdftool.parse.packages import PackageResolver
@@ -34,6 +43,8 @@ __all__ = [
     "describe_path",
     "engines_refusing",
     "existing_file",
+    "existing_files",
+    "is_file",
     "lookup",
     "mesh_extents",
     "mesh_format",
@@ -121,14 +132,56 @@ def existing_file(use: MeshUse) -> str | None:
     return path if os.path.isfile(path) else None
 
 
+def existing_files(ctx: CheckContext) -> list[tuple[MeshUse, str | None]]:
+    """Every mesh element (:func:`mesh_uses`) with its :func:`existing_file`, each file looked
+    at once per check (a robot's meshes are asked for by most of the mesh rules)."""
+    if "mesh-files" not in ctx.cache:
+        found = []
+        for use in mesh_uses(ctx):
+            path = use.mesh.resolved
+            readable = path is not None and not has_substitution(use.mesh.filename) and is_file(ctx, path)
+            found.append((use, path if readable else None))
+        ctx.cache["mesh-files"] = found
+    files: list[tuple[MeshUse, str | None]] = ctx.cache["mesh-files"]
+    return files
+
+
+def is_file(ctx: CheckContext, path: str) -> bool:
+    """``os.path.isfile(path)``, asked of the file system once per check (a robot's visual and
+    collision elements often share one file)."""
+    known: dict[str, bool] = ctx.cache.setdefault("mesh-is-file", {})
+    if path not in known:
+        known[path] = os.path.isfile(path)
+    return known[path]
+
+
 def by_file(ctx: CheckContext, role: str | None = None) -> dict[str, list[MeshUse]]:
-    """Existing mesh files -> the elements using them (optionally only visuals or collisions)."""
-    out: dict[str, list[MeshUse]] = {}
-    for use in mesh_uses(ctx):
-        path = existing_file(use)
-        if path is not None and (role is None or use.role == role):
-            out.setdefault(path, []).append(use)
-    return out
+    """Existing mesh files -> the elements using them (optionally only visuals or collisions).
+
+    Shared by every rule of the run: read it, never write into it.
+    """
+    key = ("mesh-by-file", role)
+    if key not in ctx.cache:
+        out: dict[str, list[MeshUse]] = {}
+        for use, path in existing_files(ctx):
+            if path is not None and (role is None or use.role == role):
+                out.setdefault(path, []).append(use)
+        ctx.cache[key] = out
+    found: dict[str, list[MeshUse]] = ctx.cache[key]
+    return found
+
+
+def scaled_diagonal(
+    ctx: CheckContext, path: str, facts: MeshFacts, scale: tuple[float, float, float]
+) -> float:
+    """The bounding-box diagonal (m) of the mesh at *path* (its *facts*) under *scale*, once per
+    file and scale: a robot's links repeat a few meshes many times."""
+    key = ("mesh-diagonal", path, scale)
+    if key not in ctx.cache:
+        lo, hi = scaled_bounds(facts, scale)
+        ctx.cache[key] = box_diagonal(lo, hi)
+    diagonal: float = ctx.cache[key]
+    return diagonal
 
 
 def mesh_format(ctx: CheckContext, path: str) -> MeshFormat | None:

@@ -32,6 +32,7 @@ swept (``self-collision-not-checked`` says so).
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:
@@ -41,7 +42,13 @@ else:
 
 from urdftool.backends.collision import CollisionScene
 from urdftool.backends.collision_volume import Solid, solid
-from urdftool.facts.collisions import NotChecked, apply_mimics, home_configuration, scene_of
+from urdftool.facts.collisions import (
+    NotChecked,
+    apply_mimics,
+    home_configuration,
+    mimic_followers,
+    scene_of,
+)
 from urdftool.facts.context import CheckContext
 from urdftool.model import Joint, JointType
 from urdftool.records import record
@@ -123,7 +130,7 @@ def _placed(ctx: CheckContext, sweep: Sweep, angle: float
     pairs = _pairs(scene, joint)
     if scene.pairs != pairs:
         scene.use_pairs(pairs)
-    scene.distances(_at(ctx, scene, joint, angle))
+    scene.distances(_poser(ctx, scene, joint)(angle))
     return scene, joint, pairs
 
 
@@ -149,13 +156,23 @@ def _pairs(scene: CollisionScene, joint: Joint) -> list[tuple[int, int]]:
     return [(i, j) for i in mine for j in theirs]
 
 
-def _at(ctx: CheckContext, scene: CollisionScene, joint: Joint, angle: float, home: Any = None) -> Any:
-    """The home configuration (*home*, when already computed) with *joint* at *angle* (rad) and
-    its mimic followers after it."""
-    q = (home if home is not None else home_configuration(ctx, scene)).copy()
-    q[scene.pin.idx_q(joint.name)] = angle
-    apply_mimics(ctx.robot, scene, q)
-    return q
+def _poser(
+    ctx: CheckContext, scene: CollisionScene, joint: Joint, home: Any = None
+) -> Callable[[float], Any]:
+    """The configurations of a sweep of *joint*: the home configuration (*home*, when already
+    computed) with *joint* at an angle (rad) and its mimic followers after it. The joint's place in
+    the configuration and the followers are looked up once for all the sweep's samples."""
+    start = home if home is not None else home_configuration(ctx, scene)
+    index = scene.pin.idx_q(joint.name)
+    followers = mimic_followers(ctx.robot, scene)
+
+    def at(angle: float) -> Any:
+        q = start.copy()
+        q[index] = angle
+        apply_mimics(ctx.robot, scene, q, followers)
+        return q
+
+    return at
 
 
 def _sweeps(ctx: CheckContext, scene: CollisionScene, step: float, budget: int) -> list[Sweep]:
@@ -177,7 +194,8 @@ def _sweeps(ctx: CheckContext, scene: CollisionScene, step: float, budget: int) 
         angles = [lower + (upper - lower) * k / (n - 1) for k in range(n)]
         scene.use_pairs(pairs)
         home_depth = _depth(scene, home)
-        depths = [_depth(scene, _at(ctx, scene, joint, angle, home)) for angle in angles]
+        at = _poser(ctx, scene, joint, home)
+        depths = [_depth(scene, at(angle)) for angle in angles]
         exact = not any(k in scene.meshes for pair in pairs for k in pair)
         out.append(Sweep(joint.name, joint.parent, joint.child, lower, upper,
                          float(home[scene.pin.idx_q(joint.name)]), home_depth,

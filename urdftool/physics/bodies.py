@@ -52,6 +52,12 @@ class RigidBody:
         """Total mass (kg) of the links that declare one (missing ``<inertial>`` counts 0)."""
         return float(sum(link.inertial.mass for link, _ in self.links if link.inertial))
 
+    @cached_property
+    def declared_inertia(self) -> Matrix:
+        """:meth:`composite_inertia` as declared, computed once: several rules weigh one body.
+        Read it, never write into it."""
+        return self.composite_inertia()
+
     def composite_inertia(self, replaced: Mapping[str, Matrix] | None = None) -> Matrix:
         """Inertia (kg·m²) of the welded links about their common centre of mass, head frame.
 

@@ -14,10 +14,10 @@ else:
     # NumPy is imported on first use: a structural check must not pay for it.
     from urdftool.lazy import numpy as np
 
-from urdftool.model import Link
+from urdftool.model import Inertial, Link
 from urdftool.model.pose import Matrix
 from urdftool.physics.inertia import assess
-from urdftool.physics.linkmass import TYPICAL_DENSITY, geometry_sources, geometry_tensor
+from urdftool.physics.linkmass import TYPICAL_DENSITY, Sources, geometry_sources, geometry_tensor
 
 #: Entries below this (kg·m²) print and count as zero.
 ZERO_TENSOR = 1e-15
@@ -69,9 +69,16 @@ def is_zero_tensor(tensor: Matrix) -> bool:
     return not np.any(np.asarray(tensor, dtype=float))
 
 
-def suggested_mass(link: Link) -> str | None:
-    """A help text with the mass the link's geometry has at a typical density, if measurable."""
-    for source, solid in geometry_sources(link):
+def is_zero_inertia(inertial: Inertial) -> bool:
+    """:func:`is_zero_tensor` of the tensor as written, read from its six numbers without
+    building the matrix (every inertia rule asks it of every link)."""
+    return not any(value for row in inertial.inertia for value in row)
+
+
+def suggested_mass(link: Link, sources: Sources | None = None) -> str | None:
+    """A help text with the mass the link's geometry has at a typical density, if measurable
+    (*sources*: the link's geometry, already measured)."""
+    for source, solid in (geometry_sources(link) if sources is None else sources):
         mass = solid.volume * TYPICAL_DENSITY
         tensor = solid.inertia_for_mass(mass)
         return (
@@ -81,11 +88,12 @@ def suggested_mass(link: Link) -> str | None:
     return None
 
 
-def valid_tensor_help(link: Link) -> str | None:
-    """A help text with the tensor of the link's geometry at its mass, in the inertial frame."""
+def valid_tensor_help(link: Link, sources: Sources | None = None) -> str | None:
+    """A help text with the tensor of the link's geometry at its mass, in the inertial frame
+    (*sources*: the link's geometry, already measured)."""
     if link.inertial is None or link.inertial.mass <= 0:
         return None
-    for source, solid in geometry_sources(link):
+    for source, solid in (geometry_sources(link) if sources is None else sources):
         computed = geometry_tensor(link, solid)
         if computed is not None and assess(computed).valid:
             return (

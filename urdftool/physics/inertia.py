@@ -58,7 +58,15 @@ def assess(
     times the trace and ``abs_tol`` (kg·m²; :data:`MIN_MOMENT` is MuJoCo's floor).
     """
     values, _ = principal_moments(tensor)
-    a, b, c = (float(v) for v in values)
+    return judge_moments((float(values[0]), float(values[1]), float(values[2])), rel_tol, abs_tol)
+
+
+def judge_moments(
+    moments: tuple[float, float, float], rel_tol: float = RELATIVE_TOLERANCE, abs_tol: float = 0.0
+) -> InertiaVerdict:
+    """:func:`assess` on principal moments (kg·m², ascending) already computed: a check that
+    judges one tensor against several tolerances decomposes it once."""
+    a, b, c = moments
     scale = max(abs(a) + abs(b) + abs(c), 1e-300)
     tol = rel_tol * scale
     positive = a > tol and a > abs_tol

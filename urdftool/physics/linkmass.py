@@ -11,7 +11,7 @@ values against geometry ask both and trust the one that agrees best.
 from __future__ import annotations
 
 import math
-from collections.abc import Iterator
+from collections.abc import Callable, Iterable, Iterator
 from typing import TYPE_CHECKING
 
 if TYPE_CHECKING:
@@ -20,7 +20,7 @@ else:
     # NumPy is imported on first use: a structural check must not pay for it.
     from urdftool.lazy import numpy as np
 
-from urdftool.model import Collision, Link, Visual
+from urdftool.model import Collision, Geometry, Link, Visual
 from urdftool.model.pose import Matrix
 from urdftool.physics.inertia import principal_moments
 from urdftool.physics.massprops import (
@@ -36,8 +36,17 @@ from urdftool.records import record
 #: plastic, or a hollow aluminium part, which is what most robot links weigh.
 TYPICAL_DENSITY = 1000.0
 
+#: Measures one geometry in its own frame (:func:`geometry_properties`, or a memo of it).
+Measure = Callable[[Geometry | None], SolidProperties | None]
+#: Principal moments (kg·m²), ascending.
+Moments = tuple[float, float, float]
+#: A link's ("collision" or "visual", solid) pairs, as :func:`geometry_sources` yields them.
+Sources = Iterable[tuple[str, SolidProperties]]
 
-def link_solid(elements: tuple[Collision, ...] | tuple[Visual, ...]) -> SolidProperties | None:
+
+def link_solid(
+    elements: tuple[Collision, ...] | tuple[Visual, ...], measure: Measure = geometry_properties
+) -> SolidProperties | None:
     """The combined uniform-density solid of a link's collision or visual elements (link frame).
 
     ``None`` when any element's volume cannot be known (an unresolved or
@@ -45,24 +54,27 @@ def link_solid(elements: tuple[Collision, ...] | tuple[Visual, ...]) -> SolidPro
     """
     parts: list[SolidProperties] = []
     for element in elements:
-        solid = geometry_properties(element.geometry)
+        solid = measure(element.geometry)
         if solid is None:
             return None
         parts.append(place(solid, element.origin))
     return combine(parts)
 
 
-def geometry_sources(link: Link) -> Iterator[tuple[str, SolidProperties]]:
+def geometry_sources(
+    link: Link, measure: Measure = geometry_properties
+) -> Iterator[tuple[str, SolidProperties]]:
     """``("collision", solid)`` then ``("visual", solid)``, lazily, skipping the unmeasurable.
 
     The visual solid is skipped when the visual elements are the same shapes
-    as the collision ones (common in hand-written URDF).
+    as the collision ones (common in hand-written URDF). A check asks through
+    :func:`urdftool.facts.link_mass.geometry_sources`, which measures each link once.
     """
-    collision = link_solid(link.collisions) if link.collisions else None
+    collision = link_solid(link.collisions, measure) if link.collisions else None
     if collision is not None:
         yield "collision", collision
     if link.visuals and _shapes(link.visuals) != _shapes(link.collisions):
-        visual = link_solid(link.visuals)
+        visual = link_solid(link.visuals, measure)
         if visual is not None:
             yield "visual", visual
 
@@ -100,8 +112,13 @@ def geometry_tensor(link: Link, solid: SolidProperties) -> Matrix | None:
     return rotate_into(solid.inertia_for_mass(inertial.mass), inertial.origin)
 
 
-def compare_inertia(link: Link, source: str, solid: SolidProperties) -> InertiaComparison | None:
-    """*link*'s declared inertia against *solid* at its mass; ``None`` if not comparable."""
+def compare_inertia(
+    link: Link, source: str, solid: SolidProperties, declared_moments: Moments | None = None
+) -> InertiaComparison | None:
+    """*link*'s declared inertia against *solid* at its mass; ``None`` if not comparable.
+
+    *declared_moments*: the declared tensor's principal moments (ascending), when already known.
+    """
     computed = geometry_tensor(link, solid)
     if computed is None or link.inertial is None:
         return None
@@ -111,8 +128,9 @@ def compare_inertia(link: Link, source: str, solid: SolidProperties) -> InertiaC
     declared_trace = float(np.trace(declared))
     if computed_trace <= 0 or declared_trace <= 0:
         return None
-    declared_moments, _ = principal_moments(declared)
-    computed_moments, _ = principal_moments(computed)
+    if declared_moments is None:
+        declared_moments = _moments(declared)
+    computed_moments = _moments(computed)
     worst = 1.0
     for d, c in zip(declared_moments, computed_moments, strict=True):
         if d <= 0 or c <= 0:
@@ -126,19 +144,22 @@ def compare_inertia(link: Link, source: str, solid: SolidProperties) -> InertiaC
 MARKER_SIZE = 0.005
 
 
-def compare_with_geometry(link: Link) -> InertiaComparison | None:
+def compare_with_geometry(
+    link: Link, sources: Sources | None = None, declared_moments: Moments | None = None
+) -> InertiaComparison | None:
     """The declared inertia against the collision geometry, or the visual one when the
-    collision geometry cannot be measured.
+    collision geometry cannot be measured (*sources*: the link's, already measured;
+    *declared_moments*: see :func:`compare_inertia`).
 
     One source only, never the better of two: then a link whose inertia is
     accepted is always caught when that inertia is made 10× larger or smaller.
     A shape under MARKER_SIZE across is a marker, not the part (Baxter's 0.55 kg
     head collides as a 1 mm sphere): the next source is used.
     """
-    for source, solid in geometry_sources(link):
+    for source, solid in (geometry_sources(link) if sources is None else sources):
         if bounds_diagonal(solid) < MARKER_SIZE:
             continue
-        comparison = compare_inertia(link, source, solid)
+        comparison = compare_inertia(link, source, solid, declared_moments)
         if comparison is not None:
             return comparison
     return None
@@ -156,6 +177,11 @@ def distance_outside(point: Matrix, solid: SolidProperties) -> float:
     below = np.maximum(solid.bounds_min - point, 0.0)
     above = np.maximum(point - solid.bounds_max, 0.0)
     return float(np.linalg.norm(np.maximum(below, above)))
+
+
+def _moments(tensor: Matrix) -> Moments:
+    values, _ = principal_moments(tensor)
+    return (float(values[0]), float(values[1]), float(values[2]))
 
 
 def bounds_diagonal(solid: SolidProperties) -> float:

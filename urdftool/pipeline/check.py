@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import dataclasses
+import functools
 import os
 from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import field
@@ -23,6 +24,7 @@ from urdftool.rules.registry import model_rules
 from urdftool.safe_files import file_limits
 
 if TYPE_CHECKING:
+    from urdftool.catalogue.registry import Rule
     from urdftool.facts.simulation import Simulator
     from urdftool.pipeline import fixes, provenance
 else:
@@ -70,7 +72,7 @@ def run_rules(
     found = [d for d in robot.diagnostics if selection.enabled_code(d.code)]
     options = dict(options or {})
     ctx = CheckContext(robot, KinematicTree.of(robot), options, simulator=_simulator(options))
-    for rule in model_rules(lambda entry: selection.enabled_code(entry.code)):  # memoised per code
+    for rule in _selected_rules(selection):
         try:
             found.extend(rule().check(ctx))
         except Exception as exc:  # a rule bug must not hide the other findings
@@ -84,6 +86,13 @@ def run_rules(
     if not found:
         return found
     return sorted(provenance.trace(_unique(found), robot), key=Diagnostic.sort_key)
+
+
+@functools.lru_cache(maxsize=64)
+def _selected_rules(selection: Selection) -> tuple[type[Rule], ...]:
+    """The model rules *selection* turns on, in code order: looked up once per selection (every
+    file of a run has the same one), not once per file."""
+    return tuple(model_rules(lambda entry: selection.enabled_code(entry.code)))
 
 
 def _simulator(options: Mapping[str, Any]) -> Simulator | None:

@@ -50,9 +50,9 @@ def scan(path: str) -> list[Suppression]:
             data = handle.read(MAX_SCAN_BYTES)
     except OSError:
         return []
-    text = data.decode("utf-8", errors="replace")
-    if "urdftool:" not in text:
+    if b"urdftool:" not in data:  # most files have no comment: skip decoding them (ASCII in UTF-8)
         return []
+    text = data.decode("utf-8", errors="replace")
     found = []
     for number, line in enumerate(text.splitlines(), 1):
         for match in COMMENT.finditer(line):

@@ -22,6 +22,7 @@ else:
 
 from urdftool.catalogue.registry import Family, Rule, register
 from urdftool.diagnostics import Diagnostic, Severity
+from urdftool.facts import link_mass
 from urdftool.facts.context import CheckContext
 from urdftool.model import Link
 from urdftool.physics.bodies import (
@@ -35,12 +36,12 @@ from urdftool.physics.bodies import (
 )
 from urdftool.physics.describe import (
     fmt,
-    is_zero_tensor,
+    is_zero_inertia,
     suggested_mass,
     tensor_data,
     valid_tensor_help,
 )
-from urdftool.physics.inertia import MIN_MOMENT, assess
+from urdftool.physics.inertia import MIN_MOMENT
 
 
 class _Inertia(Rule):
@@ -137,7 +138,8 @@ class MissingInertial(_Inertia):
                 link.span,
                 element=_where(link),
                 severity=severity,
-                help=suggested_mass(link) or "add <inertial> with the link's mass and inertia",
+                help=suggested_mass(link, link_mass.geometry_sources(ctx, link))
+                or "add <inertial> with the link's mass and inertia",
                 data={
                     "joint": role.joint,
                     "carrier": role.carrier,
@@ -193,7 +195,7 @@ class ZeroMass(_Inertia):
                 continue
             what = (
                 "zero mass and zero inertia"
-                if is_zero_tensor(inertial.inertia_matrix)
+                if is_zero_inertia(inertial)
                 else "zero mass"
             )
             yield self.diagnostic(
@@ -201,7 +203,8 @@ class ZeroMass(_Inertia):
                 inertial.mass_span or inertial.span or link.span,
                 element=_where(link, "inertial", "mass"),
                 severity=_SEVERITY[role.severity],
-                help=suggested_mass(link) or "set the link's real mass and inertia",
+                help=suggested_mass(link, link_mass.geometry_sources(ctx, link))
+                or "set the link's real mass and inertia",
                 data={
                     "mass": inertial.mass,
                     "joint": role.joint,
@@ -293,24 +296,22 @@ class InertiaNotPositiveDefinite(_Inertia):
             inertial = link.inertial
             if inertial is None:
                 continue
-            tensor = inertial.inertia_matrix
-            location = inertial.inertia_span or inertial.span or link.span
-            if is_zero_tensor(tensor):
+            if is_zero_inertia(inertial):
                 finding = self._point_mass(ctx, link)
                 if finding is not None:
                     yield finding
                 continue
-            verdict = assess(tensor, abs_tol=MIN_MOMENT)
+            verdict = link_mass.declared_verdict(ctx, inertial, abs_tol=MIN_MOMENT)
             if verdict.positive_definite:
                 continue
             a, b, c = verdict.moments
             yield self.diagnostic(
                 f"link '{link.name}': inertia is not positive definite, principal moments "
                 f"{fmt(a)}, {fmt(b)}, {fmt(c)} kg·m² (all three must be positive)",
-                location,
+                inertial.inertia_span or inertial.span or link.span,
                 element=_where(link, "inertial", "inertia"),
-                help=valid_tensor_help(link),
-                data={"moments": [a, b, c], **tensor_data(tensor)},
+                help=valid_tensor_help(link, link_mass.geometry_sources(ctx, link)),
+                data={"moments": [a, b, c], **tensor_data(inertial.inertia_matrix)},
             )
 
     def _point_mass(self, ctx: CheckContext, link: Link) -> Diagnostic | None:
@@ -329,7 +330,7 @@ class InertiaNotPositiveDefinite(_Inertia):
         heads = body.head == link.name
         head = body.links[0][0]
         head_has_mass = head.inertial is not None and head.inertial.mass > MIN_VALUE
-        if body.moves and float(np.linalg.eigvalsh(body.composite_inertia())[0]) <= MIN_VALUE:
+        if body.moves and float(np.linalg.eigvalsh(body.declared_inertia)[0]) <= MIN_VALUE:
             if not heads and head_has_mass:
                 return None  # reported once, at the head of the body
             why, severity = f"it moves with joint '{body.joint}'", Severity.ERROR
@@ -350,7 +351,7 @@ class InertiaNotPositiveDefinite(_Inertia):
             inertial.inertia_span or inertial.span or link.span,
             element=_where(link, "inertial", "inertia"),
             severity=severity,
-            help=valid_tensor_help(link),
+            help=valid_tensor_help(link, link_mass.geometry_sources(ctx, link)),
             data={
                 "mass": inertial.mass,
                 "joint": body.joint,
@@ -394,9 +395,9 @@ class InertiaTriangleInequality(_Inertia):
     def check(self, ctx: CheckContext) -> Iterator[Diagnostic]:
         for link in ctx.robot.links:
             inertial = link.inertial
-            if inertial is None or is_zero_tensor(inertial.inertia_matrix):
+            if inertial is None or is_zero_inertia(inertial):
                 continue
-            verdict = assess(inertial.inertia_matrix, abs_tol=MIN_MOMENT)
+            verdict = link_mass.declared_verdict(ctx, inertial, abs_tol=MIN_MOMENT)
             if not verdict.positive_definite or verdict.triangle_violation is None:
                 continue
             a, b, c = verdict.triangle_violation
@@ -406,7 +407,7 @@ class InertiaTriangleInequality(_Inertia):
                 f"A + B ≥ C ({fmt(a)} + {fmt(b)} < {fmt(c)})",
                 inertial.inertia_span or inertial.span or link.span,
                 element=_where(link, "inertial", "inertia"),
-                help=valid_tensor_help(link)
+                help=valid_tensor_help(link, link_mass.geometry_sources(ctx, link))
                 or f"no body has these moments; scaling the two smaller ones by {fmt(scale)} "
                 f"({fmt(a * scale)}, {fmt(b * scale)}) would make A + B = C",
                 data={"moments": [a, b, c], **tensor_data(inertial.inertia_matrix)},

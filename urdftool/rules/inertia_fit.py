@@ -21,6 +21,7 @@ else:
 
 from urdftool.catalogue.registry import register
 from urdftool.diagnostics import Diagnostic, Related, Severity
+from urdftool.facts import link_mass
 from urdftool.facts.context import CheckContext
 from urdftool.model import Link
 from urdftool.physics.bodies import MIN_VALUE
@@ -28,14 +29,11 @@ from urdftool.physics.describe import (
     fmt,
     fmt_tensor,
 )
-from urdftool.physics.inertia import assess
 from urdftool.physics.linkmass import (
     InertiaComparison,
     bounds_diagonal,
-    compare_with_geometry,
     density,
     distance_outside,
-    geometry_sources,
 )
 from urdftool.physics.massprops import SolidProperties
 from urdftool.rules.inertia import _Inertia, _where, bodies, body_of_link
@@ -119,10 +117,10 @@ class InertiaGeometryMismatch(_Inertia):
             if (
                 inertial is None
                 or inertial.mass <= MIN_VALUE
-                or not assess(inertial.inertia_matrix).valid
+                or not link_mass.declared_verdict(ctx, inertial).valid
             ):
                 continue
-            comparison = compare_with_geometry(link)
+            comparison = link_mass.comparison(ctx, link)
             if comparison is None:
                 continue
             if comparison.factor >= INERTIA_FACTOR:
@@ -214,7 +212,7 @@ def _lost_in_body(ctx: CheckContext, link: Link, comparison: InertiaComparison) 
     if body is None or body.head == link.name or link.inertial is None:
         return False
     rotation = link.inertial.origin.rotation
-    declared = float(np.trace(body.composite_inertia()))
+    declared = float(np.trace(body.declared_inertia))
     fitted = float(
         np.trace(body.composite_inertia({link.name: rotation @ comparison.computed @ rotation.T}))
     )
@@ -294,7 +292,7 @@ class ImplausibleDensity(_Inertia):
             if link.inertial is None or link.inertial.mass <= MIN_VALUE or _trace_in_body(ctx, link):
                 continue
             found: list[tuple[float, str, SolidProperties]] = []
-            for source, solid in geometry_sources(link):
+            for source, solid in link_mass.geometry_sources(ctx, link):
                 value = density(link, solid)
                 if value is None:
                     continue
@@ -360,7 +358,7 @@ class ComOutsideGeometry(_Inertia):
                 continue
             com = np.asarray(link.inertial.origin.xyz, dtype=float)
             found: list[tuple[float, float, str, SolidProperties]] = []
-            for source, solid in geometry_sources(link):
+            for source, solid in link_mass.geometry_sources(ctx, link):
                 margin = max(COM_MARGIN, COM_MARGIN_FRACTION * bounds_diagonal(solid))
                 outside = distance_outside(com, solid)
                 found.append((outside, margin, source, solid))

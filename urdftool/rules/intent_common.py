@@ -17,6 +17,7 @@ else:
     from urdftool.lazy import numpy as np
 
 from urdftool.catalogue.registry import Family, Rule
+from urdftool.facts import home
 from urdftool.facts.context import CheckContext
 from urdftool.model import Collision, Joint, Link, Visual
 from urdftool.model.geometry import Box, Capsule, Cylinder, Ellipsoid, Geometry, Sphere
@@ -80,12 +81,8 @@ def where_link(link: Link, *parts: str) -> str:
 
 
 def home_poses(ctx: CheckContext) -> dict[str, Matrix]:
-    """World pose of every link frame at q = 0 (memoised)."""
-    key = "intent-home-poses"
-    if key not in ctx.cache:
-        ctx.cache[key] = ctx.tree.forward_kinematics()
-    poses: dict[str, Matrix] = ctx.cache[key]
-    return poses
+    """World pose of every link frame at q = 0 (the fact :func:`urdftool.facts.home.home_poses`)."""
+    return home.home_poses(ctx)
 
 
 def shape_dims(geometry: Geometry | None) -> tuple[float, ...] | None:

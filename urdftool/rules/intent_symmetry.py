@@ -59,6 +59,8 @@ _WORDS = {
     "RIGHT": "LEFT",
 }
 _LETTERS = {"l": "r", "r": "l", "L": "R", "R": "L"}
+#: Every side marker holds one of these letters; a token without any has no other side.
+_SIDE_LETTERS = frozenset(_LETTERS)
 
 
 def mirror_names(name: str) -> list[str]:
@@ -78,6 +80,8 @@ _WORD_LETTER = re.compile(r"^(.*)(left|right|Left|Right)([LR])$")
 
 
 def _swap_token(token: str) -> list[str]:
+    if _SIDE_LETTERS.isdisjoint(token):  # most tokens of a robot's names: "joint", "2", "base"
+        return []
     out = []
     both = _WORD_LETTER.match(token)  # minitaur's ``leftL``: the leg's side and the motor's
     if both:
@@ -171,13 +175,17 @@ def _bare_frame(ctx: CheckContext, name: str) -> bool:
 
 def _joint_pairs(ctx: CheckContext) -> list[tuple[Joint, Joint]]:
     """Joints named as mirrors that sit on different branches: a joint that moves the other
-    is the next axis of one chain (Motoman's `joint_l` and `joint_r` are its L and R axes)."""
-    out = []
-    for a, b in pairs([j.name for j in ctx.robot.joints]):
-        ja, jb = ctx.robot.joint(a), ctx.robot.joint(b)
-        if ja is not None and jb is not None and not ctx.tree.lineal(ja.child, jb.child):
-            out.append((ja, jb))
-    return out
+    is the next axis of one chain (Motoman's `joint_l` and `joint_r` are its L and R axes).
+    Found once per check: two rules judge them."""
+    if "symmetry-joint-pairs" not in ctx.cache:
+        out = []
+        for a, b in pairs([j.name for j in ctx.robot.joints]):
+            ja, jb = ctx.robot.joint(a), ctx.robot.joint(b)
+            if ja is not None and jb is not None and not ctx.tree.lineal(ja.child, jb.child):
+                out.append((ja, jb))
+        ctx.cache["symmetry-joint-pairs"] = out
+    found: list[tuple[Joint, Joint]] = ctx.cache["symmetry-joint-pairs"]
+    return found
 
 
 @register
@@ -375,13 +383,17 @@ def _near_pair(a: tuple[float, float], b: tuple[float, float], rel: float) -> bo
 
 
 def _link_pairs(ctx: CheckContext) -> list[tuple[Link, Link]]:
-    """Links named as mirrors that sit on different branches (see :func:`_joint_pairs`)."""
-    out = []
-    for a, b in pairs([link.name for link in ctx.robot.links]):
-        la, lb = ctx.robot.link(a), ctx.robot.link(b)
-        if la is not None and lb is not None and not ctx.tree.lineal(a, b):
-            out.append((la, lb))
-    return out
+    """Links named as mirrors that sit on different branches (see :func:`_joint_pairs`).
+    Found once per check: two rules judge them."""
+    if "symmetry-link-pairs" not in ctx.cache:
+        out = []
+        for a, b in pairs([link.name for link in ctx.robot.links]):
+            la, lb = ctx.robot.link(a), ctx.robot.link(b)
+            if la is not None and lb is not None and not ctx.tree.lineal(a, b):
+                out.append((la, lb))
+        ctx.cache["symmetry-link-pairs"] = out
+    found: list[tuple[Link, Link]] = ctx.cache["symmetry-link-pairs"]
+    return found
 
 
 @register

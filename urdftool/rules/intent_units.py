@@ -15,10 +15,11 @@ from collections.abc import Iterator
 
 from urdftool.catalogue.registry import register
 from urdftool.diagnostics import Diagnostic, Severity
+from urdftool.facts import link_mass
 from urdftool.facts.context import CheckContext
 from urdftool.model import Joint, JointType
 from urdftool.physics.describe import fmt
-from urdftool.physics.linkmass import density, geometry_sources
+from urdftool.physics.linkmass import density
 from urdftool.rules.intent_common import (
     IntentRule,
     option,
@@ -334,7 +335,7 @@ class MassLooksLikeGrams(IntentRule):
             if inertial is None or not inertial.mass >= minimum:
                 continue
             readings = []
-            for source, solid in geometry_sources(link):
+            for source, solid in link_mass.geometry_sources(ctx, link):
                 value = density(link, solid)
                 if value is not None:
                     readings.append((value, source, solid))

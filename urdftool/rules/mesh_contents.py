@@ -19,7 +19,7 @@ from urdftool.catalogue.registry import register
 from urdftool.diagnostics import Diagnostic, Severity
 from urdftool.facts import meshes as survey
 from urdftool.facts.context import CheckContext
-from urdftool.facts.meshes import MeshError, MeshFacts, scaled_info
+from urdftool.facts.meshes import MeshError, MeshFacts
 from urdftool.rules.mesh_geometry import (
     FACE_BUDGET,
     UNITS_TOO_LARGE,
@@ -79,14 +79,13 @@ class MeshUnitsSuspect(_Meshes):
         size, basis = reference
         spans = link_spans(ctx)
         reported: set[tuple[str, tuple[float, float, float]]] = set()
-        for use in survey.mesh_uses(ctx):
-            path = survey.existing_file(use)
+        for use, path in survey.existing_files(ctx):
             facts = contents.get(path) if path else None
             if path is None or facts is None or isinstance(facts, MeshError):
                 continue
             if (path, use.mesh.scale) in reported or 0.0 in use.mesh.scale:
                 continue
-            diagonal = scaled_info(path, facts, use.mesh.scale).diagonal
+            diagonal = survey.scaled_diagonal(ctx, path, facts, use.mesh.scale)
             ratio = diagonal / size
             if UNITS_TOO_SMALL <= ratio <= UNITS_TOO_LARGE:
                 unit = _link_evidence(diagonal, spans.get(use.link))

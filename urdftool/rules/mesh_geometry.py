@@ -17,6 +17,7 @@ else:
     from urdftool.lazy import numpy as np
 
 from urdftool.facts.context import CheckContext
+from urdftool.facts.home import home_poses
 from urdftool.model import (
     Box,
     Capsule,
@@ -103,7 +104,7 @@ def robot_size(ctx: CheckContext) -> tuple[float, str] | None:
     with). Meshes are left out on purpose: a robot whose meshes are all in
     millimetres must not be its own yardstick.
     """
-    frames = np.array([pose[:3, 3] for pose in ctx.tree.forward_kinematics().values()])
+    frames = np.array([pose[:3, 3] for pose in home_poses(ctx).values()])
     if len(frames) >= 2:
         spread = float(np.linalg.norm(frames.max(axis=0) - frames.min(axis=0)))
         if spread > 1e-6:

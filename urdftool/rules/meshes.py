@@ -163,7 +163,7 @@ class MeshNotFound(_Meshes):
             if use.mesh.filename.lower().startswith(("http://", "https://")):
                 remote.append(use)
                 continue
-            if path is None or survey.has_substitution(use.mesh.filename) or os.path.isfile(path):
+            if path is None or survey.has_substitution(use.mesh.filename) or survey.is_file(ctx, path):
                 continue
             groups.setdefault(path, []).append(use)
         if remote:

@@ -1,0 +1,101 @@
+"""What each link's declared inertia and its geometry say, measured once per check.
+
+The inertia rules (I004–I008), the units rules (N004) and their help texts all
+ask the same questions of every link: the principal moments of the declared
+tensor, and the uniform solid of its collision and visual geometry. Each is a
+pure function of the link (:mod:`urdftool.physics.inertia`,
+:mod:`urdftool.physics.linkmass`); here they are kept in ``ctx.cache`` so that a
+check decomposes each tensor and places each shape once, and reads each mesh's
+facts once per file and scale however many links use it.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+from typing import Any
+
+from urdftool.facts.context import CheckContext
+from urdftool.model import Geometry, Inertial, Link, Mesh
+from urdftool.physics import linkmass
+from urdftool.physics.inertia import RELATIVE_TOLERANCE, InertiaVerdict, judge_moments, principal_moments
+from urdftool.physics.linkmass import InertiaComparison, Moments
+from urdftool.physics.massprops import SolidProperties, geometry_properties
+
+
+def declared_verdict(ctx: CheckContext, inertial: Inertial, abs_tol: float = 0.0) -> InertiaVerdict:
+    """:func:`~urdftool.physics.inertia.assess` of the tensor as written (inertial frame, kg·m²).
+
+    The principal moments are computed once per distinct tensor; the tolerances
+    (``abs_tol``: :data:`~urdftool.physics.inertia.MIN_MOMENT` for the validity
+    rules, 0 for the fit rules) are applied to them on each call.
+    """
+    return judge_moments(declared_moments(ctx, inertial), RELATIVE_TOLERANCE, abs_tol)
+
+
+def declared_moments(ctx: CheckContext, inertial: Inertial) -> Moments:
+    """Principal moments (kg·m², ascending) of the tensor as written, once per distinct tensor."""
+    moments: dict[Any, Moments] = ctx.cache.setdefault("declared-moments", {})
+    found = moments.get(inertial.inertia)
+    if found is None:
+        values, _ = principal_moments(inertial.inertia_matrix)
+        found = moments[inertial.inertia] = (float(values[0]), float(values[1]), float(values[2]))
+    return found
+
+
+def geometry_sources(ctx: CheckContext, link: Link) -> Iterator[tuple[str, SolidProperties]]:
+    """:func:`urdftool.physics.linkmass.geometry_sources` of *link*, each solid measured once.
+
+    Still lazy: the visual solid is measured only when a rule reads past the
+    collision one, and then kept for the next rule.
+    """
+    memo: dict[str, _Sources] = ctx.cache.setdefault("link-solids", {})
+    sources = memo.get(link.name)
+    if sources is None or sources.link is not link:  # a robot may repeat a link's name
+        sources = memo[link.name] = _Sources(link, linkmass.geometry_sources(link, _measurer(ctx)))
+    return sources.read()
+
+
+def comparison(ctx: CheckContext, link: Link) -> InertiaComparison | None:
+    """:func:`urdftool.physics.linkmass.compare_with_geometry` of *link*, from the measured solids."""
+    moments = declared_moments(ctx, link.inertial) if link.inertial is not None else None
+    return linkmass.compare_with_geometry(link, geometry_sources(ctx, link), moments)
+
+
+class _Sources:
+    """One link's geometry sources: those measured so far, and the generator measuring the rest."""
+
+    def __init__(self, link: Link, pending: Iterator[tuple[str, SolidProperties]]) -> None:
+        self.link = link
+        self.measured: list[tuple[str, SolidProperties]] = []
+        self.pending: Iterator[tuple[str, SolidProperties]] | None = pending
+
+    def read(self) -> Iterator[tuple[str, SolidProperties]]:
+        index = 0
+        while True:
+            if index < len(self.measured):
+                yield self.measured[index]
+                index += 1
+                continue
+            following = next(self.pending, None) if self.pending is not None else None
+            if following is None:
+                self.pending = None
+                return
+            self.measured.append(following)
+
+
+def _measurer(ctx: CheckContext) -> linkmass.Measure:
+    """:func:`~urdftool.physics.massprops.geometry_properties`, with each mesh file at each scale
+    measured once per check: an arm's left and right links share their meshes."""
+    meshes: dict[tuple[str | None, str, tuple[float, float, float]], SolidProperties | None]
+    meshes = ctx.cache.setdefault("mesh-solids", {})
+
+    def measure(geometry: Geometry | None) -> SolidProperties | None:
+        if not isinstance(geometry, Mesh):
+            return geometry_properties(geometry)
+        # The file name is in the key because the solid's label quotes it.
+        key = (geometry.resolved, geometry.filename, geometry.scale)
+        if key not in meshes:
+            meshes[key] = geometry_properties(geometry)
+        return meshes[key]
+
+    return measure
