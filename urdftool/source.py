@@ -13,6 +13,7 @@ element starts are matched to lxml's elements in document order.
 from __future__ import annotations
 
 import dataclasses
+import functools
 import os
 import re
 import xml.parsers.expat
@@ -64,14 +65,50 @@ class Span:
         return out
 
 
+#: In a document lxml has accepted, every ``<`` is markup: a comment, a CDATA section or a
+#: processing instruction (each skipped whole, since its text may hold ``<``), an end tag or a
+#: declaration (``</``, ``<!``), or an element's start tag, which the group captures.
+_MARKUP = re.compile(rb"<(?:!--.*?-->|!\[CDATA\[.*?\]\]>|\?.*?\?>|([^/!?]))", re.S)
+
+
 def element_starts(data: bytes) -> list[tuple[int, int]]:
     """Return the (line, column) of every element start tag, in document order.
 
-    Columns are 1-based character columns: expat counts a multi-byte UTF-8
-    character as one column (``'<a x="ää"/><b/>'`` puts ``<b`` at column 12).
-    Only called on documents that lxml has already accepted with entity
-    expansion off, so expat sees well-formed input.
+    Columns are 1-based character columns, as expat counts them: a multi-byte
+    UTF-8 character is one column (``'<a x="ää"/><b/>'`` puts ``<b`` at column
+    12). Only called on documents that lxml has already accepted with entity
+    expansion off, so the text is well-formed UTF-8 and every ``<`` outside
+    comments, CDATA and processing instructions is markup: a scan of the bytes
+    finds the start tags without a Python call per element, as expat's
+    position pass did. A document type declaration (whose literals may hold
+    ``<``) or a lone carriage return (a line break for expat, and so for every
+    line number urdftool reports) goes to expat instead.
     """
+    if b"<!DOCTYPE" in data or data.count(b"\r") != data.count(b"\r\n"):
+        return expat_element_starts(data)
+    ascii_only = data.isascii()  # then a column is a byte count
+    starts: list[tuple[int, int]] = []
+    append = starts.append
+    count, rfind = data.count, data.rfind
+    line, line_start, previous = 1, 0, 0
+    for match in _MARKUP.finditer(data):
+        if match.lastindex is None:  # a comment, CDATA or a processing instruction
+            continue
+        offset = match.start()
+        breaks = count(b"\n", previous, offset)
+        if breaks:
+            line += breaks
+            line_start = rfind(b"\n", previous, offset) + 1
+        previous = offset
+        if ascii_only:
+            append((line, offset - line_start + 1))
+        else:
+            append((line, len(data[line_start:offset].decode("utf-8", "replace")) + 1))
+    return starts
+
+
+def expat_element_starts(data: bytes) -> list[tuple[int, int]]:
+    """:func:`element_starts` by expat's own position pass (a Python call per element)."""
     positions: list[tuple[int, int]] = []
     parser = xml.parsers.expat.ParserCreate()
     # Entity declarations were refused earlier; expat must never expand any.
@@ -92,6 +129,12 @@ def element_starts(data: bytes) -> list[tuple[int, int]]:
 
 
 _ATTR_CACHE_LIMIT = 64
+
+
+@functools.lru_cache(maxsize=256)
+def _attribute_pattern(attribute: str) -> re.Pattern[str]:
+    """``attribute=`` as a whole name (not the tail of ``xlink:attribute``), compiled once."""
+    return re.compile(r"(?<![\w:.-])" + re.escape(attribute) + r"\s*=")
 
 
 @record(frozen=False, eq=False)  # one run's state, equal only to itself
@@ -143,7 +186,7 @@ class SourceIndex:
         if element.line is None:
             return element
         lines = self.lines(element.path)
-        pattern = re.compile(r"(?<![\w:.-])" + re.escape(attribute) + r"\s*=")
+        pattern = _attribute_pattern(attribute)
         first = element.line - 1
         for offset in range(20):
             index = first + offset

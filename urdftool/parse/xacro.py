@@ -45,7 +45,7 @@ from urdftool.parse.xacro_args import KnownArgument, known_arguments, merge, mis
 from urdftool.parse.xacro_hints import text_property_help
 from urdftool.parse.xmlio import XmlDocument, encode_src, parse_bytes, read_up_to_cap, span_of, to_utf8
 from urdftool.records import record
-from urdftool.source import SRC_ATTRIBUTE, Span, element_starts
+from urdftool.source import SRC_ATTRIBUTE, Span, element_starts, expat_element_starts
 
 _LOCK = threading.Lock()
 _XACRO_TAG = "xacro:"
@@ -98,6 +98,8 @@ def _stamp(doc: xml.dom.minidom.Document, data: bytes, path: str) -> None:
         return
     elements = [root, *root.getElementsByTagName("*")]
     starts = element_starts(data)
+    if len(starts) != len(elements):  # the scan of the bytes missed something: ask expat
+        starts = expat_element_starts(data)
     if len(starts) != len(elements):
         return
     for element, (line, column) in zip(elements, starts, strict=True):

@@ -29,7 +29,7 @@ from urdftool.catalogue.xacro import XacroInUrdf
 from urdftool.diagnostics import Diagnostic, Severity
 from urdftool.records import record
 from urdftool.safe_files import DEFAULT_LIMITS, human, limit, open_regular
-from urdftool.source import SRC_ATTRIBUTE, Span, element_starts
+from urdftool.source import SRC_ATTRIBUTE, Span, element_starts, expat_element_starts
 
 #: Larger inputs are refused by default (the largest corpus URDF is about 1 MB);
 #: ``--max-file-size`` raises the cap (see :mod:`urdftool.safe_files`).
@@ -458,12 +458,14 @@ def _first_element(data: bytes) -> int:
 
 
 def _position_table(root: etree._Element, data: bytes) -> dict[etree._Element, tuple[int, int]]:
-    """Every element's start-tag (line, column); the i-th expat start is the i-th lxml element."""
+    """Every element's start-tag (line, column); the i-th start tag is the i-th lxml element."""
     elements = list(root.iter(etree.Element))  # elements only: no comments, PIs or entities
-    try:
-        starts = element_starts(data)
-    except Exception:  # expat disagreeing with libxml2: fall back to lxml's lines
-        starts = []
+    starts = element_starts(data)
+    if len(starts) != len(elements):  # the scan of the bytes missed something: ask expat
+        try:
+            starts = expat_element_starts(data)
+        except Exception:  # expat disagreeing with libxml2: fall back to lxml's lines
+            starts = []
     if len(starts) == len(elements):
         return dict(zip(elements, starts, strict=True))
     return {element: (element.sourceline or 1, 1) for element in elements}
