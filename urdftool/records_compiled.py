@@ -1174,12 +1174,13 @@ def _init_parse_packages_Lookup(__defaults__, __factories__, __sentinel__, __set
 
 # urdftool.parse.packages.PackageResolver
 def _init_parse_packages_PackageResolver(__defaults__, __factories__, __sentinel__, __set__):
-    def __init__(self, packages=__sentinel__, package_paths=__sentinel__, environ=__sentinel__, _scanned=__sentinel__, _found=__sentinel__):
+    def __init__(self, packages=__sentinel__, package_paths=__sentinel__, environ=__sentinel__, _scanned=__sentinel__, _found=__sentinel__, _resolutions=__sentinel__):
         __set__(self, 'packages', __factories__['packages']() if packages is __sentinel__ else packages)
         __set__(self, 'package_paths', __factories__['package_paths']() if package_paths is __sentinel__ else package_paths)
         __set__(self, 'environ', __factories__['environ']() if environ is __sentinel__ else environ)
         __set__(self, '_scanned', __factories__['_scanned']() if _scanned is __sentinel__ else _scanned)
         __set__(self, '_found', __factories__['_found']() if _found is __sentinel__ else _found)
+        __set__(self, '_resolutions', __factories__['_resolutions']() if _resolutions is __sentinel__ else _resolutions)
     return __init__
 
 
@@ -1991,7 +1992,7 @@ COMPILED = {
     'urdftool.parse.controllers.Controllers': ('configs*,missing*,given=', _init_parse_controllers_Controllers),
     'urdftool.parse.controllers.Value': ('value,span', _init_parse_controllers_Value),
     'urdftool.parse.packages.Lookup': ('path,tried*,package=,package_missing=,package_dir=', _init_parse_packages_Lookup),
-    'urdftool.parse.packages.PackageResolver': ('packages*,package_paths*,environ*,_scanned*,_found*', _init_parse_packages_PackageResolver),
+    'urdftool.parse.packages.PackageResolver': ('packages*,package_paths*,environ*,_scanned*,_found*,_resolutions*', _init_parse_packages_PackageResolver),
     'urdftool.parse.sdf_elements.JointDetails': ('type,axis,axis_frame,limit,dynamics,axis_span,axis2=,axis2_frame=,limit2=', _init_parse_sdf_elements_JointDetails),
     'urdftool.parse.sdf_elements.LinkBodyReader': ('values,resolver,path', _init_parse_sdf_elements_LinkBodyReader),
     'urdftool.parse.sdf_elements.PlacedElement': ('item,relative_to,pose_span', _init_parse_sdf_elements_PlacedElement),

@@ -117,11 +117,7 @@ def lookup(ctx: CheckContext, use: MeshUse) -> Resolution:
     if use.mesh.resolution is not None:
         return use.mesh.resolution
     base = use.location.path if use.location else ctx.robot.path
-    key = ("mesh-lookup", use.mesh.filename, base)
-    if key not in ctx.cache:
-        ctx.cache[key] = resolver(ctx).resolve_uri(use.mesh.filename, base).recorded()
-    found: Resolution = ctx.cache[key]
-    return found
+    return resolver(ctx).resolution(use.mesh.filename, base)
 
 
 def existing_file(use: MeshUse) -> str | None:

@@ -115,6 +115,8 @@ class PackageResolver:
     _scanned: dict[str, dict[str, Path]] = field(default_factory=dict, repr=False)
     #: (package, folder asking) -> lookup; a robot names the same package hundreds of times
     _found: dict[tuple[str, str], Lookup] = field(default_factory=dict, repr=False)
+    #: (URI, file it is written in) -> the lookup as a model records it (:meth:`resolution`)
+    _resolutions: dict[tuple[str, str], Resolution] = field(default_factory=dict, repr=False)
 
     @classmethod
     def create(
@@ -217,9 +219,6 @@ class PackageResolver:
         absolute paths and paths relative to *base*'s folder. The returned path
         may not exist; ``tried`` lists where it looked.
         """
-        # os.path, not pathlib.resolve(): no symlink walk or object churn per mesh
-        # (a robot names thousands of them)
-        base_dir = os.path.dirname(os.path.abspath(base))
         for scheme, finder in (("package://", self.find_package), ("model://", self.find_model)):
             if uri.startswith(scheme):
                 rest = uri[len(scheme) :].lstrip("/")
@@ -233,5 +232,16 @@ class PackageResolver:
         if uri.startswith("file://"):
             path = uri[len("file://") :]
             return Lookup(path, [path])
-        target = uri if os.path.isabs(uri) else os.path.join(base_dir, uri)
+        # os.path, not pathlib.resolve(): no symlink walk or object churn per mesh
+        # (a robot names thousands of them)
+        target = uri if os.path.isabs(uri) else os.path.join(os.path.dirname(os.path.abspath(base)), uri)
         return Lookup(target, [target])
+
+    def resolution(self, uri: str, base: str) -> Resolution:
+        """:meth:`resolve_uri` as the model records it on a mesh, once per URI and file: a robot
+        names each mesh file from several links, and nothing a lookup reads changes within a run."""
+        key = (uri, base)
+        found = self._resolutions.get(key)
+        if found is None:
+            found = self._resolutions[key] = self.resolve_uri(uri, base).recorded()
+        return found

@@ -193,8 +193,8 @@ class LinkBodyReader:
             return None
         scale = v.text_vector(shape, "scale", where) or (1.0, 1.0, 1.0)
         span = span_of(uri_el)
-        lookup = self.resolver.resolve_uri(uri, span.path if span else self.path)
-        return Mesh(uri, lookup.path, (scale[0], scale[1], scale[2]), span_of(shape), lookup.recorded())
+        found = self.resolver.resolution(uri, span.path if span else self.path)
+        return Mesh(uri, found.path, (scale[0], scale[1], scale[2]), span_of(shape), found)
 
     def material(self, element: etree._Element | None) -> Material | None:
         """Colour from ``<diffuse>`` (else ``<ambient>``); a script name alone carries no colour."""

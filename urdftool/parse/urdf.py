@@ -413,8 +413,8 @@ class UrdfReader(JointParts):
         if filename is None:
             return None
         scale = v.vector(shape, "scale", where) or (1.0, 1.0, 1.0)
-        lookup = self.resolver.resolve_uri(filename, span.path if span else self.path)
-        return Mesh(filename, lookup.path, (scale[0], scale[1], scale[2]), span, lookup.recorded())
+        found = self.resolver.resolution(filename, span.path if span else self.path)
+        return Mesh(filename, found.path, (scale[0], scale[1], scale[2]), span, found)
 
     def _material(self, element: etree._Element, where: str) -> Material:
         name = element.get("name")
