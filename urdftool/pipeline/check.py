@@ -132,20 +132,26 @@ def report_for(loaded: Loaded, selection: Selection, options: Mapping[str, Any] 
 
 def check_file(path: str, options: CheckOptions) -> list[FileReport]:
     """Check every model in one file. Raises :class:`~urdftool.parse.InputError`."""
+    with file_limits(options.file_limits), collector_paused():
+        # The models are freed when _check_models returns, before the collector resumes: it then
+        # has the reports to look at, not every object of the robots it would otherwise walk.
+        return _check_models(path, options)
+
+
+def _check_models(path: str, options: CheckOptions) -> list[FileReport]:
     selection = options.selection()
     resolver = options.resolver()
-    with file_limits(options.file_limits), collector_paused():
-        models = [controllers.attach(srdf.attach(m, options.srdf, resolver, options.discover_srdf),
-                                     options.controllers, resolver)
-                  for m in read(path, options.xacro_args, resolver)]
-        # Rules that re-resolve URIs (to say where a mesh was looked for) use the same resolver.
-        rule_options = {**options.rule_options, "resolver": resolver}
-        reports = [report_for(m, selection, rule_options) for m in models]
-        found = [list(r.diagnostics) for r in reports]
-        if options.suppressions:
-            files = [f for m in models for f in (m.files or [m.path])]
-            found = suppress.apply_to_models(found, files, selection)
-        return [_settled(r, diagnostics, options) for r, diagnostics in zip(reports, found, strict=True)]
+    models = [controllers.attach(srdf.attach(m, options.srdf, resolver, options.discover_srdf),
+                                 options.controllers, resolver)
+              for m in read(path, options.xacro_args, resolver)]
+    # Rules that re-resolve URIs (to say where a mesh was looked for) use the same resolver.
+    rule_options = {**options.rule_options, "resolver": resolver}
+    reports = [report_for(m, selection, rule_options) for m in models]
+    found = [list(r.diagnostics) for r in reports]
+    if options.suppressions:
+        files = [f for m in models for f in (m.files or [m.path])]
+        found = suppress.apply_to_models(found, files, selection)
+    return [_settled(r, diagnostics, options) for r, diagnostics in zip(reports, found, strict=True)]
 
 
 def _settled(report: FileReport, diagnostics: list[Diagnostic], options: CheckOptions) -> FileReport:
