@@ -402,7 +402,7 @@ def _tolerate_quirks(data: bytes, path: str) -> tuple[bytes, list[Diagnostic]]:
         data = _scoped_tags(data, path, warnings)
         data = _declare_prefixes(data, path, warnings)
     data = _hyphens_in_comments(data, path, warnings)
-    stripped = data.rstrip(b"\0\r\n\t ")
+    stripped = data.rstrip(b"\0\r\n\t ") if b"\0" in data else data  # (rstrip copies the text)
     if b"\0" in data[len(stripped) :]:
         warnings.append(
             XmlSyntax.diagnostic(
