@@ -183,8 +183,8 @@ class _Reader:
         return self.locate(element) or Span(self.path)
 
     def attr(self, element: etree._Element, name: str, where: str) -> str | None:
-        value = element.get(name)
-        if value is None or not value.strip():
+        value = (element.get(name) or "").strip()
+        if not value:
             self.diagnostics.append(
                 MissingAttribute.diagnostic(
                     f"<{element.tag}> in {where} has no '{name}' attribute; MoveIt skips the element",
@@ -193,7 +193,7 @@ class _Reader:
                 )
             )
             return None
-        return str(value).strip()
+        return value
 
     def named(self, element: etree._Element, name: str, where: str, span: Span | None = None) -> Named | None:
         """The attribute *name* with the element's span (*span* when the caller has it already)."""

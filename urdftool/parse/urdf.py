@@ -107,11 +107,11 @@ class UrdfReader(JointParts):
 
     def _check_attributes(self, element: etree._Element, where: str) -> None:
         tag = element.tag
-        if tag not in ATTRIBUTES:
+        allowed = ATTRIBUTES.get(tag)
+        if allowed is None or allowed.issuperset(element.keys()):  # the common case, decided in C
             return
         unknown, vendor = attribute_verdict(tag, tuple(element.keys()))
         if unknown:
-            allowed = ATTRIBUTES[tag]
             for name in unknown:
                 self._report(
                     UnknownAttribute.diagnostic(
@@ -128,8 +128,12 @@ class UrdfReader(JointParts):
         """Group child elements by tag, reporting unknown and repeated ones."""
         allowed = CHILDREN.get(element.tag, {})
         groups: dict[str, list[etree._Element]] = {}
-        for child in element.iterchildren(etree.Element):  # elements only, filtered in C
-            groups.setdefault(child.tag, []).append(child)
+        for child in element:  # faster than iterchildren(etree.Element), which builds its filter each time
+            tag = child.tag
+            if tag in groups:
+                groups[tag].append(child)
+            elif isinstance(tag, str):  # an element, not a comment kept by xacro
+                groups[tag] = [child]
         for tag, items in groups.items():
             if tag in allowed:
                 if not allowed[tag] and len(items) > 1:
