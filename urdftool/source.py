@@ -6,8 +6,9 @@ is the ``.xacro`` file and line where the element was written (inside a macro
 body, that is the macro's definition), recovered through :class:`SourceIndex`.
 
 lxml reports only a line per element (the line where the start tag *ends*), so
-exact line and column come from a second, position-only pass with expat whose
-element starts are matched to lxml's elements in document order.
+exact line and column come from a second, position-only pass over the bytes
+(:func:`element_starts`) whose element starts are matched to lxml's elements in
+document order.
 """
 
 from __future__ import annotations
@@ -84,7 +85,7 @@ def element_starts(data: bytes) -> list[tuple[int, int]]:
     ``<``) or a lone carriage return (a line break for expat, and so for every
     line number urdftool reports) goes to expat instead.
     """
-    if b"<!DOCTYPE" in data or data.count(b"\r") != data.count(b"\r\n"):
+    if b"<!DOCTYPE" in data or (b"\r" in data and data.count(b"\r") != data.count(b"\r\n")):
         return expat_element_starts(data)
     ascii_only = data.isascii()  # then a column is a byte count
     starts: list[tuple[int, int]] = []
