@@ -138,10 +138,17 @@ def test_scan_of_the_bytes_finds_what_expat_finds(text: str) -> None:
     assert len(element_starts(data)) == len(list(document.root.iter(etree.Element)))
 
 
-@pytest.mark.parametrize(("path", "data"), _documents()[1:], ids=lambda v: v if isinstance(v, str) else "")
-def test_scan_of_the_bytes_matches_expat_on_real_files(path: str, data: bytes) -> None:
+def _expat_reads(data: bytes) -> bool:
+    """Some seeds are refused by expat as written (the reader mends their quirks first): there
+    is nothing to compare the scan with on those."""
     try:
-        expected = expat_element_starts(data)
-    except Exception:  # a seed expat refuses as written (the reader mends some quirks first)
-        pytest.skip("expat refuses the file as written")
-    assert element_starts(data) == expected
+        expat_element_starts(data)
+    except Exception:
+        return False
+    return True
+
+
+@pytest.mark.parametrize(("path", "data"), [(p, d) for p, d in _documents()[1:] if _expat_reads(d)],
+                         ids=lambda v: v if isinstance(v, str) else "")
+def test_scan_of_the_bytes_matches_expat_on_real_files(path: str, data: bytes) -> None:
+    assert element_starts(data) == expat_element_starts(data)
