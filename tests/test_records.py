@@ -9,6 +9,7 @@ from dataclasses import field
 
 import pytest
 
+import urdftool
 from urdftool import records, records_generate
 from urdftool.model import Box, Inertial, Joint, JointType, Link, Pose
 from urdftool.source import Span
@@ -49,6 +50,15 @@ def test_records_are_frozen_dataclasses() -> None:
     assert pickle.loads(pickle.dumps(moved)) == moved
     assert copy.deepcopy(moved) == moved
     assert repr(Box((1.0, 2.0, 3.0))) == "Box(size=(1.0, 2.0, 3.0), span=None)"
+
+
+def test_frozen_records_keep_their_fields_in_slots() -> None:
+    """One object per element of the file: no ``__dict__`` each, unless a cached property needs it."""
+    link = Link("base", span=Span("a.urdf", 1))
+    assert not hasattr(link, "__dict__") and not hasattr(link.span, "__dict__")
+    assert copy.copy(link) == link and pickle.loads(pickle.dumps(link)).span == link.span
+    robot = urdftool.Robot("r", links=(link,))
+    assert hasattr(robot, "__dict__")  # Robot caches its lookups in cached properties
 
 
 def test_spans_sort_by_file_then_place() -> None:

@@ -25,6 +25,7 @@ small file (docs/scale.md, "Fourth pass"). Here:
 from __future__ import annotations
 
 import dataclasses
+import functools
 import inspect
 import operator
 from collections.abc import Callable
@@ -179,12 +180,45 @@ _ORDER = {"__lt__": _ordering(operator.lt), "__le__": _ordering(operator.le),
           "__gt__": _ordering(operator.gt), "__ge__": _ordering(operator.ge)}
 
 
+def _needs_dict(cls: type) -> bool:
+    """Whether instances keep a ``__dict__``: for a ``cached_property`` of the class or a base."""
+    return any(isinstance(value, functools.cached_property)
+               for klass in cls.__mro__ for value in vars(klass).values())
+
+
+def _getstate(self: Any) -> list[Any]:
+    return [getattr(self, f.name) for f in dataclasses.fields(self)]
+
+
+def _setstate(self: Any, state: list[Any]) -> None:
+    for f, value in zip(dataclasses.fields(self), state, strict=True):
+        object.__setattr__(self, f.name, value)
+
+
+def _with_slots(cls: T) -> T:
+    """*cls* rebuilt with ``__slots__`` for its fields, as ``dataclass(slots=True)`` does: a
+    frozen record holds its fields in slots, not in a ``__dict__`` per instance, so building one
+    and reading a field is cheaper (the model holds one per element of the file). Pickling and
+    copying go through :func:`_getstate`/:func:`_setstate`, past the frozen ``__setattr__``."""
+    names = [f.name for f in dataclasses.fields(cls)]
+    inherited = {name for base in cls.__mro__[1:] for name in getattr(base, "__slots__", ())}
+    namespace = {key: value for key, value in vars(cls).items()
+                 if key not in names and key not in ("__dict__", "__weakref__")}
+    namespace["__slots__"] = tuple(name for name in names if name not in inherited)
+    namespace.update(__getstate__=_getstate, __setstate__=_setstate)
+    slotted = type(cls)(cls.__name__, cls.__bases__, namespace)
+    slotted.__qualname__ = cls.__qualname__
+    return slotted
+
+
 def _build(cls: T, frozen: bool, eq: bool, order: bool) -> T:
     if not cls.__doc__:
         # dataclasses would write the signature as the docstring, through inspect and tokenize
         names = ", ".join(inspect.get_annotations(cls))
         cls.__doc__ = f"{cls.__name__}({names})"
     dataclasses.dataclass(init=False, repr=False, eq=False)(cls)
+    if frozen and not _needs_dict(cls):
+        cls = _with_slots(cls)
     cls.__init__ = _make_init(cls)  # type: ignore[misc]
     cls.__record_key__ = staticmethod(_compared(cls))  # type: ignore[attr-defined]
     own = cls.__dict__
