@@ -92,6 +92,7 @@ def element_starts(data: bytes) -> list[tuple[int, int]]:
     append = starts.append
     count, rfind = data.count, data.rfind
     line, line_start, previous = 1, 0, 0
+    characters = 0  # characters from the start of the line to the previous start tag
     for match in _MARKUP.finditer(data):
         if match.lastindex is None:  # a comment, CDATA or a processing instruction
             continue
@@ -100,11 +101,16 @@ def element_starts(data: bytes) -> list[tuple[int, int]]:
         if breaks:
             line += breaks
             line_start = rfind(b"\n", previous, offset) + 1
-        previous = offset
         if ascii_only:
             append((line, offset - line_start + 1))
         else:
-            append((line, len(data[line_start:offset].decode("utf-8", "replace")) + 1))
+            # Only the text since the previous tag (or the line break) is decoded, so a long line
+            # of many elements costs its length once, not once per element. Both ends are '<' or
+            # a line start: never inside a multi-byte character.
+            since = line_start if breaks else previous
+            characters = (0 if breaks else characters) + len(data[since:offset].decode("utf-8", "replace"))
+            append((line, characters + 1))
+        previous = offset
     return starts
 
 
