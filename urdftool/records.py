@@ -55,7 +55,7 @@ class _DefaultFactory:
 
 DEFAULT_FACTORY = _DefaultFactory()
 
-#: every record class, in definition order (what ``python -m urdftool.records`` compiles)
+#: every record class, in definition order (what ``python -m urdftool.records_generate`` compiles)
 REGISTERED: list[type] = []
 #: records whose ``__init__`` was compiled at import because the generated module lacks them
 FALLBACKS: list[str] = []
