@@ -25,6 +25,9 @@ OFF_THE_CHECK_PATH = (
     "urdftool.backends", "urdftool.simulation", "urdftool.export", "urdftool.export.write",
     "urdftool.pipeline.fix", "urdftool.pipeline.baseline", "urdftool.facts.simulation.options",
     "urdftool.rules.summaries",
+    # the compiled __init__ methods of records that only exports, engines and simulations build
+    "urdftool.records_compiled.export", "urdftool.records_compiled.backends",
+    "urdftool.records_compiled.simulation",
 )
 #: Modules that act on findings, imported only when a file has some.
 ONLY_FOR_FINDINGS = (

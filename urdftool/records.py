@@ -13,8 +13,9 @@ small file (docs/scale.md, "Fourth pass"). Here:
 
 - ``__init__`` is the same code ``dataclasses`` would write (fields set with
   ``object.__setattr__``, defaults, ``default_factory``, ``init=False``, ``__post_init__``),
-  but it is written once into the generated module :mod:`urdftool.records_compiled`, so
-  Python's bytecode cache keeps it. ``python -m urdftool.records_generate`` rewrites that
+  but it is written once into the generated package :mod:`urdftool.records_compiled` (one
+  module per package of urdftool, read with the first record of that package), so Python's
+  bytecode cache keeps it. ``python -m urdftool.records_generate`` rewrites that
   module; ``tests/test_records.py`` fails when it is out of date. A class whose shape is not
   in it (a record added or changed without regenerating) gets its ``__init__`` compiled at
   import, as ``dataclasses`` would: slower, never wrong.
@@ -26,12 +27,11 @@ from __future__ import annotations
 
 import dataclasses
 import functools
+import importlib
 import inspect
 import operator
 from collections.abc import Callable
 from typing import TYPE_CHECKING, Any, TypeVar, overload
-
-from urdftool.records_compiled import COMPILED
 
 if TYPE_CHECKING:
     from typing_extensions import dataclass_transform
@@ -113,11 +113,28 @@ def init_source(cls: type, function_name: str = "make_init") -> str:
     return "\n".join(lines) + "\n"
 
 
+def compiled_module(module: str) -> str:
+    """The module of :mod:`urdftool.records_compiled` for records defined in *module*: one per
+    package of urdftool (``urdftool.model.robot`` -> ``model``, ``urdftool.source`` -> ``source``)."""
+    return module.split(".")[1] if module.startswith("urdftool.") else ""
+
+
+@functools.cache
+def _compiled(package: str) -> dict[str, tuple[str, Callable[..., Callable[..., None]]]]:
+    """The generated entries for the records of *package*, read with its first record."""
+    try:
+        module = importlib.import_module(f"urdftool.records_compiled.{package}")
+    except (ModuleNotFoundError, ValueError):  # not generated yet, or a record outside urdftool
+        return {}
+    entries: dict[str, tuple[str, Callable[..., Callable[..., None]]]] = module.COMPILED
+    return entries
+
+
 def _make_init(cls: type) -> Callable[..., None]:
     fields = dataclasses.fields(cls)
     defaults = {f.name: f.default for f in fields if f.default is not _MISSING}
     factories = {f.name: f.default_factory for f in fields if f.default_factory is not _MISSING}
-    compiled = COMPILED.get(qualified_name(cls))
+    compiled = _compiled(compiled_module(cls.__module__)).get(qualified_name(cls))
     make_init: Callable[..., Callable[..., None]]
     if compiled is not None and compiled[0] == init_shape(cls):
         make_init = compiled[1]
