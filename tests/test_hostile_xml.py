@@ -145,3 +145,22 @@ def test_hostile_file_does_not_stop_a_directory_check(tmp_path: Path) -> None:
     assert set(by_name) == {"arm.urdf", "truncated.urdf"}
     assert by_name["arm.urdf"]["robot"] == "two_link_arm"
     assert [d["code"] for d in by_name["truncated.urdf"]["diagnostics"]] == ["S001"]
+
+
+def test_a_mesh_naming_a_fifo_as_its_material_library_loads_without_it(tmp_path: Path) -> None:
+    """An OBJ's ``mtllib`` is a FIFO beside it: trimesh's own resolver would open it and wait for
+    a writer forever. The resolver urdftool gives trimesh reads regular files only (within the
+    mesh size cap), so the mesh loads without materials, as with a missing library."""
+    import os
+
+    from urdftool.backends import mesh_files
+    from urdftool.backends.meshes import load_trimesh
+    from urdftool.safe_files import UnsafeFile
+
+    os.mkfifo(tmp_path / "part.mtl")
+    (tmp_path / "part.obj").write_text(
+        "mtllib part.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nusemtl grey\n"
+        "f 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n")
+    with pytest.raises(UnsafeFile):
+        mesh_files.resolver(str(tmp_path / "part.obj")).get("part.mtl")
+    assert len(load_trimesh(str(tmp_path / "part.obj")).faces) == 4

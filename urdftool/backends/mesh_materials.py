@@ -25,6 +25,7 @@ if TYPE_CHECKING:
 else:  # NumPy loads on first use
     from urdftool.lazy import numpy as np
 
+from urdftool.backends import mesh_files
 from urdftool.backends.meshes import (
     _quiet_trimesh_log,
     collada_declares_entities,
@@ -94,7 +95,7 @@ def coloured_parts(path: str) -> list[ColouredPart]:
         return []
     try:
         with quiet_numerics():
-            scene: Any = trimesh.load(path, force="scene", process=True)
+            scene: Any = mesh_files.load(path, force="scene", process=True)
     except Exception:  # trimesh raises many kinds; the geometry-only path reports the file
         return []
     groups: dict[RGBA8 | None, list[Any]] = {}

@@ -18,7 +18,7 @@ import threading
 from dataclasses import asdict
 from typing import Any
 
-from urdftool.backends import mesh_cache
+from urdftool.backends import mesh_cache, mesh_files
 from urdftool.backends.meshes import MeshError, consistently_wound, content_key, load_trimesh
 from urdftool.records import record
 
@@ -166,7 +166,7 @@ def object_meshes(path: str) -> list[Any]:
     import trimesh
 
     try:
-        scene: Any = trimesh.load(
+        scene: Any = mesh_files.load(
             path, force="scene", split_objects=True, split_groups=True, group_material=False
         )
     except Exception:  # the whole-file read succeeded: treat the file as one object

@@ -31,7 +31,7 @@ if TYPE_CHECKING:
 else:  # NumPy loads when a mesh is first read: a structural check never pays for it
     from urdftool.lazy import numpy as np
 
-from urdftool.backends import collada, mesh_cache
+from urdftool.backends import collada, mesh_cache, mesh_files
 from urdftool.model.pose import Matrix, Vec3
 from urdftool.records import record
 from urdftool.safe_files import check_regular, open_regular, read_head, read_regular
@@ -242,7 +242,7 @@ def load_trimesh(path: str, lean: bool = True):  # type: ignore[no-untyped-def]
     loaded = lean_collada(path) if lean and path.lower().endswith(".dae") else None
     if loaded is None:
         try:
-            loaded = trimesh.load(path, force="mesh", process=True)
+            loaded = mesh_files.load(path, force="mesh", process=True)
         except Exception as exc:  # trimesh raises many kinds for bad files
             loaded = _collada_before_nul(path)
             if loaded is None:
@@ -326,7 +326,7 @@ def _collada_before_nul(path: str) -> Any:
     try:
         return trimesh.load(
             io.BytesIO(document), file_type="dae", force="mesh", process=True,
-            resolver=trimesh.resolvers.FilePathResolver(path),
+            resolver=mesh_files.resolver(path),
         )
     except Exception:  # broken before the NUL too: the caller reports the file
         return None

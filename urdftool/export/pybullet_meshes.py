@@ -21,6 +21,7 @@ from dataclasses import field
 from pathlib import Path
 from typing import cast
 
+from urdftool.backends import mesh_files
 from urdftool.backends.meshes import MeshError, load_trimesh
 from urdftool.catalogue.conversion import MeshNotExportable
 from urdftool.diagnostics import Diagnostic
@@ -59,7 +60,7 @@ def dominant_colour(path: str) -> RGBA | None:
 
     try:
         check_regular(path, "mesh")
-        scene = cast(trimesh.Scene, trimesh.load(path, force="scene"))
+        scene = cast(trimesh.Scene, mesh_files.load(path, force="scene"))
     except Exception:  # trimesh raises many kinds; a colour is optional
         return None
     votes: dict[RGBA, int] = {}
