@@ -8,7 +8,8 @@ questions are answered here:
   geometries overlap at the home configuration, deeper than
   :data:`DEPTH_TOLERANCE`, leaving out adjacent pairs (see :func:`adjacent`),
   links welded to each other by fixed joints, the pairs the SRDF disables and,
-  in an SDF model, the pairs ``<self_collide>`` leaves off (:func:`sdf_self_colliding`);
+  in an SDF model, the pairs ``<self_collide>`` leaves off
+  (:func:`urdftool.physics.sdf_defaults.sdf_self_colliding`);
 * :func:`matrix` (``urdftool collisions``): every pair of links with geometry
   classified as MoveIt Setup Assistant does: ``Adjacent``, ``Default`` (in
   contact at MoveIt's default state), ``Always`` (in contact in at least
@@ -37,7 +38,7 @@ from urdftool.facts.context import CheckContext
 from urdftool.facts.meshes import existing_file, mesh_uses
 from urdftool.facts.srdf import srdf
 from urdftool.model import Joint, JointType, Robot
-from urdftool.physics.sdf_defaults import sdf_self_colliding as self_colliding_links
+from urdftool.physics.sdf_defaults import sdf_self_colliding
 from urdftool.records import record
 
 #: Collision geometries above which the home check is skipped (with a note).
@@ -233,12 +234,6 @@ def _bodies_adjacent(scene: CollisionScene, adjacent_links: set[Pair]) -> set[tu
             if a in body and b in body}
 
 
-def sdf_self_colliding(ctx: CheckContext) -> set[str] | None:
-    """For an SDF model, the links that collide with the model's other links; ``None`` for other
-    formats, where every pair collides (:func:`urdftool.physics.sdf_defaults.sdf_self_colliding`)."""
-    return self_colliding_links(ctx.robot)
-
-
 def home_overlaps(ctx: CheckContext) -> list[Overlap] | NotChecked | None:
     """Link pairs overlapping at home (deepest first), why they were not checked, or ``None``."""
     if "collision-home" in ctx.cache:
@@ -257,7 +252,7 @@ def _overlaps(ctx: CheckContext, scene: CollisionScene) -> list[Overlap]:
     near = adjacent(ctx.robot, links)
     near_bodies = _bodies_adjacent(scene, near)
     off = disabled_by_srdf(ctx)
-    colliding = sdf_self_colliding(ctx)
+    colliding = sdf_self_colliding(ctx.robot)
     todo = []
     for i, a in enumerate(scene.pieces):
         for j in range(i + 1, len(scene.pieces)):
