@@ -2,23 +2,30 @@
 
 The readers that walk a document once ask ``parse_bytes(..., table=True)`` for a
 position table instead of an attribute on every element (a third of reading a
-file went into writing and decoding those attributes). These tests hold the two
-ways to the same spans, and check that the elements a model keeps (its
-``<gazebo>``, ``<transmission>``, ``<ros2_control>`` blocks) are still stamped,
-since rules and exporters locate their children with ``span_of`` later.
+file went into writing and decoding those attributes), and its spans are looked up
+only when read (``urdftool.source.deferred_span``). These tests hold the two ways to
+the same spans, check that a deferred span behaves as a plain one, and that the
+elements a model keeps (its ``<gazebo>``, ``<transmission>``, ``<ros2_control>``
+blocks) are still located by ``span_of`` after the reading.
 """
 
 from __future__ import annotations
 
+import copy
+import dataclasses
+import gc
 import glob
+import pickle
 
 import pytest
 from lxml import etree
 
 from tests.conftest import ERD, SEEDS
 from urdftool.parse import read
-from urdftool.parse.xmlio import parse_bytes, span_of
-from urdftool.source import SRC_ATTRIBUTE, element_starts, expat_element_starts
+from urdftool.parse.locate import PositionTable, span_of
+from urdftool.parse.xmlio import parse_bytes
+from urdftool.pipeline.check import CheckOptions, check_file
+from urdftool.source import SRC_ATTRIBUTE, Span, element_starts, expat_element_starts
 
 #: start tags over several lines, several on one line, non-ASCII text before a tag, a comment
 #: holding '<', CDATA, and a <gazebo> block kept on the model
@@ -59,7 +66,7 @@ def test_table_gives_the_stamped_positions(path: str, data: bytes) -> None:
         assert tabled is None
         return
     assert tabled is not None
-    assert tabled.positions is not None
+    assert tabled.table is not None
     elements = list(tabled.root.iter(etree.Element))
     assert all(e.get(SRC_ATTRIBUTE) is None for e in elements)  # nothing written into the tree
     expected = [span_of(e) for e in stamped.root.iter(etree.Element)]
@@ -86,11 +93,8 @@ def test_tricky_positions_are_exact() -> None:
     assert found["limit"] == _at("<limit")
 
 
-def test_kept_extension_elements_are_stamped(tmp_path: object) -> None:
-    path = f"{tmp_path}/tricky.urdf"
-    with open(path, "w", encoding="utf-8") as handle:
-        handle.write(TRICKY)
-    [loaded] = read(path)
+def test_kept_extension_elements_are_located(tmp_path: object) -> None:
+    [loaded] = read(_write_tricky(tmp_path))
     assert loaded.robot is not None
     [gazebo] = loaded.robot.extensions
     assert gazebo.element is not None
@@ -100,6 +104,67 @@ def test_kept_extension_elements_are_stamped(tmp_path: object) -> None:
         tag: _at(f"<{tag}") for tag in ("gazebo", "material", "plugin", "param")
     }
     assert loaded.robot.link("arm").span.line == 5  # type: ignore[union-attr]
+
+
+def _write_tricky(tmp_path: object) -> str:
+    path = f"{tmp_path}/tricky.urdf"
+    with open(path, "w", encoding="utf-8") as handle:
+        handle.write(TRICKY)
+    return path
+
+
+def _table_of(span: Span) -> PositionTable:
+    locate = span._locate  # type: ignore[attr-defined]  # a deferred span's lookup: the table's method
+    table = locate.__self__
+    assert isinstance(table, PositionTable)
+    return table
+
+
+def test_a_file_without_findings_is_never_scanned(tmp_path: object) -> None:
+    """Spans of a tabled document are looked up when first read: reading the model and checking it
+    without a finding leaves the position table unbuilt; the first span read builds it once."""
+    [loaded] = read(_write_tricky(tmp_path))
+    assert loaded.robot is not None and not loaded.diagnostics
+    arm = loaded.robot.link("arm")
+    assert arm is not None
+    table = _table_of(arm.span)
+    assert table._found is None and table.data  # nothing looked up, the bytes still held
+    [report] = check_file(_write_tricky(tmp_path), CheckOptions(select=("S",)))
+    assert report.diagnostics == ()
+    assert table._found is None
+    assert (arm.span.line, arm.span.column) == (5, 3)
+    assert table._found is not None and table.data == b""  # built once, the bytes let go
+
+
+def test_a_deferred_span_is_a_plain_span_in_every_way(tmp_path: object) -> None:
+    [loaded] = read(_write_tricky(tmp_path))
+    assert loaded.robot is not None
+    span = loaded.robot.joints[0].span
+    plain = Span(span.path, *_at("<joint"))
+    assert type(span) is not Span and span.__class__ is Span and isinstance(span, Span)
+    assert span == plain and plain == span and hash(span) == hash(plain)
+    assert not span < plain and sorted([Span(span.path, 99), span, Span(span.path, 1)])[1] == plain
+    assert repr(span) == repr(plain) and str(span) == str(plain)
+    for copied in (pickle.loads(pickle.dumps(span)), copy.copy(span), copy.deepcopy(span),
+                   dataclasses.replace(span, path=span.path)):
+        assert type(copied) is Span and copied == plain
+    assert dataclasses.asdict(span) == dataclasses.asdict(plain)
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        span.line = 1  # type: ignore[misc]
+    limit = loaded.robot.joints[0].limit
+    assert limit is not None and limit.lower_span == Span(span.path, *_at("lower="))
+
+
+def test_kept_elements_are_located_after_the_document_is_gone(tmp_path: object) -> None:
+    """The model's spans keep its position table alive: a ``<gazebo>`` block's children are found
+    by ``span_of`` after the reader and its document are freed, whether or not a span was read."""
+    [loaded] = read(_write_tricky(tmp_path))
+    assert loaded.robot is not None
+    gc.collect()
+    [gazebo] = loaded.robot.extensions
+    [param] = gazebo.element.iter("param")
+    assert span_of(param) == Span(loaded.robot.path, *_at("<param"))
+    assert gazebo.span == Span(loaded.robot.path, *_at("<gazebo"))
 
 
 @pytest.mark.parametrize("uri", ["http://www.ros.org/wiki/xacro", "http://www.ros.org/wiki/&#120;acro"])

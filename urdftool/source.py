@@ -8,7 +8,9 @@ body, that is the macro's definition), recovered through :class:`SourceIndex`.
 lxml reports only a line per element (the line where the start tag *ends*), so
 exact line and column come from a second, position-only pass over the bytes
 (:func:`element_starts`) whose element starts are matched to lxml's elements in
-document order.
+document order. Readers that keep that pass for when it is needed give their
+nodes deferred spans (:func:`deferred_span`): a Span whose position is looked up
+on its first read.
 """
 
 from __future__ import annotations
@@ -18,6 +20,7 @@ import functools
 import os
 import re
 import xml.parsers.expat
+from collections.abc import Callable
 from dataclasses import field
 from typing import Any
 
@@ -64,6 +67,82 @@ class Span:
             if value is not None:
                 out[key] = value
         return out
+
+
+#: The position fields of a :class:`Span`, which a deferred span looks up when first read.
+_POSITION_FIELDS = ("line", "column", "end_line", "end_column", "offset", "end_offset")
+_SPAN_SLOT = {name: vars(Span)[name] for name in (*_POSITION_FIELDS, "path")}
+
+
+def _position(name: str) -> property:
+    """The field *name* of a deferred span: its slot, filled from the lookup on the first read."""
+    get = _SPAN_SLOT[name].__get__
+
+    def read(span: _DeferredSpan) -> int | None:
+        try:
+            value: int | None = get(span, Span)
+        except AttributeError:  # not looked up yet
+            span._resolve()
+            value = get(span, Span)
+        return value
+
+    return property(read, doc=f"``Span.{name}``, looked up when first read")
+
+
+class _DeferredSpan(Span):
+    """A :class:`Span` whose position is looked up when a field of it is first read.
+
+    A reader builds one span per element, and most are never read: only a finding
+    shows its span. Finding an element's line and column needs a scan of the whole
+    document (:func:`element_starts`), which a file without findings never has to
+    pay for. Built by :func:`deferred_span`; in every other respect it *is* a Span:
+    its ``__class__`` is :class:`Span`, so it is equal to, ordered and hashed with
+    plain spans by its fields, ``dataclasses.replace`` gives a plain span, and it
+    pickles and copies as one.
+    """
+
+    __slots__ = ("_key", "_locate")
+    _locate: Callable[[Any], Span | None]
+    _key: Any
+
+    line = _position("line")
+    column = _position("column")
+    end_line = _position("end_line")
+    end_column = _position("end_column")
+    offset = _position("offset")
+    end_offset = _position("end_offset")
+
+    @property  # type: ignore[misc]
+    def __class__(self) -> type:  # the class docstring says why
+        return Span
+
+    def _resolve(self) -> None:
+        found = self._locate(self._key)
+        for name in _POSITION_FIELDS:
+            _SPAN_SLOT[name].__set__(self, None if found is None else getattr(found, name))
+        # The lookup itself (and the document it reads) stays: a deferred span of an element the
+        # model keeps is what keeps that document's position table alive (``parse.xmlio``).
+        object.__setattr__(self, "_key", None)
+
+    def __reduce__(self) -> tuple[type, tuple[Any, ...]]:
+        return Span, tuple(getattr(self, name) for name in ("path", *_POSITION_FIELDS))
+
+
+_new_span = object.__new__
+_set_path = _SPAN_SLOT["path"].__set__
+_set_locate = vars(_DeferredSpan)["_locate"].__set__
+_set_key = vars(_DeferredSpan)["_key"].__set__
+
+
+def deferred_span(path: str, locate: Callable[[Any], Span | None], key: Any) -> Span:
+    """A span in *path* whose position is ``locate(key)``, called when a position field is first
+    read (a ``None`` result leaves them ``None``). *locate* must give the same answer whenever it
+    is called: the span is a value, compared and hashed by its fields."""
+    span = _new_span(_DeferredSpan)
+    _set_path(span, path)
+    _set_locate(span, locate)
+    _set_key(span, key)
+    return span
 
 
 #: In a document lxml has accepted, every ``<`` is markup: a comment, a CDATA section or a

@@ -16,7 +16,7 @@ from lxml import etree
 from urdftool.catalogue.conversion import ConversionDropped
 from urdftool.diagnostics import Diagnostic
 from urdftool.model import Extension, Robot
-from urdftool.parse.xmlio import span_of
+from urdftool.parse.locate import span_of
 from urdftool.source import Span
 
 

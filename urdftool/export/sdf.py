@@ -45,7 +45,7 @@ from urdftool.model import (
     Sphere,
     Visual,
 )
-from urdftool.parse.xmlio import span_of
+from urdftool.parse.locate import span_of
 from urdftool.records import record
 
 SDF_VERSION = "1.7"

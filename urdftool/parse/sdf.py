@@ -18,12 +18,13 @@ from urdftool.catalogue.sdf import SdfModelMissing, SdfVersion
 from urdftool.catalogue.syntax import NotARobot
 from urdftool.diagnostics import Diagnostic
 from urdftool.parse import Loaded
+from urdftool.parse.locate import span_of
 from urdftool.parse.packages import PackageResolver
 from urdftool.parse.sdf_include import read_include
 from urdftool.parse.sdf_model import SdfModelReader, parse_version
 from urdftool.parse.sdf_semantics import check_document
 from urdftool.parse.sdf_values import SdfValues
-from urdftool.parse.xmlio import read_file, span_of
+from urdftool.parse.xmlio import read_file
 from urdftool.source import SourceIndex
 
 OLDEST = (1, 4)

@@ -34,9 +34,9 @@ from urdftool.model import (
     Sphere,
     Visual,
 )
+from urdftool.parse.locate import span_of
 from urdftool.parse.packages import PackageResolver
 from urdftool.parse.sdf_values import SdfValues
-from urdftool.parse.xmlio import span_of
 from urdftool.records import record
 from urdftool.source import Span
 

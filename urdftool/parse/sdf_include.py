@@ -20,8 +20,9 @@ from lxml import etree
 
 from urdftool.catalogue.sdf import ModelIncludeNotFound
 from urdftool.diagnostics import Diagnostic, Severity
+from urdftool.parse.locate import span_of
 from urdftool.parse.packages import PackageResolver
-from urdftool.parse.xmlio import XmlDocument, read_file, span_of
+from urdftool.parse.xmlio import XmlDocument, read_file
 from urdftool.records import record
 
 #: Gazebo's bundled models, recognised by name without their files

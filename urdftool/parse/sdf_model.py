@@ -30,13 +30,13 @@ from urdftool.catalogue.syntax import JointMissingParentOrChild, MissingAttribut
 from urdftool.diagnostics import Diagnostic
 from urdftool.model import Collision, Extension, Joint, JointType, Link, LoopClosure, Pose, Robot, Visual
 from urdftool.model.pose import Matrix
+from urdftool.parse.locate import span_of
 from urdftool.parse.packages import PackageResolver
 from urdftool.parse.sdf_elements import LinkBodyReader, joint_details
 from urdftool.parse.sdf_frames import MODEL_FRAME, WORLD_FRAME, FrameGraph, FrameNode
 from urdftool.parse.sdf_include import read_include
 from urdftool.parse.sdf_tree import spanning_tree
 from urdftool.parse.sdf_values import SdfValues
-from urdftool.parse.xmlio import span_of
 from urdftool.records import record
 from urdftool.source import SRC_ATTRIBUTE, SourceIndex, Span
 

@@ -34,9 +34,9 @@ from urdftool.catalogue.syntax import (
     UnknownElement,
 )
 from urdftool.diagnostics import Diagnostic, Severity
+from urdftool.parse.locate import span_of
 from urdftool.parse.sdf_spec import ELEMENTS, fmt, versions_of
 from urdftool.parse.sdf_values import SdfValues
-from urdftool.parse.xmlio import span_of
 from urdftool.records import record
 from urdftool.source import SourceIndex
 

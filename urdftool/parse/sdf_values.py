@@ -15,6 +15,7 @@ from lxml import etree
 from urdftool.catalogue.syntax import InvalidNumber, UnexpandedSubstitution, WrongVectorLength
 from urdftool.model import Pose
 from urdftool.model.pose import Matrix, homogeneous, quaternion_to_matrix
+from urdftool.parse.locate import span_of
 from urdftool.parse.values import (
     UNBOUNDED,
     ValueReader,
@@ -24,7 +25,6 @@ from urdftool.parse.values import (
     parse_limit,
     parse_number,
 )
-from urdftool.parse.xmlio import span_of
 
 _TRUE = {"1", "true", "True", "TRUE"}
 _INF = {"inf", "infinity"}

@@ -24,9 +24,10 @@ from lxml import etree
 from urdftool.catalogue.suggest import did_you_mean
 from urdftool.catalogue.syntax import InvalidNumber, MissingAttribute, NotARobot, UnknownElement
 from urdftool.diagnostics import Diagnostic
+from urdftool.parse.locate import span_of
 from urdftool.parse.packages import PackageResolver
 from urdftool.parse.values import parse_number
-from urdftool.parse.xmlio import read_file, span_of
+from urdftool.parse.xmlio import read_file
 from urdftool.records import record
 from urdftool.source import Span
 
@@ -167,7 +168,7 @@ def read_srdf(path: str, resolver: PackageResolver | None = None) -> Srdf:
     document, problems = read_file(path, table=True)  # the SRDF keeps no element: no stamps
     if document is None:
         return Srdf(path, diagnostics=problems, span=Span(path, 1, 1), files=[path])
-    srdf = _Reader(path, document.span).read(document.root)
+    srdf = _Reader(path, document.locator()).read(document.root)
     srdf.diagnostics[:0] = problems
     srdf.files = [path]
     return srdf

@@ -43,6 +43,7 @@ from urdftool.model import (
     Sphere,
     Visual,
 )
+from urdftool.parse.locate import span_of
 from urdftool.parse.packages import PackageResolver
 from urdftool.parse.urdf_joints import JointParts
 from urdftool.parse.urdf_schema import (
@@ -57,7 +58,7 @@ from urdftool.parse.urdf_schema import (
     is_extension_name,
 )
 from urdftool.parse.values import ValueReader
-from urdftool.parse.xmlio import XmlDocument, span_of
+from urdftool.parse.xmlio import XmlDocument
 from urdftool.records import record
 from urdftool.source import SRC_ATTRIBUTE, SourceIndex, Span
 
@@ -77,7 +78,7 @@ class UrdfReader(JointParts):
     span: Callable[[etree._Element], Span | None] = field(init=False)  #: where a start tag was written
 
     def __post_init__(self) -> None:
-        self.span = self.document.span if self.document is not None else span_of
+        self.span = self.document.locator() if self.document is not None else span_of
         self.values = ValueReader(self.sources, check_substitutions=not self.expanded, locate=self.span)
         #: (element, who reads it) -> (where first seen, elements carrying it, the names seen)
         self.vendor: dict[tuple[str, str], tuple[Span | None, int, list[str]]] = {}

@@ -21,9 +21,9 @@ from urdftool.catalogue.syntax import (
     WrongVectorLength,
 )
 from urdftool.diagnostics import Diagnostic
-from urdftool.parse.xmlio import span_of
+from urdftool.parse.locate import span_of
 from urdftool.records import record
-from urdftool.source import SourceIndex, Span
+from urdftool.source import SourceIndex, Span, deferred_span
 
 _NUMBER = re.compile(r"^[+-]?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?$")
 _SUBSTITUTION = re.compile(r"\$[({]")
@@ -114,10 +114,14 @@ class ValueReader:
         return self.locate(element)
 
     def attr_span(self, element: etree._Element, attribute: str) -> Span | None:
+        """Where ``attribute=`` is written in *element*'s start tag (looked up when first read)."""
         span = self.locate(element)
         if span is None:
             return None
-        return self.sources.attribute_span(span, attribute)
+        return deferred_span(span.path, self._attribute_span, (span, attribute))
+
+    def _attribute_span(self, key: tuple[Span, str]) -> Span:
+        return self.sources.attribute_span(*key)
 
     def text(self, element: etree._Element, attribute: str, where: str, required: bool = False) -> str | None:
         value: str | None = element.get(attribute)

@@ -40,10 +40,11 @@ from urdftool.catalogue.xacro import (
 )
 from urdftool.diagnostics import Diagnostic, Severity
 from urdftool.parse.ament import installed_at
+from urdftool.parse.locate import encode_src, span_of
 from urdftool.parse.packages import PackageResolver
 from urdftool.parse.xacro_args import KnownArgument, known_arguments, merge, misspelt_arguments
 from urdftool.parse.xacro_hints import text_property_help
-from urdftool.parse.xmlio import XmlDocument, encode_src, parse_bytes, read_up_to_cap, span_of, to_utf8
+from urdftool.parse.xmlio import XmlDocument, parse_bytes, read_up_to_cap, to_utf8
 from urdftool.records import record
 from urdftool.source import SRC_ATTRIBUTE, Span, element_starts, expat_element_starts
 

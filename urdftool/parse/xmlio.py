@@ -11,13 +11,13 @@ After parsing, every element gets a :data:`~urdftool.source.SRC_ATTRIBUTE`
 recording where its start tag was written, so spans survive any later
 transformation (xacro expansion, extraction of ``<gazebo>`` blocks). A reader
 that only walks the document once (the URDF and SRDF readers) asks for a
-position table instead (``table=True``): the same positions, kept beside the
-tree rather than written into it, which saves writing and decoding an
-attribute on every element; it stamps only the elements the model keeps.
+position table instead (``table=True``): the same positions, looked up only
+when a span is read (:mod:`urdftool.parse.locate`).
 """
 
 from __future__ import annotations
 
+import functools
 import re
 import sys
 from collections.abc import Callable
@@ -27,9 +27,10 @@ from lxml import etree
 from urdftool.catalogue.syntax import XmlSyntax
 from urdftool.catalogue.xacro import XacroInUrdf
 from urdftool.diagnostics import Diagnostic, Severity
+from urdftool.parse.locate import PositionTable, span_of, stamp_positions
 from urdftool.records import record
 from urdftool.safe_files import DEFAULT_LIMITS, human, limit, open_regular
-from urdftool.source import SRC_ATTRIBUTE, Span, element_starts, expat_element_starts
+from urdftool.source import Span, deferred_span
 
 #: Larger inputs are refused by default (the largest corpus URDF is about 1 MB);
 #: ``--max-file-size`` raises the cap (see :mod:`urdftool.safe_files`).
@@ -139,63 +140,37 @@ class XmlDocument:
     """A parsed document whose elements carry their source positions.
 
     The positions are either stamped on every element (:data:`SRC_ATTRIBUTE`) or,
-    for a document read with ``table=True``, kept in :attr:`positions`: then
-    :meth:`span` finds them, and :meth:`stamp` writes them onto the elements that
-    outlive the reading (the model's ``Extension.element`` subtrees), so that
-    :func:`span_of` finds those later.
+    for a document read with ``table=True``, kept in :attr:`table` (see
+    :mod:`urdftool.parse.locate`): then :meth:`span` gives deferred spans, and
+    :meth:`stamp` marks the elements that outlive the reading (the model's
+    ``Extension.element`` subtrees), so that :func:`span_of` finds those later.
     """
 
     root: etree._Element
     path: str
-    #: element -> 1-based (line, column) of its start tag; ``None`` when the elements are stamped.
-    #: The keys keep lxml's proxies alive, so an element is found again by identity.
-    positions: dict[etree._Element, tuple[int, int]] | None = None
+    #: the positions, when they are not stamped on the elements
+    table: PositionTable | None = None
     #: the text could put an element in xacro's namespace: it names ``wiki/xacro`` or holds a
     #: character reference (which could spell it); when false, :func:`xacro_in_urdf` has nothing to find
     may_use_xacro: bool = True
 
     def span(self, element: etree._Element) -> Span | None:
         """Where *element*'s start tag was written: from the table, else from the stamps."""
-        if self.positions is not None:
-            found = self.positions.get(element)
-            if found is not None:
-                return Span(self.path, found[0], found[1])
+        if self.table is not None:
+            return self.table.span(element)
         return span_of(element)
 
+    def locator(self) -> Callable[[etree._Element], Span | None]:
+        """:meth:`span` as the cheapest callable, for a reader that asks once per element."""
+        if self.table is not None:
+            return functools.partial(deferred_span, self.path, self.table.locate)
+        return span_of
+
     def stamp(self, element: etree._Element) -> None:
-        """Stamp *element* and everything below it from the table (no-op for a stamped document)."""
-        positions = self.positions
-        if positions is None:
-            return
-        path = self.path
-        for node in element.iter(etree.Element):
-            found = positions.get(node)
-            if found is not None and node.get(SRC_ATTRIBUTE) is None:
-                node.set(SRC_ATTRIBUTE, f"{found[0]}:{found[1]}:{path}")
-
-
-def encode_src(path: str, line: int, column: int) -> str:
-    return f"{line}:{column}:{path}"
-
-
-def decode_src(value: str) -> Span | None:
-    try:
-        line, column, path = value.split(":", 2)
-        # One path object for every span of a file, not a copy per element of a 100k-link model.
-        return Span(sys.intern(path), int(line), int(column))
-    except ValueError:
-        return None
-
-
-def span_of(element: etree._Element) -> Span | None:
-    """The span recorded on *element*, or on its nearest ancestor that has one."""
-    node: etree._Element | None = element
-    while node is not None:
-        value = node.get(SRC_ATTRIBUTE)
-        if value is not None:
-            return decode_src(value)
-        node = node.getparent()
-    return None
+        """Make *element* and everything below it findable by :func:`span_of` after the reading
+        (no-op for a stamped document)."""
+        if self.table is not None:
+            self.table.mark(element)
 
 
 def line_of(data: bytes, offset: int) -> int:
@@ -256,9 +231,10 @@ def parse_bytes(
         return None, [XmlSyntax.diagnostic("document has no root element", Span(path, 1, 1))]
     may_use_xacro = b"wiki/xacro" in data or b"&#" in data
     if stamp and table:
-        return XmlDocument(root, sys.intern(path), _position_table(root, data), may_use_xacro), warnings
+        path = sys.intern(path)
+        return XmlDocument(root, path, PositionTable(root, data, path), may_use_xacro), warnings
     if stamp:
-        _stamp_positions(root, data, path)
+        stamp_positions(root, data, path)
     return XmlDocument(root, path, may_use_xacro=may_use_xacro), warnings
 
 
@@ -455,26 +431,6 @@ def _ends_early(data: bytes) -> bool:
 def _first_element(data: bytes) -> int:
     match = re.search(rb"<[A-Za-z_]", data)
     return match.start() if match else len(data)
-
-
-def _position_table(root: etree._Element, data: bytes) -> dict[etree._Element, tuple[int, int]]:
-    """Every element's start-tag (line, column); the i-th start tag is the i-th lxml element."""
-    elements = list(root.iter(etree.Element))  # elements only: no comments, PIs or entities
-    starts = element_starts(data)
-    if len(starts) != len(elements):  # the scan of the bytes missed something: ask expat
-        try:
-            starts = expat_element_starts(data)
-        except Exception:  # expat disagreeing with libxml2: fall back to lxml's lines
-            starts = []
-    if len(starts) == len(elements):
-        return dict(zip(elements, starts, strict=True))
-    return {element: (element.sourceline or 1, 1) for element in elements}
-
-
-def _stamp_positions(root: etree._Element, data: bytes, path: str) -> None:
-    # encode_src, inlined: this runs once per element of every file read
-    for element, (line, column) in _position_table(root, data).items():
-        element.set(SRC_ATTRIBUTE, f"{line}:{column}:{path}")
 
 
 def read_file(

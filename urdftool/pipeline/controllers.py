@@ -23,8 +23,8 @@ from urdftool.diagnostics import Diagnostic
 from urdftool.lazy import LazyModule
 from urdftool.model import Robot
 from urdftool.parse import Loaded
+from urdftool.parse.locate import span_of
 from urdftool.parse.packages import PackageResolver
-from urdftool.parse.xmlio import span_of
 from urdftool.safe_files import is_regular
 from urdftool.source import Span
 

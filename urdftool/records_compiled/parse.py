@@ -57,6 +57,17 @@ def _init_parse_controllers_Value(__defaults__, __factories__, __sentinel__, __s
     return __init__
 
 
+# urdftool.parse.locate.PositionTable
+def _init_parse_locate_PositionTable(__defaults__, __factories__, __sentinel__, __set__):
+    def __init__(self, root, data, path, _found=__defaults__['_found'], _key=__defaults__['_key']):
+        __set__(self, 'root', root)
+        __set__(self, 'data', data)
+        __set__(self, 'path', path)
+        __set__(self, '_found', _found)
+        __set__(self, '_key', _key)
+    return __init__
+
+
 # urdftool.parse.packages.Lookup
 def _init_parse_packages_Lookup(__defaults__, __factories__, __sentinel__, __set__):
     def __init__(self, path, tried=__sentinel__, package=__defaults__['package'], package_missing=__defaults__['package_missing'], package_dir=__defaults__['package_dir']):
@@ -371,10 +382,10 @@ def _init_parse_xacro_args_KnownArgument(__defaults__, __factories__, __sentinel
 
 # urdftool.parse.xmlio.XmlDocument
 def _init_parse_xmlio_XmlDocument(__defaults__, __factories__, __sentinel__, __set__):
-    def __init__(self, root, path, positions=__defaults__['positions'], may_use_xacro=__defaults__['may_use_xacro']):
+    def __init__(self, root, path, table=__defaults__['table'], may_use_xacro=__defaults__['may_use_xacro']):
         __set__(self, 'root', root)
         __set__(self, 'path', path)
-        __set__(self, 'positions', positions)
+        __set__(self, 'table', table)
         __set__(self, 'may_use_xacro', may_use_xacro)
     return __init__
 
@@ -385,6 +396,7 @@ COMPILED = {
     'urdftool.parse.controllers.ControllerConfig': ('path,controllers*,diagnostics*', _init_parse_controllers_ControllerConfig),
     'urdftool.parse.controllers.Controllers': ('configs*,missing*,given=', _init_parse_controllers_Controllers),
     'urdftool.parse.controllers.Value': ('value,span', _init_parse_controllers_Value),
+    'urdftool.parse.locate.PositionTable': ('root,data,path,_found=,_key=', _init_parse_locate_PositionTable),
     'urdftool.parse.packages.Lookup': ('path,tried*,package=,package_missing=,package_dir=', _init_parse_packages_Lookup),
     'urdftool.parse.packages.PackageResolver': ('packages*,package_paths*,environ*,_scanned*,_found*,_resolutions*', _init_parse_packages_PackageResolver),
     'urdftool.parse.sdf_elements.JointDetails': ('type,axis,axis_frame,limit,dynamics,axis_span,axis2=,axis2_frame=,limit2=', _init_parse_sdf_elements_JointDetails),
@@ -413,5 +425,5 @@ COMPILED = {
     'urdftool.parse.xacro.XacroResult': ('document,diagnostics*,files*,macro_library=', _init_parse_xacro_XacroResult),
     'urdftool.parse.xacro._Session': ('resolver,top,diagnostics*,files*,found_packages*,syntax_failed=,macros*,top_builds_robot=,top_macros*,arguments*', _init_parse_xacro__Session),
     'urdftool.parse.xacro_args.KnownArgument': ('span,default', _init_parse_xacro_args_KnownArgument),
-    'urdftool.parse.xmlio.XmlDocument': ('root,path,positions=,may_use_xacro=', _init_parse_xmlio_XmlDocument),
+    'urdftool.parse.xmlio.XmlDocument': ('root,path,table=,may_use_xacro=', _init_parse_xmlio_XmlDocument),
 }

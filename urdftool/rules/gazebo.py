@@ -19,7 +19,7 @@ from urdftool.facts import ros2_control as rc
 from urdftool.facts.context import CheckContext
 from urdftool.model import Extension, JointType, Link
 from urdftool.parse.controllers import Value
-from urdftool.parse.xmlio import span_of
+from urdftool.parse.locate import span_of
 from urdftool.rules import gazebo_drive as drive
 from urdftool.rules import gazebo_plugins as gz
 from urdftool.source import Span

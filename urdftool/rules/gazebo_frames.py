@@ -21,7 +21,7 @@ from urdftool.catalogue.registry import Family, Rule, register
 from urdftool.catalogue.suggest import did_you_mean
 from urdftool.diagnostics import Diagnostic, Severity
 from urdftool.facts.context import CheckContext
-from urdftool.parse.xmlio import span_of
+from urdftool.parse.locate import span_of
 from urdftool.rules import gazebo_plugins as gz
 
 #: Plugin children whose text names a link the plugin acts on (it fails to load without it).

@@ -19,7 +19,7 @@ from urdftool.diagnostics import Diagnostic, Severity
 from urdftool.facts import ros2_control as rc
 from urdftool.facts.context import CheckContext
 from urdftool.model import JointType, Robot
-from urdftool.parse.xmlio import span_of
+from urdftool.parse.locate import span_of
 from urdftool.rules import gazebo_plugins as gz
 from urdftool.rules import gz_systems_known as known
 

@@ -20,7 +20,7 @@ from urdftool.catalogue.registry import register
 from urdftool.diagnostics import Diagnostic, Severity
 from urdftool.facts.context import CheckContext
 from urdftool.model.pose import rpy_to_matrix
-from urdftool.parse.xmlio import span_of
+from urdftool.parse.locate import span_of
 from urdftool.rules import gazebo_plugins as gz
 from urdftool.rules.intent_common import IntentRule, home_poses, option, rotation_angle
 

@@ -17,7 +17,7 @@ from urdftool.diagnostics import Diagnostic, Severity
 from urdftool.facts import ros2_control as rc
 from urdftool.facts.context import CheckContext
 from urdftool.model import JointType
-from urdftool.parse.xmlio import span_of
+from urdftool.parse.locate import span_of
 
 #: Hardware component types the resource manager accepts.
 BLOCK_TYPES = frozenset({"system", "actuator", "sensor"})

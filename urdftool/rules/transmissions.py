@@ -20,7 +20,7 @@ from typing import Any
 from urdftool.catalogue.registry import Family, Rule, register
 from urdftool.diagnostics import Diagnostic, Severity
 from urdftool.facts.context import CheckContext
-from urdftool.parse.xmlio import span_of
+from urdftool.parse.locate import span_of
 
 PREFIX = "hardware_interface/"
 
