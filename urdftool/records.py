@@ -75,7 +75,16 @@ def init_shape(cls: type) -> str:
             raise TypeError(f"{qualified_name(cls)}.{f.name}: records take their fields positionally")
         mark = "*" if f.default_factory is not _MISSING else "=" if f.default is not _MISSING else ""
         parts.append(f.name + mark + ("" if f.init else "!"))
-    return ",".join(parts) + ("|post_init" if hasattr(cls, "__post_init__") else "")
+    return ",".join(parts) + ("|post_init" if hasattr(cls, "__post_init__") else "") + f"|{_storage(cls)}"
+
+
+def _storage(cls: type) -> str:
+    """How the ``__init__`` stores a field: ``slots`` (through the slot's own descriptor, half the
+    cost of ``object.__setattr__``), ``frozen`` (``object.__setattr__``, past the frozen
+    ``__setattr__``) or ``plain`` (an assignment, as dataclasses writes for a mutable class)."""
+    if "__slots__" in cls.__dict__:
+        return "slots"
+    return "frozen" if cls.__dict__.get("__record_frozen__") else "plain"
 
 
 def init_source(cls: type, function_name: str = "make_init") -> str:
@@ -85,28 +94,38 @@ def init_source(cls: type, function_name: str = "make_init") -> str:
     factory sentinel and ``object.__setattr__``; defaults are bound when it runs, at import.
     A field with ``init=False`` is set from its default or factory, if it has one.
     """
-    arguments, body = ["self"], []
+    storage = _storage(cls)
+    arguments, body, setters = ["self"], [], []
+
+    def store(name: str, value: str) -> str:
+        if storage == "slots":
+            setters.append(f"    _set_{name} = __slot__({name!r})")
+            return f"_set_{name}(self, {value})"
+        if storage == "frozen":
+            return f"__set__(self, {name!r}, {value})"
+        return f"self.{name} = {value}"
+
     for f in dataclasses.fields(cls):
         name = f.name
         if not f.init:
             if f.default_factory is not _MISSING:
-                body.append(f"__set__(self, {name!r}, __factories__[{name!r}]())")
+                body.append(store(name, f"__factories__[{name!r}]()"))
             elif f.default is not _MISSING:
-                body.append(f"__set__(self, {name!r}, __defaults__[{name!r}])")
+                body.append(store(name, f"__defaults__[{name!r}]"))
             continue
         if f.default_factory is not _MISSING:
             arguments.append(f"{name}=__sentinel__")
-            body.append(f"__set__(self, {name!r}, "
-                        f"__factories__[{name!r}]() if {name} is __sentinel__ else {name})")
+            body.append(store(name, f"__factories__[{name!r}]() if {name} is __sentinel__ else {name}"))
         elif f.default is not _MISSING:
             arguments.append(f"{name}=__defaults__[{name!r}]")
-            body.append(f"__set__(self, {name!r}, {name})")
+            body.append(store(name, name))
         else:
             arguments.append(name)
-            body.append(f"__set__(self, {name!r}, {name})")
+            body.append(store(name, name))
     if hasattr(cls, "__post_init__"):
         body.append("self.__post_init__()")
-    lines = [f"def {function_name}(__defaults__, __factories__, __sentinel__, __set__):",
+    lines = [f"def {function_name}(__defaults__, __factories__, __sentinel__, __set__, __slot__):",
+             *setters,
              f"    def __init__({', '.join(arguments)}):",
              *(f"        {line}" for line in body or ["pass"]),
              "    return __init__"]
@@ -143,9 +162,19 @@ def _make_init(cls: type) -> Callable[..., None]:
         namespace: dict[str, Any] = {}
         exec(init_source(cls), {}, namespace)
         make_init = namespace["make_init"]
-    init: Callable[..., None] = make_init(defaults, factories, DEFAULT_FACTORY, object.__setattr__)
+    init: Callable[..., None] = make_init(defaults, factories, DEFAULT_FACTORY, object.__setattr__,
+                                          functools.partial(_slot_setter, cls))
     init.__qualname__ = f"{cls.__qualname__}.__init__"
     return init
+
+
+def _slot_setter(cls: type, name: str) -> Callable[[Any, Any], None]:
+    """The ``__set__`` of *cls*'s slot *name* (defined on *cls* or a base)."""
+    for klass in cls.__mro__:
+        if name in klass.__dict__:
+            setter: Callable[[Any, Any], None] = klass.__dict__[name].__set__
+            return setter
+    raise AttributeError(f"{qualified_name(cls)} has no slot {name!r}")
 
 
 def _compared(cls: type) -> Callable[[Any], tuple[Any, ...]]:
@@ -236,6 +265,7 @@ def _build(cls: T, frozen: bool, eq: bool, order: bool) -> T:
     dataclasses.dataclass(init=False, repr=False, eq=False)(cls)
     if frozen and not _needs_dict(cls):
         cls = _with_slots(cls)
+    cls.__record_frozen__ = frozen  # type: ignore[attr-defined]
     cls.__init__ = _make_init(cls)  # type: ignore[misc]
     cls.__record_key__ = staticmethod(_compared(cls))  # type: ignore[attr-defined]
     own = cls.__dict__

@@ -84,6 +84,17 @@ def _cmeel_prefixes() -> list[Path]:
     return out
 
 
+#: The environment variables the search reads (see the module docstring).
+SEARCH_VARIABLES = ("ROS_PACKAGE_PATH", "AMENT_PREFIX_PATH", "GZ_SIM_RESOURCE_PATH",
+                    "IGN_GAZEBO_RESOURCE_PATH", "GAZEBO_MODEL_PATH")
+
+
+def _search_environ() -> dict[str, str]:
+    """The search variables of this process's environment (a copy of the whole environment
+    decoded every variable, once per file checked)."""
+    return {name: os.environ[name] for name in SEARCH_VARIABLES if name in os.environ}
+
+
 def _env_paths(name: str, environ: Mapping[str, str]) -> list[Path]:
     return [Path(p) for p in environ.get(name, "").split(os.pathsep) if p]
 
@@ -111,7 +122,7 @@ class PackageResolver:
 
     packages: dict[str, Path] = field(default_factory=dict)
     package_paths: list[Path] = field(default_factory=list)
-    environ: Mapping[str, str] = field(default_factory=lambda: dict(os.environ))
+    environ: Mapping[str, str] = field(default_factory=lambda: _search_environ())
     _scanned: dict[str, dict[str, Path]] = field(default_factory=dict, repr=False)
     #: (package, folder asking) -> lookup; a robot names the same package hundreds of times
     _found: dict[tuple[str, str], Lookup] = field(default_factory=dict, repr=False)
@@ -128,7 +139,7 @@ class PackageResolver:
         return cls(
             packages={k: Path(v).resolve() for k, v in (packages or {}).items()},
             package_paths=[Path(p).resolve() for p in package_paths],
-            environ=dict(os.environ) if environ is None else dict(environ),
+            environ=_search_environ() if environ is None else dict(environ),
         )
 
     def _scan_root(self, root: Path, depth: int = SCAN_DEPTH, marker: str = "package.xml") -> dict[str, Path]:

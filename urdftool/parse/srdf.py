@@ -213,11 +213,11 @@ class _Reader:
             srdf.diagnostics = self.diagnostics
             return srdf
         srdf.robot_name = root.get("name")
+        where = f"robot[{srdf.robot_name or ''}]"
         for element in root:
             if not isinstance(element.tag, str):
                 continue
             tag = element.tag
-            where = f"robot[{srdf.robot_name or ''}]"
             if tag == "group":
                 group = self.group(element)
                 if group is not None:
@@ -342,8 +342,13 @@ class _Reader:
         return VirtualJoint(name, kind, parent, child, self.span(element))
 
     def collision_pair(self, element: etree._Element) -> CollisionPair | None:
-        where = str(element.tag)
         span = self.span(element)  # one span for the pair and both its links: SRDFs list thousands
+        link1_name = (element.get("link1") or "").strip()
+        link2_name = (element.get("link2") or "").strip()
+        if link1_name and link2_name:  # the common case, without a call per attribute
+            return CollisionPair(Named(link1_name, span), Named(link2_name, span), element.get("reason"),
+                                 span, enable=element.tag == "enable_collisions")
+        where = str(element.tag)
         link1 = self.named(element, "link1", where, span)
         link2 = self.named(element, "link2", where, span)
         if link1 is None or link2 is None:

@@ -156,9 +156,11 @@ class ValueReader:
         required: bool = False,
     ) -> float | None:
         """The attribute as a finite float; ``None`` when absent or invalid (reported)."""
-        raw = self.text(element, attribute, where, required)
-        if raw is None:
-            return None
+        raw = element.get(attribute)
+        if raw is None or "$" in raw:  # absent or a substitution: :meth:`text` decides and reports
+            raw = self.text(element, attribute, where, required)
+            if raw is None:
+                return None
         value = parse_number(raw)
         if value is None:
             self._invalid(element, attribute, where, raw)
@@ -173,9 +175,11 @@ class ValueReader:
         required: bool = False,
     ) -> tuple[float, ...] | None:
         """The attribute as *length* finite floats; ``None`` when absent or invalid (reported)."""
-        raw = self.text(element, attribute, where, required)
-        if raw is None:
-            return None
+        raw = element.get(attribute)
+        if raw is None or "$" in raw:  # absent or a substitution: :meth:`text` decides and reports
+            raw = self.text(element, attribute, where, required)
+            if raw is None:
+                return None
         parts, values = _numbers(raw) if len(raw) <= _CACHED_CHARS * 4 else _numbers.__wrapped__(raw)
         if None in values:
             bad = next(p for p, v in zip(parts, values, strict=True) if v is None)

@@ -11,7 +11,6 @@ model's files, so inline suppressions in the ``.srdf`` work as in the URDF.
 from __future__ import annotations
 
 import dataclasses
-import glob
 import os
 
 from urdftool.catalogue.syntax import XmlSyntax
@@ -63,15 +62,25 @@ def find_srdf(model_path: str, robot_name: str | None = None) -> str | None:
         return None
     folder = os.path.dirname(os.path.abspath(model_path))
     for sub in _SIBLING_DIRS:
+        directory = os.path.normpath(os.path.join(folder, sub))
+        # One look at the folder before two at the files in it: most of these folders do not
+        # exist, and the discovery runs for every model checked.
+        if sub != "." and not os.path.isdir(directory):
+            continue
         for suffix in (".srdf", ".srdf.xacro"):
-            candidate = os.path.normpath(os.path.join(folder, sub, stem + suffix))
+            candidate = os.path.join(directory, stem + suffix)
             if os.path.isfile(candidate):
                 return candidate
     root = package_root(model_path)
     if root is None:
         return None
-    found = sorted(glob.glob(os.path.join(root, "config", "*.srdf")) +
-                   glob.glob(os.path.join(root, "config", "*.srdf.xacro")))
+    config = os.path.join(root, "config")
+    try:
+        names = os.listdir(config)
+    except OSError:  # no config folder, the commonest case (a glob took longer to say so)
+        return None
+    found = sorted(os.path.join(config, name) for name in names  # as glob's *.srdf: no hidden files
+                   if name.endswith((".srdf", ".srdf.xacro")) and not name.startswith("."))
     for name in (stem, robot_name):
         for candidate in found:
             base = os.path.basename(candidate)

@@ -9,225 +9,302 @@ entry maps a record to the shape of its fields and a function that builds its ``
 
 
 # urdftool.backends.collada.ColladaScene
-def _init_backends_collada_ColladaScene(__defaults__, __factories__, __sentinel__, __set__):
+def _init_backends_collada_ColladaScene(__defaults__, __factories__, __sentinel__, __set__, __slot__):
+    _set_parts = __slot__('parts')
+    _set_unit = __slot__('unit')
     def __init__(self, parts, unit):
-        __set__(self, 'parts', parts)
-        __set__(self, 'unit', unit)
+        _set_parts(self, parts)
+        _set_unit(self, unit)
     return __init__
 
 
 # urdftool.backends.collada.Part
-def _init_backends_collada_Part(__defaults__, __factories__, __sentinel__, __set__):
+def _init_backends_collada_Part(__defaults__, __factories__, __sentinel__, __set__, __slot__):
+    _set_vertices = __slot__('vertices')
+    _set_normals = __slot__('normals')
+    _set_uv = __slot__('uv')
+    _set_textured = __slot__('textured')
+    _set_matrix = __slot__('matrix')
     def __init__(self, vertices, normals, uv, textured, matrix):
-        __set__(self, 'vertices', vertices)
-        __set__(self, 'normals', normals)
-        __set__(self, 'uv', uv)
-        __set__(self, 'textured', textured)
-        __set__(self, 'matrix', matrix)
+        _set_vertices(self, vertices)
+        _set_normals(self, normals)
+        _set_uv(self, uv)
+        _set_textured(self, textured)
+        _set_matrix(self, matrix)
     return __init__
 
 
 # urdftool.backends.collision.CollisionScene
-def _init_backends_collision_CollisionScene(__defaults__, __factories__, __sentinel__, __set__):
+def _init_backends_collision_CollisionScene(__defaults__, __factories__, __sentinel__, __set__, __slot__):
     def __init__(self, robot, pin, geometry, pieces=__sentinel__, meshes=__sentinel__, skipped=__sentinel__, _data=__defaults__['_data'], _gdata=__defaults__['_gdata'], _pairs=__sentinel__):
-        __set__(self, 'robot', robot)
-        __set__(self, 'pin', pin)
-        __set__(self, 'geometry', geometry)
-        __set__(self, 'pieces', __factories__['pieces']() if pieces is __sentinel__ else pieces)
-        __set__(self, 'meshes', __factories__['meshes']() if meshes is __sentinel__ else meshes)
-        __set__(self, 'skipped', __factories__['skipped']() if skipped is __sentinel__ else skipped)
-        __set__(self, '_data', _data)
-        __set__(self, '_gdata', _gdata)
-        __set__(self, '_pairs', __factories__['_pairs']() if _pairs is __sentinel__ else _pairs)
+        self.robot = robot
+        self.pin = pin
+        self.geometry = geometry
+        self.pieces = __factories__['pieces']() if pieces is __sentinel__ else pieces
+        self.meshes = __factories__['meshes']() if meshes is __sentinel__ else meshes
+        self.skipped = __factories__['skipped']() if skipped is __sentinel__ else skipped
+        self._data = _data
+        self._gdata = _gdata
+        self._pairs = __factories__['_pairs']() if _pairs is __sentinel__ else _pairs
     return __init__
 
 
 # urdftool.backends.collision.Piece
-def _init_backends_collision_Piece(__defaults__, __factories__, __sentinel__, __set__):
+def _init_backends_collision_Piece(__defaults__, __factories__, __sentinel__, __set__, __slot__):
+    _set_link = __slot__('link')
+    _set_index = __slot__('index')
+    _set_body = __slot__('body')
     def __init__(self, link, index, body):
-        __set__(self, 'link', link)
-        __set__(self, 'index', index)
-        __set__(self, 'body', body)
+        _set_link(self, link)
+        _set_index(self, index)
+        _set_body(self, body)
     return __init__
 
 
 # urdftool.backends.collision_shapes.Primitive
-def _init_backends_collision_shapes_Primitive(__defaults__, __factories__, __sentinel__, __set__):
+def _init_backends_collision_shapes_Primitive(__defaults__, __factories__, __sentinel__, __set__, __slot__):
+    _set_kind = __slot__('kind')
+    _set_size = __slot__('size')
+    _set_xyz = __slot__('xyz')
+    _set_rpy = __slot__('rpy')
     def __init__(self, kind, size, xyz, rpy):
-        __set__(self, 'kind', kind)
-        __set__(self, 'size', size)
-        __set__(self, 'xyz', xyz)
-        __set__(self, 'rpy', rpy)
+        _set_kind(self, kind)
+        _set_size(self, size)
+        _set_xyz(self, xyz)
+        _set_rpy(self, rpy)
     return __init__
 
 
 # urdftool.backends.collision_shapes.Simplified
-def _init_backends_collision_shapes_Simplified(__defaults__, __factories__, __sentinel__, __set__):
+def _init_backends_collision_shapes_Simplified(__defaults__, __factories__, __sentinel__, __set__, __slot__):
+    _set_mode = __slot__('mode')
+    _set_parts = __slot__('parts')
+    _set_primitive = __slot__('primitive')
+    _set_volume = __slot__('volume')
+    _set_mesh_volume = __slot__('mesh_volume')
+    _set_note = __slot__('note')
+    _set_cached = __slot__('cached')
     def __init__(self, mode, parts=__defaults__['parts'], primitive=__defaults__['primitive'], volume=__defaults__['volume'], mesh_volume=__defaults__['mesh_volume'], note=__defaults__['note'], cached=__defaults__['cached']):
-        __set__(self, 'mode', mode)
-        __set__(self, 'parts', parts)
-        __set__(self, 'primitive', primitive)
-        __set__(self, 'volume', volume)
-        __set__(self, 'mesh_volume', mesh_volume)
-        __set__(self, 'note', note)
-        __set__(self, 'cached', cached)
+        _set_mode(self, mode)
+        _set_parts(self, parts)
+        _set_primitive(self, primitive)
+        _set_volume(self, volume)
+        _set_mesh_volume(self, mesh_volume)
+        _set_note(self, note)
+        _set_cached(self, cached)
     return __init__
 
 
 # urdftool.backends.collision_volume.Solid
-def _init_backends_collision_volume_Solid(__defaults__, __factories__, __sentinel__, __set__):
+def _init_backends_collision_volume_Solid(__defaults__, __factories__, __sentinel__, __set__, __slot__):
+    _set_shape = __slot__('shape')
+    _set_mesh = __slot__('mesh')
+    _set_lower = __slot__('lower')
+    _set_upper = __slot__('upper')
+    _set_envelope = __slot__('envelope')
     def __init__(self, shape, mesh, lower, upper, envelope=__defaults__['envelope']):
-        __set__(self, 'shape', shape)
-        __set__(self, 'mesh', mesh)
-        __set__(self, 'lower', lower)
-        __set__(self, 'upper', upper)
-        __set__(self, 'envelope', envelope)
+        _set_shape(self, shape)
+        _set_mesh(self, mesh)
+        _set_lower(self, lower)
+        _set_upper(self, upper)
+        _set_envelope(self, envelope)
     return __init__
 
 
 # urdftool.backends.mesh_formats.MeshFormat
-def _init_backends_mesh_formats_MeshFormat(__defaults__, __factories__, __sentinel__, __set__):
+def _init_backends_mesh_formats_MeshFormat(__defaults__, __factories__, __sentinel__, __set__, __slot__):
+    _set_kind = __slot__('kind')
+    _set_extension = __slot__('extension')
+    _set_faces = __slot__('faces')
     def __init__(self, kind, extension, faces=__defaults__['faces']):
-        __set__(self, 'kind', kind)
-        __set__(self, 'extension', extension)
-        __set__(self, 'faces', faces)
+        _set_kind(self, kind)
+        _set_extension(self, extension)
+        _set_faces(self, faces)
     return __init__
 
 
 # urdftool.backends.mesh_materials.ColouredPart
-def _init_backends_mesh_materials_ColouredPart(__defaults__, __factories__, __sentinel__, __set__):
+def _init_backends_mesh_materials_ColouredPart(__defaults__, __factories__, __sentinel__, __set__, __slot__):
+    _set_rgba = __slot__('rgba')
+    _set_vertices = __slot__('vertices')
+    _set_faces = __slot__('faces')
     def __init__(self, rgba, vertices, faces):
-        __set__(self, 'rgba', rgba)
-        __set__(self, 'vertices', vertices)
-        __set__(self, 'faces', faces)
+        _set_rgba(self, rgba)
+        _set_vertices(self, vertices)
+        _set_faces(self, faces)
     return __init__
 
 
 # urdftool.backends.mesh_shape.ShapeFacts
-def _init_backends_mesh_shape_ShapeFacts(__defaults__, __factories__, __sentinel__, __set__):
+def _init_backends_mesh_shape_ShapeFacts(__defaults__, __factories__, __sentinel__, __set__, __slot__):
+    _set_vertices = __slot__('vertices')
+    _set_faces = __slot__('faces')
+    _set_watertight = __slot__('watertight')
+    _set_winding_consistent = __slot__('winding_consistent')
+    _set_nonmanifold_edges = __slot__('nonmanifold_edges')
+    _set_degenerate_faces = __slot__('degenerate_faces')
+    _set_solid_volume = __slot__('solid_volume')
+    _set_hull_volume = __slot__('hull_volume')
+    _set_hull_vertices = __slot__('hull_vertices')
+    _set_objects = __slot__('objects')
+    _set_object_hull_volume = __slot__('object_hull_volume')
     def __init__(self, vertices, faces, watertight, winding_consistent, nonmanifold_edges, degenerate_faces, solid_volume, hull_volume, hull_vertices, objects, object_hull_volume):
-        __set__(self, 'vertices', vertices)
-        __set__(self, 'faces', faces)
-        __set__(self, 'watertight', watertight)
-        __set__(self, 'winding_consistent', winding_consistent)
-        __set__(self, 'nonmanifold_edges', nonmanifold_edges)
-        __set__(self, 'degenerate_faces', degenerate_faces)
-        __set__(self, 'solid_volume', solid_volume)
-        __set__(self, 'hull_volume', hull_volume)
-        __set__(self, 'hull_vertices', hull_vertices)
-        __set__(self, 'objects', objects)
-        __set__(self, 'object_hull_volume', object_hull_volume)
+        _set_vertices(self, vertices)
+        _set_faces(self, faces)
+        _set_watertight(self, watertight)
+        _set_winding_consistent(self, winding_consistent)
+        _set_nonmanifold_edges(self, nonmanifold_edges)
+        _set_degenerate_faces(self, degenerate_faces)
+        _set_solid_volume(self, solid_volume)
+        _set_hull_volume(self, hull_volume)
+        _set_hull_vertices(self, hull_vertices)
+        _set_objects(self, objects)
+        _set_object_hull_volume(self, object_hull_volume)
     return __init__
 
 
 # urdftool.backends.meshes.MeshFacts
-def _init_backends_meshes_MeshFacts(__defaults__, __factories__, __sentinel__, __set__):
+def _init_backends_meshes_MeshFacts(__defaults__, __factories__, __sentinel__, __set__, __slot__):
+    _set_vertices = __slot__('vertices')
+    _set_faces = __slot__('faces')
+    _set_watertight = __slot__('watertight')
+    _set_volume = __slot__('volume')
+    _set_center_mass = __slot__('center_mass')
+    _set_second_moment = __slot__('second_moment')
+    _set_bounds_min = __slot__('bounds_min')
+    _set_bounds_max = __slot__('bounds_max')
+    _set_unit = __slot__('unit')
     def __init__(self, vertices, faces, watertight, volume, center_mass, second_moment, bounds_min, bounds_max, unit=__defaults__['unit']):
-        __set__(self, 'vertices', vertices)
-        __set__(self, 'faces', faces)
-        __set__(self, 'watertight', watertight)
-        __set__(self, 'volume', volume)
-        __set__(self, 'center_mass', center_mass)
-        __set__(self, 'second_moment', second_moment)
-        __set__(self, 'bounds_min', bounds_min)
-        __set__(self, 'bounds_max', bounds_max)
-        __set__(self, 'unit', unit)
+        _set_vertices(self, vertices)
+        _set_faces(self, faces)
+        _set_watertight(self, watertight)
+        _set_volume(self, volume)
+        _set_center_mass(self, center_mass)
+        _set_second_moment(self, second_moment)
+        _set_bounds_min(self, bounds_min)
+        _set_bounds_max(self, bounds_max)
+        _set_unit(self, unit)
     return __init__
 
 
 # urdftool.backends.meshes.MeshInfo
-def _init_backends_meshes_MeshInfo(__defaults__, __factories__, __sentinel__, __set__):
+def _init_backends_meshes_MeshInfo(__defaults__, __factories__, __sentinel__, __set__, __slot__):
+    _set_path = __slot__('path')
+    _set_vertices = __slot__('vertices')
+    _set_faces = __slot__('faces')
+    _set_watertight = __slot__('watertight')
+    _set_volume = __slot__('volume')
+    _set_center_mass = __slot__('center_mass')
+    _set_inertia_unit_density = __slot__('inertia_unit_density')
+    _set_bounds_min = __slot__('bounds_min')
+    _set_bounds_max = __slot__('bounds_max')
+    _set_unit = __slot__('unit')
     def __init__(self, path, vertices, faces, watertight, volume, center_mass, inertia_unit_density, bounds_min, bounds_max, unit=__defaults__['unit']):
-        __set__(self, 'path', path)
-        __set__(self, 'vertices', vertices)
-        __set__(self, 'faces', faces)
-        __set__(self, 'watertight', watertight)
-        __set__(self, 'volume', volume)
-        __set__(self, 'center_mass', center_mass)
-        __set__(self, 'inertia_unit_density', inertia_unit_density)
-        __set__(self, 'bounds_min', bounds_min)
-        __set__(self, 'bounds_max', bounds_max)
-        __set__(self, 'unit', unit)
+        _set_path(self, path)
+        _set_vertices(self, vertices)
+        _set_faces(self, faces)
+        _set_watertight(self, watertight)
+        _set_volume(self, volume)
+        _set_center_mass(self, center_mass)
+        _set_inertia_unit_density(self, inertia_unit_density)
+        _set_bounds_min(self, bounds_min)
+        _set_bounds_max(self, bounds_max)
+        _set_unit(self, unit)
     return __init__
 
 
 # urdftool.backends.mujoco.EngineError
-def _init_backends_mujoco_EngineError(__defaults__, __factories__, __sentinel__, __set__):
+def _init_backends_mujoco_EngineError(__defaults__, __factories__, __sentinel__, __set__, __slot__):
     def __init__(self, message, element=__defaults__['element'], line=__defaults__['line']):
-        __set__(self, 'message', message)
-        __set__(self, 'element', element)
-        __set__(self, 'line', line)
+        self.message = message
+        self.element = element
+        self.line = line
     return __init__
 
 
 # urdftool.backends.pinocchio.PinocchioModel
-def _init_backends_pinocchio_PinocchioModel(__defaults__, __factories__, __sentinel__, __set__):
+def _init_backends_pinocchio_PinocchioModel(__defaults__, __factories__, __sentinel__, __set__, __slot__):
     def __init__(self, model, link_frames=__sentinel__, joints=__sentinel__, mimics=__sentinel__, free_flyer=__defaults__['free_flyer']):
-        __set__(self, 'model', model)
-        __set__(self, 'link_frames', __factories__['link_frames']() if link_frames is __sentinel__ else link_frames)
-        __set__(self, 'joints', __factories__['joints']() if joints is __sentinel__ else joints)
-        __set__(self, 'mimics', __factories__['mimics']() if mimics is __sentinel__ else mimics)
-        __set__(self, 'free_flyer', free_flyer)
+        self.model = model
+        self.link_frames = __factories__['link_frames']() if link_frames is __sentinel__ else link_frames
+        self.joints = __factories__['joints']() if joints is __sentinel__ else joints
+        self.mimics = __factories__['mimics']() if mimics is __sentinel__ else mimics
+        self.free_flyer = free_flyer
     return __init__
 
 
 # urdftool.backends.pybullet.EngineJoint
-def _init_backends_pybullet_EngineJoint(__defaults__, __factories__, __sentinel__, __set__):
+def _init_backends_pybullet_EngineJoint(__defaults__, __factories__, __sentinel__, __set__, __slot__):
+    _set_name = __slot__('name')
+    _set_index = __slot__('index')
+    _set_type = __slot__('type')
+    _set_child = __slot__('child')
+    _set_axis = __slot__('axis')
+    _set_lower = __slot__('lower')
+    _set_upper = __slot__('upper')
+    _set_effort = __slot__('effort')
+    _set_velocity = __slot__('velocity')
+    _set_dof = __slot__('dof')
     def __init__(self, name, index, type, child, axis, lower, upper, effort, velocity, dof):
-        __set__(self, 'name', name)
-        __set__(self, 'index', index)
-        __set__(self, 'type', type)
-        __set__(self, 'child', child)
-        __set__(self, 'axis', axis)
-        __set__(self, 'lower', lower)
-        __set__(self, 'upper', upper)
-        __set__(self, 'effort', effort)
-        __set__(self, 'velocity', velocity)
-        __set__(self, 'dof', dof)
+        _set_name(self, name)
+        _set_index(self, index)
+        _set_type(self, type)
+        _set_child(self, child)
+        _set_axis(self, axis)
+        _set_lower(self, lower)
+        _set_upper(self, upper)
+        _set_effort(self, effort)
+        _set_velocity(self, velocity)
+        _set_dof(self, dof)
     return __init__
 
 
 # urdftool.backends.pybullet.EngineLink
-def _init_backends_pybullet_EngineLink(__defaults__, __factories__, __sentinel__, __set__):
+def _init_backends_pybullet_EngineLink(__defaults__, __factories__, __sentinel__, __set__, __slot__):
+    _set_name = __slot__('name')
+    _set_index = __slot__('index')
+    _set_mass = __slot__('mass')
+    _set_inertia_diagonal = __slot__('inertia_diagonal')
+    _set_inertial_frame = __slot__('inertial_frame')
     def __init__(self, name, index, mass, inertia_diagonal, inertial_frame):
-        __set__(self, 'name', name)
-        __set__(self, 'index', index)
-        __set__(self, 'mass', mass)
-        __set__(self, 'inertia_diagonal', inertia_diagonal)
-        __set__(self, 'inertial_frame', inertial_frame)
+        _set_name(self, name)
+        _set_index(self, index)
+        _set_mass(self, mass)
+        _set_inertia_diagonal(self, inertia_diagonal)
+        _set_inertial_frame(self, inertial_frame)
     return __init__
 
 
 # urdftool.backends.pybullet.PyBulletLoad
-def _init_backends_pybullet_PyBulletLoad(__defaults__, __factories__, __sentinel__, __set__):
+def _init_backends_pybullet_PyBulletLoad(__defaults__, __factories__, __sentinel__, __set__, __slot__):
     def __init__(self, path, flags=__defaults__['flags'], body=__defaults__['body'], error=__defaults__['error'], messages=__sentinel__, _client=__defaults__['_client'], _p=__defaults__['_p'], _joints=__defaults__['_joints']):
-        __set__(self, 'path', path)
-        __set__(self, 'flags', flags)
-        __set__(self, 'body', body)
-        __set__(self, 'error', error)
-        __set__(self, 'messages', __factories__['messages']() if messages is __sentinel__ else messages)
-        __set__(self, '_client', _client)
-        __set__(self, '_p', _p)
-        __set__(self, '_joints', _joints)
+        self.path = path
+        self.flags = flags
+        self.body = body
+        self.error = error
+        self.messages = __factories__['messages']() if messages is __sentinel__ else messages
+        self._client = _client
+        self._p = _p
+        self._joints = _joints
     return __init__
 
 
 COMPILED = {
-    'urdftool.backends.collada.ColladaScene': ('parts,unit', _init_backends_collada_ColladaScene),
-    'urdftool.backends.collada.Part': ('vertices,normals,uv,textured,matrix', _init_backends_collada_Part),
-    'urdftool.backends.collision.CollisionScene': ('robot,pin,geometry,pieces*,meshes*,skipped*,_data=,_gdata=,_pairs*', _init_backends_collision_CollisionScene),
-    'urdftool.backends.collision.Piece': ('link,index,body', _init_backends_collision_Piece),
-    'urdftool.backends.collision_shapes.Primitive': ('kind,size,xyz,rpy', _init_backends_collision_shapes_Primitive),
-    'urdftool.backends.collision_shapes.Simplified': ('mode,parts=,primitive=,volume=,mesh_volume=,note=,cached=', _init_backends_collision_shapes_Simplified),
-    'urdftool.backends.collision_volume.Solid': ('shape,mesh,lower,upper,envelope=', _init_backends_collision_volume_Solid),
-    'urdftool.backends.mesh_formats.MeshFormat': ('kind,extension,faces=', _init_backends_mesh_formats_MeshFormat),
-    'urdftool.backends.mesh_materials.ColouredPart': ('rgba,vertices,faces', _init_backends_mesh_materials_ColouredPart),
-    'urdftool.backends.mesh_shape.ShapeFacts': ('vertices,faces,watertight,winding_consistent,nonmanifold_edges,degenerate_faces,solid_volume,hull_volume,hull_vertices,objects,object_hull_volume', _init_backends_mesh_shape_ShapeFacts),
-    'urdftool.backends.meshes.MeshFacts': ('vertices,faces,watertight,volume,center_mass,second_moment,bounds_min,bounds_max,unit=', _init_backends_meshes_MeshFacts),
-    'urdftool.backends.meshes.MeshInfo': ('path,vertices,faces,watertight,volume,center_mass,inertia_unit_density,bounds_min,bounds_max,unit=', _init_backends_meshes_MeshInfo),
-    'urdftool.backends.mujoco.EngineError': ('message,element=,line=', _init_backends_mujoco_EngineError),
-    'urdftool.backends.pinocchio.PinocchioModel': ('model,link_frames*,joints*,mimics*,free_flyer=', _init_backends_pinocchio_PinocchioModel),
-    'urdftool.backends.pybullet.EngineJoint': ('name,index,type,child,axis,lower,upper,effort,velocity,dof', _init_backends_pybullet_EngineJoint),
-    'urdftool.backends.pybullet.EngineLink': ('name,index,mass,inertia_diagonal,inertial_frame', _init_backends_pybullet_EngineLink),
-    'urdftool.backends.pybullet.PyBulletLoad': ('path,flags=,body=,error=,messages*,_client=,_p=,_joints=', _init_backends_pybullet_PyBulletLoad),
+    'urdftool.backends.collada.ColladaScene': ('parts,unit|slots', _init_backends_collada_ColladaScene),
+    'urdftool.backends.collada.Part': ('vertices,normals,uv,textured,matrix|slots', _init_backends_collada_Part),
+    'urdftool.backends.collision.CollisionScene': ('robot,pin,geometry,pieces*,meshes*,skipped*,_data=,_gdata=,_pairs*|plain', _init_backends_collision_CollisionScene),
+    'urdftool.backends.collision.Piece': ('link,index,body|slots', _init_backends_collision_Piece),
+    'urdftool.backends.collision_shapes.Primitive': ('kind,size,xyz,rpy|slots', _init_backends_collision_shapes_Primitive),
+    'urdftool.backends.collision_shapes.Simplified': ('mode,parts=,primitive=,volume=,mesh_volume=,note=,cached=|slots', _init_backends_collision_shapes_Simplified),
+    'urdftool.backends.collision_volume.Solid': ('shape,mesh,lower,upper,envelope=|slots', _init_backends_collision_volume_Solid),
+    'urdftool.backends.mesh_formats.MeshFormat': ('kind,extension,faces=|slots', _init_backends_mesh_formats_MeshFormat),
+    'urdftool.backends.mesh_materials.ColouredPart': ('rgba,vertices,faces|slots', _init_backends_mesh_materials_ColouredPart),
+    'urdftool.backends.mesh_shape.ShapeFacts': ('vertices,faces,watertight,winding_consistent,nonmanifold_edges,degenerate_faces,solid_volume,hull_volume,hull_vertices,objects,object_hull_volume|slots', _init_backends_mesh_shape_ShapeFacts),
+    'urdftool.backends.meshes.MeshFacts': ('vertices,faces,watertight,volume,center_mass,second_moment,bounds_min,bounds_max,unit=|slots', _init_backends_meshes_MeshFacts),
+    'urdftool.backends.meshes.MeshInfo': ('path,vertices,faces,watertight,volume,center_mass,inertia_unit_density,bounds_min,bounds_max,unit=|slots', _init_backends_meshes_MeshInfo),
+    'urdftool.backends.mujoco.EngineError': ('message,element=,line=|plain', _init_backends_mujoco_EngineError),
+    'urdftool.backends.pinocchio.PinocchioModel': ('model,link_frames*,joints*,mimics*,free_flyer=|plain', _init_backends_pinocchio_PinocchioModel),
+    'urdftool.backends.pybullet.EngineJoint': ('name,index,type,child,axis,lower,upper,effort,velocity,dof|slots', _init_backends_pybullet_EngineJoint),
+    'urdftool.backends.pybullet.EngineLink': ('name,index,mass,inertia_diagonal,inertial_frame|slots', _init_backends_pybullet_EngineLink),
+    'urdftool.backends.pybullet.PyBulletLoad': ('path,flags=,body=,error=,messages*,_client=,_p=,_joints=|plain', _init_backends_pybullet_PyBulletLoad),
 }

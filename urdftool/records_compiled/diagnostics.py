@@ -9,68 +9,90 @@ entry maps a record to the shape of its fields and a function that builds its ``
 
 
 # urdftool.diagnostics.Diagnostic
-def _init_diagnostics_Diagnostic(__defaults__, __factories__, __sentinel__, __set__):
+def _init_diagnostics_Diagnostic(__defaults__, __factories__, __sentinel__, __set__, __slot__):
+    _set_code = __slot__('code')
+    _set_name = __slot__('name')
+    _set_severity = __slot__('severity')
+    _set_message = __slot__('message')
+    _set_location = __slot__('location')
+    _set_element = __slot__('element')
+    _set_help = __slot__('help')
+    _set_data = __slot__('data')
+    _set_related = __slot__('related')
+    _set_fix = __slot__('fix')
     def __init__(self, code, name, severity, message, location=__defaults__['location'], element=__defaults__['element'], help=__defaults__['help'], data=__sentinel__, related=__defaults__['related'], fix=__defaults__['fix']):
-        __set__(self, 'code', code)
-        __set__(self, 'name', name)
-        __set__(self, 'severity', severity)
-        __set__(self, 'message', message)
-        __set__(self, 'location', location)
-        __set__(self, 'element', element)
-        __set__(self, 'help', help)
-        __set__(self, 'data', __factories__['data']() if data is __sentinel__ else data)
-        __set__(self, 'related', related)
-        __set__(self, 'fix', fix)
+        _set_code(self, code)
+        _set_name(self, name)
+        _set_severity(self, severity)
+        _set_message(self, message)
+        _set_location(self, location)
+        _set_element(self, element)
+        _set_help(self, help)
+        _set_data(self, __factories__['data']() if data is __sentinel__ else data)
+        _set_related(self, related)
+        _set_fix(self, fix)
     return __init__
 
 
 # urdftool.diagnostics.Edit
-def _init_diagnostics_Edit(__defaults__, __factories__, __sentinel__, __set__):
+def _init_diagnostics_Edit(__defaults__, __factories__, __sentinel__, __set__, __slot__):
+    _set_span = __slot__('span')
+    _set_content = __slot__('content')
     def __init__(self, span, content):
-        __set__(self, 'span', span)
-        __set__(self, 'content', content)
+        _set_span(self, span)
+        _set_content(self, content)
     return __init__
 
 
 # urdftool.diagnostics.FileReport
-def _init_diagnostics_FileReport(__defaults__, __factories__, __sentinel__, __set__):
+def _init_diagnostics_FileReport(__defaults__, __factories__, __sentinel__, __set__, __slot__):
+    _set_path = __slot__('path')
+    _set_format = __slot__('format')
+    _set_robot = __slot__('robot')
+    _set_diagnostics = __slot__('diagnostics')
     def __init__(self, path, format, robot, diagnostics):
-        __set__(self, 'path', path)
-        __set__(self, 'format', format)
-        __set__(self, 'robot', robot)
-        __set__(self, 'diagnostics', diagnostics)
+        _set_path(self, path)
+        _set_format(self, format)
+        _set_robot(self, robot)
+        _set_diagnostics(self, diagnostics)
     return __init__
 
 
 # urdftool.diagnostics.Fix
-def _init_diagnostics_Fix(__defaults__, __factories__, __sentinel__, __set__):
+def _init_diagnostics_Fix(__defaults__, __factories__, __sentinel__, __set__, __slot__):
+    _set_message = __slot__('message')
+    _set_edits = __slot__('edits')
+    _set_applicability = __slot__('applicability')
     def __init__(self, message, edits, applicability=__defaults__['applicability']):
-        __set__(self, 'message', message)
-        __set__(self, 'edits', edits)
-        __set__(self, 'applicability', applicability)
+        _set_message(self, message)
+        _set_edits(self, edits)
+        _set_applicability(self, applicability)
     return __init__
 
 
 # urdftool.diagnostics.Related
-def _init_diagnostics_Related(__defaults__, __factories__, __sentinel__, __set__):
+def _init_diagnostics_Related(__defaults__, __factories__, __sentinel__, __set__, __slot__):
+    _set_span = __slot__('span')
+    _set_label = __slot__('label')
     def __init__(self, span, label):
-        __set__(self, 'span', span)
-        __set__(self, 'label', label)
+        _set_span(self, span)
+        _set_label(self, label)
     return __init__
 
 
 # urdftool.diagnostics.Report
-def _init_diagnostics_Report(__defaults__, __factories__, __sentinel__, __set__):
+def _init_diagnostics_Report(__defaults__, __factories__, __sentinel__, __set__, __slot__):
+    _set_files = __slot__('files')
     def __init__(self, files):
-        __set__(self, 'files', files)
+        _set_files(self, files)
     return __init__
 
 
 COMPILED = {
-    'urdftool.diagnostics.Diagnostic': ('code,name,severity,message,location=,element=,help=,data*,related=,fix=', _init_diagnostics_Diagnostic),
-    'urdftool.diagnostics.Edit': ('span,content', _init_diagnostics_Edit),
-    'urdftool.diagnostics.FileReport': ('path,format,robot,diagnostics', _init_diagnostics_FileReport),
-    'urdftool.diagnostics.Fix': ('message,edits,applicability=', _init_diagnostics_Fix),
-    'urdftool.diagnostics.Related': ('span,label', _init_diagnostics_Related),
-    'urdftool.diagnostics.Report': ('files', _init_diagnostics_Report),
+    'urdftool.diagnostics.Diagnostic': ('code,name,severity,message,location=,element=,help=,data*,related=,fix=|slots', _init_diagnostics_Diagnostic),
+    'urdftool.diagnostics.Edit': ('span,content|slots', _init_diagnostics_Edit),
+    'urdftool.diagnostics.FileReport': ('path,format,robot,diagnostics|slots', _init_diagnostics_FileReport),
+    'urdftool.diagnostics.Fix': ('message,edits,applicability=|slots', _init_diagnostics_Fix),
+    'urdftool.diagnostics.Related': ('span,label|slots', _init_diagnostics_Related),
+    'urdftool.diagnostics.Report': ('files|slots', _init_diagnostics_Report),
 }

@@ -9,338 +9,399 @@ entry maps a record to the shape of its fields and a function that builds its ``
 
 
 # urdftool.export.ExportOptions
-def _init_export_ExportOptions(__defaults__, __factories__, __sentinel__, __set__):
+def _init_export_ExportOptions(__defaults__, __factories__, __sentinel__, __set__, __slot__):
+    _set_floating_base = __slot__('floating_base')
+    _set_actuators = __slot__('actuators')
+    _set_repair_inertia = __slot__('repair_inertia')
+    _set_copy_assets = __slot__('copy_assets')
+    _set_scene = __slot__('scene')
+    _set_absolute_mesh_paths = __slot__('absolute_mesh_paths')
+    _set_extra = __slot__('extra')
+    _set_findings = __slot__('findings')
+    _set_fuse_fixed = __slot__('fuse_fixed')
     def __init__(self, floating_base=__defaults__['floating_base'], actuators=__defaults__['actuators'], repair_inertia=__defaults__['repair_inertia'], copy_assets=__defaults__['copy_assets'], scene=__defaults__['scene'], absolute_mesh_paths=__defaults__['absolute_mesh_paths'], extra=__sentinel__, findings=__defaults__['findings'], fuse_fixed=__defaults__['fuse_fixed']):
-        __set__(self, 'floating_base', floating_base)
-        __set__(self, 'actuators', actuators)
-        __set__(self, 'repair_inertia', repair_inertia)
-        __set__(self, 'copy_assets', copy_assets)
-        __set__(self, 'scene', scene)
-        __set__(self, 'absolute_mesh_paths', absolute_mesh_paths)
-        __set__(self, 'extra', __factories__['extra']() if extra is __sentinel__ else extra)
-        __set__(self, 'findings', findings)
-        __set__(self, 'fuse_fixed', fuse_fixed)
+        _set_floating_base(self, floating_base)
+        _set_actuators(self, actuators)
+        _set_repair_inertia(self, repair_inertia)
+        _set_copy_assets(self, copy_assets)
+        _set_scene(self, scene)
+        _set_absolute_mesh_paths(self, absolute_mesh_paths)
+        _set_extra(self, __factories__['extra']() if extra is __sentinel__ else extra)
+        _set_findings(self, findings)
+        _set_fuse_fixed(self, fuse_fixed)
     return __init__
 
 
 # urdftool.export.ExportResult
-def _init_export_ExportResult(__defaults__, __factories__, __sentinel__, __set__):
+def _init_export_ExportResult(__defaults__, __factories__, __sentinel__, __set__, __slot__):
     def __init__(self, files=__sentinel__, diagnostics=__sentinel__):
-        __set__(self, 'files', __factories__['files']() if files is __sentinel__ else files)
-        __set__(self, 'diagnostics', __factories__['diagnostics']() if diagnostics is __sentinel__ else diagnostics)
+        self.files = __factories__['files']() if files is __sentinel__ else files
+        self.diagnostics = __factories__['diagnostics']() if diagnostics is __sentinel__ else diagnostics
     return __init__
 
 
 # urdftool.export.VerifyResult
-def _init_export_VerifyResult(__defaults__, __factories__, __sentinel__, __set__):
+def _init_export_VerifyResult(__defaults__, __factories__, __sentinel__, __set__, __slot__):
     def __init__(self, ok, rows=__sentinel__, diagnostics=__sentinel__):
-        __set__(self, 'ok', ok)
-        __set__(self, 'rows', __factories__['rows']() if rows is __sentinel__ else rows)
-        __set__(self, 'diagnostics', __factories__['diagnostics']() if diagnostics is __sentinel__ else diagnostics)
+        self.ok = ok
+        self.rows = __factories__['rows']() if rows is __sentinel__ else rows
+        self.diagnostics = __factories__['diagnostics']() if diagnostics is __sentinel__ else diagnostics
     return __init__
 
 
 # urdftool.export.assets.MeshFile
-def _init_export_assets_MeshFile(__defaults__, __factories__, __sentinel__, __set__):
+def _init_export_assets_MeshFile(__defaults__, __factories__, __sentinel__, __set__, __slot__):
+    _set_reference = __slot__('reference')
+    _set_converted = __slot__('converted')
+    _set_source_hash = __slot__('source_hash')
     def __init__(self, reference, converted, source_hash):
-        __set__(self, 'reference', reference)
-        __set__(self, 'converted', converted)
-        __set__(self, 'source_hash', source_hash)
+        _set_reference(self, reference)
+        _set_converted(self, converted)
+        _set_source_hash(self, source_hash)
     return __init__
 
 
 # urdftool.export.assets.MeshFiles
-def _init_export_assets_MeshFiles(__defaults__, __factories__, __sentinel__, __set__):
+def _init_export_assets_MeshFiles(__defaults__, __factories__, __sentinel__, __set__, __slot__):
     def __init__(self, out_dir, native, convert, converted_suffix, copy=__defaults__['copy'], files=__sentinel__, _seen=__sentinel__):
-        __set__(self, 'out_dir', out_dir)
-        __set__(self, 'native', native)
-        __set__(self, 'convert', convert)
-        __set__(self, 'converted_suffix', converted_suffix)
-        __set__(self, 'copy', copy)
-        __set__(self, 'files', __factories__['files']() if files is __sentinel__ else files)
-        __set__(self, '_seen', __factories__['_seen']() if _seen is __sentinel__ else _seen)
+        self.out_dir = out_dir
+        self.native = native
+        self.convert = convert
+        self.converted_suffix = converted_suffix
+        self.copy = copy
+        self.files = __factories__['files']() if files is __sentinel__ else files
+        self._seen = __factories__['_seen']() if _seen is __sentinel__ else _seen
     return __init__
 
 
 # urdftool.export.graph.GraphOptions
-def _init_export_graph_GraphOptions(__defaults__, __factories__, __sentinel__, __set__):
+def _init_export_graph_GraphOptions(__defaults__, __factories__, __sentinel__, __set__, __slot__):
+    _set_rankdir = __slot__('rankdir')
+    _set_collapse_fixed = __slot__('collapse_fixed')
+    _set_diagnostics = __slot__('diagnostics')
+    _set_select = __slot__('select')
+    _set_ignore = __slot__('ignore')
     def __init__(self, rankdir=__defaults__['rankdir'], collapse_fixed=__defaults__['collapse_fixed'], diagnostics=__defaults__['diagnostics'], select=__defaults__['select'], ignore=__defaults__['ignore']):
-        __set__(self, 'rankdir', rankdir)
-        __set__(self, 'collapse_fixed', collapse_fixed)
-        __set__(self, 'diagnostics', diagnostics)
-        __set__(self, 'select', select)
-        __set__(self, 'ignore', ignore)
+        _set_rankdir(self, rankdir)
+        _set_collapse_fixed(self, collapse_fixed)
+        _set_diagnostics(self, diagnostics)
+        _set_select(self, select)
+        _set_ignore(self, ignore)
         self.__post_init__()
     return __init__
 
 
 # urdftool.export.graph.build.GraphSettings
-def _init_export_graph_build_GraphSettings(__defaults__, __factories__, __sentinel__, __set__):
+def _init_export_graph_build_GraphSettings(__defaults__, __factories__, __sentinel__, __set__, __slot__):
+    _set_rankdir = __slot__('rankdir')
+    _set_collapse_fixed = __slot__('collapse_fixed')
     def __init__(self, rankdir=__defaults__['rankdir'], collapse_fixed=__defaults__['collapse_fixed']):
-        __set__(self, 'rankdir', rankdir)
-        __set__(self, 'collapse_fixed', collapse_fixed)
+        _set_rankdir(self, rankdir)
+        _set_collapse_fixed(self, collapse_fixed)
     return __init__
 
 
 # urdftool.export.graph.findings.Findings
-def _init_export_graph_findings_Findings(__defaults__, __factories__, __sentinel__, __set__):
+def _init_export_graph_findings_Findings(__defaults__, __factories__, __sentinel__, __set__, __slot__):
     def __init__(self, links=__sentinel__, joints=__sentinel__, other=__sentinel__):
-        __set__(self, 'links', __factories__['links']() if links is __sentinel__ else links)
-        __set__(self, 'joints', __factories__['joints']() if joints is __sentinel__ else joints)
-        __set__(self, 'other', __factories__['other']() if other is __sentinel__ else other)
+        self.links = __factories__['links']() if links is __sentinel__ else links
+        self.joints = __factories__['joints']() if joints is __sentinel__ else joints
+        self.other = __factories__['other']() if other is __sentinel__ else other
     return __init__
 
 
 # urdftool.export.graph.groups.LinkGroups
-def _init_export_graph_groups_LinkGroups(__defaults__, __factories__, __sentinel__, __set__):
+def _init_export_graph_groups_LinkGroups(__defaults__, __factories__, __sentinel__, __set__, __slot__):
     def __init__(self, top=__sentinel__, members=__sentinel__, offset=__sentinel__, merged_joints=__sentinel__):
-        __set__(self, 'top', __factories__['top']() if top is __sentinel__ else top)
-        __set__(self, 'members', __factories__['members']() if members is __sentinel__ else members)
-        __set__(self, 'offset', __factories__['offset']() if offset is __sentinel__ else offset)
-        __set__(self, 'merged_joints', __factories__['merged_joints']() if merged_joints is __sentinel__ else merged_joints)
+        self.top = __factories__['top']() if top is __sentinel__ else top
+        self.members = __factories__['members']() if members is __sentinel__ else members
+        self.offset = __factories__['offset']() if offset is __sentinel__ else offset
+        self.merged_joints = __factories__['merged_joints']() if merged_joints is __sentinel__ else merged_joints
     return __init__
 
 
 # urdftool.export.mjcf_actuators.Drive
-def _init_export_mjcf_actuators_Drive(__defaults__, __factories__, __sentinel__, __set__):
+def _init_export_mjcf_actuators_Drive(__defaults__, __factories__, __sentinel__, __set__, __slot__):
+    _set_interface = __slot__('interface')
+    _set_reduction = __slot__('reduction')
+    _set_rotor_inertia = __slot__('rotor_inertia')
     def __init__(self, interface=__defaults__['interface'], reduction=__defaults__['reduction'], rotor_inertia=__defaults__['rotor_inertia']):
-        __set__(self, 'interface', interface)
-        __set__(self, 'reduction', reduction)
-        __set__(self, 'rotor_inertia', rotor_inertia)
+        _set_interface(self, interface)
+        _set_reduction(self, reduction)
+        _set_rotor_inertia(self, rotor_inertia)
     return __init__
 
 
 # urdftool.export.mjcf_assets.AssetPlan
-def _init_export_mjcf_assets_AssetPlan(__defaults__, __factories__, __sentinel__, __set__):
+def _init_export_mjcf_assets_AssetPlan(__defaults__, __factories__, __sentinel__, __set__, __slot__):
     def __init__(self, out_dir, copy=__defaults__['copy'], meshes=__sentinel__, files=__sentinel__, materials=__sentinel__, _by_content=__sentinel__, _by_path=__sentinel__, _hashes=__sentinel__):
-        __set__(self, 'out_dir', out_dir)
-        __set__(self, 'copy', copy)
-        __set__(self, 'meshes', __factories__['meshes']() if meshes is __sentinel__ else meshes)
-        __set__(self, 'files', __factories__['files']() if files is __sentinel__ else files)
-        __set__(self, 'materials', __factories__['materials']() if materials is __sentinel__ else materials)
-        __set__(self, '_by_content', __factories__['_by_content']() if _by_content is __sentinel__ else _by_content)
-        __set__(self, '_by_path', __factories__['_by_path']() if _by_path is __sentinel__ else _by_path)
-        __set__(self, '_hashes', __factories__['_hashes']() if _hashes is __sentinel__ else _hashes)
+        self.out_dir = out_dir
+        self.copy = copy
+        self.meshes = __factories__['meshes']() if meshes is __sentinel__ else meshes
+        self.files = __factories__['files']() if files is __sentinel__ else files
+        self.materials = __factories__['materials']() if materials is __sentinel__ else materials
+        self._by_content = __factories__['_by_content']() if _by_content is __sentinel__ else _by_content
+        self._by_path = __factories__['_by_path']() if _by_path is __sentinel__ else _by_path
+        self._hashes = __factories__['_hashes']() if _hashes is __sentinel__ else _hashes
     return __init__
 
 
 # urdftool.export.mjcf_assets.MeshAsset
-def _init_export_mjcf_assets_MeshAsset(__defaults__, __factories__, __sentinel__, __set__):
+def _init_export_mjcf_assets_MeshAsset(__defaults__, __factories__, __sentinel__, __set__, __slot__):
+    _set_name = __slot__('name')
+    _set_file = __slot__('file')
+    _set_scale = __slot__('scale')
     def __init__(self, name, file, scale):
-        __set__(self, 'name', name)
-        __set__(self, 'file', file)
-        __set__(self, 'scale', scale)
+        _set_name(self, name)
+        _set_file(self, file)
+        _set_scale(self, scale)
     return __init__
 
 
 # urdftool.export.mjcf_assets.VisualPart
-def _init_export_mjcf_assets_VisualPart(__defaults__, __factories__, __sentinel__, __set__):
+def _init_export_mjcf_assets_VisualPart(__defaults__, __factories__, __sentinel__, __set__, __slot__):
+    _set_mesh = __slot__('mesh')
+    _set_material = __slot__('material')
     def __init__(self, mesh, material):
-        __set__(self, 'mesh', mesh)
-        __set__(self, 'material', material)
+        _set_mesh(self, mesh)
+        _set_material(self, material)
     return __init__
 
 
 # urdftool.export.mjcf_bodies.BodyTree
-def _init_export_mjcf_bodies_BodyTree(__defaults__, __factories__, __sentinel__, __set__):
+def _init_export_mjcf_bodies_BodyTree(__defaults__, __factories__, __sentinel__, __set__, __slot__):
     def __init__(self, joints=__sentinel__, diagnostics=__sentinel__):
-        __set__(self, 'joints', __factories__['joints']() if joints is __sentinel__ else joints)
-        __set__(self, 'diagnostics', __factories__['diagnostics']() if diagnostics is __sentinel__ else diagnostics)
+        self.joints = __factories__['joints']() if joints is __sentinel__ else joints
+        self.diagnostics = __factories__['diagnostics']() if diagnostics is __sentinel__ else diagnostics
     return __init__
 
 
 # urdftool.export.mjcf_bodies.MjJoint
-def _init_export_mjcf_bodies_MjJoint(__defaults__, __factories__, __sentinel__, __set__):
+def _init_export_mjcf_bodies_MjJoint(__defaults__, __factories__, __sentinel__, __set__, __slot__):
+    _set_name = __slot__('name')
+    _set_kind = __slot__('kind')
+    _set_source = __slot__('source')
+    _set_home = __slot__('home')
+    _set_range = __slot__('range')
     def __init__(self, name, kind, source, home, range=__defaults__['range']):
-        __set__(self, 'name', name)
-        __set__(self, 'kind', kind)
-        __set__(self, 'source', source)
-        __set__(self, 'home', home)
-        __set__(self, 'range', range)
+        _set_name(self, name)
+        _set_kind(self, kind)
+        _set_source(self, source)
+        _set_home(self, home)
+        _set_range(self, range)
     return __init__
 
 
 # urdftool.export.mjcf_classes._Member
-def _init_export_mjcf_classes__Member(__defaults__, __factories__, __sentinel__, __set__):
+def _init_export_mjcf_classes__Member(__defaults__, __factories__, __sentinel__, __set__, __slot__):
     def __init__(self, joint, actuator):
-        __set__(self, 'joint', joint)
-        __set__(self, 'actuator', actuator)
+        self.joint = joint
+        self.actuator = actuator
     return __init__
 
 
 # urdftool.export.mjcf_keyframe.LoopSolve
-def _init_export_mjcf_keyframe_LoopSolve(__defaults__, __factories__, __sentinel__, __set__):
+def _init_export_mjcf_keyframe_LoopSolve(__defaults__, __factories__, __sentinel__, __set__, __slot__):
+    _set_before = __slot__('before')
+    _set_after = __slot__('after')
+    _set_steps = __slot__('steps')
     def __init__(self, before, after, steps):
-        __set__(self, 'before', before)
-        __set__(self, 'after', after)
-        __set__(self, 'steps', steps)
+        _set_before(self, before)
+        _set_after(self, after)
+        _set_steps(self, steps)
     return __init__
 
 
 # urdftool.export.mjcf_verify.Errors
-def _init_export_mjcf_verify_Errors(__defaults__, __factories__, __sentinel__, __set__):
+def _init_export_mjcf_verify_Errors(__defaults__, __factories__, __sentinel__, __set__, __slot__):
     def __init__(self, position=__defaults__['position'], rotation=__defaults__['rotation'], matrix=__defaults__['matrix'], worst_link=__defaults__['worst_link']):
-        __set__(self, 'position', position)
-        __set__(self, 'rotation', rotation)
-        __set__(self, 'matrix', matrix)
-        __set__(self, 'worst_link', worst_link)
+        self.position = position
+        self.rotation = rotation
+        self.matrix = matrix
+        self.worst_link = worst_link
     return __init__
 
 
 # urdftool.export.mjcf_verify.JointMap
-def _init_export_mjcf_verify_JointMap(__defaults__, __factories__, __sentinel__, __set__):
+def _init_export_mjcf_verify_JointMap(__defaults__, __factories__, __sentinel__, __set__, __slot__):
+    _set_joint = __slot__('joint')
+    _set_kind = __slot__('kind')
+    _set_mj_qpos = __slot__('mj_qpos')
+    _set_mj_dof = __slot__('mj_dof')
+    _set_pin_q = __slot__('pin_q')
+    _set_pin_v = __slot__('pin_v')
+    _set_origin = __slot__('origin')
     def __init__(self, joint, kind, mj_qpos, mj_dof, pin_q, pin_v, origin):
-        __set__(self, 'joint', joint)
-        __set__(self, 'kind', kind)
-        __set__(self, 'mj_qpos', mj_qpos)
-        __set__(self, 'mj_dof', mj_dof)
-        __set__(self, 'pin_q', pin_q)
-        __set__(self, 'pin_v', pin_v)
-        __set__(self, 'origin', origin)
+        _set_joint(self, joint)
+        _set_kind(self, kind)
+        _set_mj_qpos(self, mj_qpos)
+        _set_mj_dof(self, mj_dof)
+        _set_pin_q(self, pin_q)
+        _set_pin_v(self, pin_v)
+        _set_origin(self, origin)
     return __init__
 
 
 # urdftool.export.pybullet.BasePlan
-def _init_export_pybullet_BasePlan(__defaults__, __factories__, __sentinel__, __set__):
+def _init_export_pybullet_BasePlan(__defaults__, __factories__, __sentinel__, __set__, __slot__):
+    _set_robot = __slot__('robot')
+    _set_diagnostics = __slot__('diagnostics')
     def __init__(self, robot, diagnostics=__defaults__['diagnostics']):
-        __set__(self, 'robot', robot)
-        __set__(self, 'diagnostics', diagnostics)
+        _set_robot(self, robot)
+        _set_diagnostics(self, diagnostics)
     return __init__
 
 
 # urdftool.export.pybullet.ExportPlan
-def _init_export_pybullet_ExportPlan(__defaults__, __factories__, __sentinel__, __set__):
+def _init_export_pybullet_ExportPlan(__defaults__, __factories__, __sentinel__, __set__, __slot__):
+    _set_robot = __slot__('robot')
+    _set_unfused = __slot__('unfused')
+    _set_fusion = __slot__('fusion')
+    _set_diagnostics = __slot__('diagnostics')
     def __init__(self, robot, unfused, fusion, diagnostics=__defaults__['diagnostics']):
-        __set__(self, 'robot', robot)
-        __set__(self, 'unfused', unfused)
-        __set__(self, 'fusion', fusion)
-        __set__(self, 'diagnostics', diagnostics)
+        _set_robot(self, robot)
+        _set_unfused(self, unfused)
+        _set_fusion(self, fusion)
+        _set_diagnostics(self, diagnostics)
     return __init__
 
 
 # urdftool.export.pybullet.PyBulletFlavor
-def _init_export_pybullet_PyBulletFlavor(__defaults__, __factories__, __sentinel__, __set__):
+def _init_export_pybullet_PyBulletFlavor(__defaults__, __factories__, __sentinel__, __set__, __slot__):
+    _set_name = __slot__('name')
+    _set_joint_types = __slot__('joint_types')
+    _set_extra_shapes = __slot__('extra_shapes')
+    _set_filenames = __slot__('filenames')
     def __init__(self, name=__defaults__['name'], joint_types=__sentinel__, extra_shapes=__defaults__['extra_shapes'], filenames=__sentinel__):
-        __set__(self, 'name', name)
-        __set__(self, 'joint_types', __factories__['joint_types']() if joint_types is __sentinel__ else joint_types)
-        __set__(self, 'extra_shapes', extra_shapes)
-        __set__(self, 'filenames', __factories__['filenames']() if filenames is __sentinel__ else filenames)
+        _set_name(self, name)
+        _set_joint_types(self, __factories__['joint_types']() if joint_types is __sentinel__ else joint_types)
+        _set_extra_shapes(self, extra_shapes)
+        _set_filenames(self, __factories__['filenames']() if filenames is __sentinel__ else filenames)
     return __init__
 
 
 # urdftool.export.pybullet_fuse.FusedFrame
-def _init_export_pybullet_fuse_FusedFrame(__defaults__, __factories__, __sentinel__, __set__):
+def _init_export_pybullet_fuse_FusedFrame(__defaults__, __factories__, __sentinel__, __set__, __slot__):
+    _set_link = __slot__('link')
+    _set_into = __slot__('into')
+    _set_pose = __slot__('pose')
+    _set_joint = __slot__('joint')
     def __init__(self, link, into, pose, joint):
-        __set__(self, 'link', link)
-        __set__(self, 'into', into)
-        __set__(self, 'pose', pose)
-        __set__(self, 'joint', joint)
+        _set_link(self, link)
+        _set_into(self, into)
+        _set_pose(self, pose)
+        _set_joint(self, joint)
     return __init__
 
 
 # urdftool.export.pybullet_fuse.Fusion
-def _init_export_pybullet_fuse_Fusion(__defaults__, __factories__, __sentinel__, __set__):
+def _init_export_pybullet_fuse_Fusion(__defaults__, __factories__, __sentinel__, __set__, __slot__):
+    _set_robot = __slot__('robot')
+    _set_frames = __slot__('frames')
     def __init__(self, robot, frames=__defaults__['frames']):
-        __set__(self, 'robot', robot)
-        __set__(self, 'frames', frames)
+        _set_robot(self, robot)
+        _set_frames(self, frames)
     return __init__
 
 
 # urdftool.export.pybullet_inertia.PyBulletInertia
-def _init_export_pybullet_inertia_PyBulletInertia(__defaults__, __factories__, __sentinel__, __set__):
+def _init_export_pybullet_inertia_PyBulletInertia(__defaults__, __factories__, __sentinel__, __set__, __slot__):
     def __init__(self, inertials=__sentinel__, base=__defaults__['base'], diagnostics=__sentinel__):
-        __set__(self, 'inertials', __factories__['inertials']() if inertials is __sentinel__ else inertials)
-        __set__(self, 'base', base)
-        __set__(self, 'diagnostics', __factories__['diagnostics']() if diagnostics is __sentinel__ else diagnostics)
+        self.inertials = __factories__['inertials']() if inertials is __sentinel__ else inertials
+        self.base = base
+        self.diagnostics = __factories__['diagnostics']() if diagnostics is __sentinel__ else diagnostics
     return __init__
 
 
 # urdftool.export.pybullet_meshes.MeshPlan
-def _init_export_pybullet_meshes_MeshPlan(__defaults__, __factories__, __sentinel__, __set__):
+def _init_export_pybullet_meshes_MeshPlan(__defaults__, __factories__, __sentinel__, __set__, __slot__):
     def __init__(self, files, filenames=__sentinel__, diagnostics=__sentinel__, _colours=__sentinel__):
-        __set__(self, 'files', files)
-        __set__(self, 'filenames', __factories__['filenames']() if filenames is __sentinel__ else filenames)
-        __set__(self, 'diagnostics', __factories__['diagnostics']() if diagnostics is __sentinel__ else diagnostics)
-        __set__(self, '_colours', __factories__['_colours']() if _colours is __sentinel__ else _colours)
+        self.files = files
+        self.filenames = __factories__['filenames']() if filenames is __sentinel__ else filenames
+        self.diagnostics = __factories__['diagnostics']() if diagnostics is __sentinel__ else diagnostics
+        self._colours = __factories__['_colours']() if _colours is __sentinel__ else _colours
     return __init__
 
 
 # urdftool.export.pybullet_verify.Comparison
-def _init_export_pybullet_verify_Comparison(__defaults__, __factories__, __sentinel__, __set__):
+def _init_export_pybullet_verify_Comparison(__defaults__, __factories__, __sentinel__, __set__, __slot__):
     def __init__(self, robot, rows=__sentinel__):
-        __set__(self, 'robot', robot)
-        __set__(self, 'rows', __factories__['rows']() if rows is __sentinel__ else rows)
+        self.robot = robot
+        self.rows = __factories__['rows']() if rows is __sentinel__ else rows
     return __init__
 
 
 # urdftool.export.pybullet_verify.Worst
-def _init_export_pybullet_verify_Worst(__defaults__, __factories__, __sentinel__, __set__):
+def _init_export_pybullet_verify_Worst(__defaults__, __factories__, __sentinel__, __set__, __slot__):
     def __init__(self, quantity, tolerance=__defaults__['tolerance'], error=__defaults__['error'], element=__defaults__['element'], span=__defaults__['span']):
-        __set__(self, 'quantity', quantity)
-        __set__(self, 'tolerance', tolerance)
-        __set__(self, 'error', error)
-        __set__(self, 'element', element)
-        __set__(self, 'span', span)
+        self.quantity = quantity
+        self.tolerance = tolerance
+        self.error = error
+        self.element = element
+        self.span = span
     return __init__
 
 
 # urdftool.export.sdf.SdfWriter
-def _init_export_sdf_SdfWriter(__defaults__, __factories__, __sentinel__, __set__):
+def _init_export_sdf_SdfWriter(__defaults__, __factories__, __sentinel__, __set__, __slot__):
     def __init__(self, robot, tree, diagnostics=__sentinel__):
-        __set__(self, 'robot', robot)
-        __set__(self, 'tree', tree)
-        __set__(self, 'diagnostics', __factories__['diagnostics']() if diagnostics is __sentinel__ else diagnostics)
+        self.robot = robot
+        self.tree = tree
+        self.diagnostics = __factories__['diagnostics']() if diagnostics is __sentinel__ else diagnostics
     return __init__
 
 
 # urdftool.export.urdf.UrdfFlavor
-def _init_export_urdf_UrdfFlavor(__defaults__, __factories__, __sentinel__, __set__):
+def _init_export_urdf_UrdfFlavor(__defaults__, __factories__, __sentinel__, __set__, __slot__):
+    _set_name = __slot__('name')
+    _set_joint_types = __slot__('joint_types')
+    _set_extra_shapes = __slot__('extra_shapes')
     def __init__(self, name=__defaults__['name'], joint_types=__sentinel__, extra_shapes=__defaults__['extra_shapes']):
-        __set__(self, 'name', name)
-        __set__(self, 'joint_types', __factories__['joint_types']() if joint_types is __sentinel__ else joint_types)
-        __set__(self, 'extra_shapes', extra_shapes)
+        _set_name(self, name)
+        _set_joint_types(self, __factories__['joint_types']() if joint_types is __sentinel__ else joint_types)
+        _set_extra_shapes(self, extra_shapes)
     return __init__
 
 
 # urdftool.export.urdf.UrdfWriter
-def _init_export_urdf_UrdfWriter(__defaults__, __factories__, __sentinel__, __set__):
+def _init_export_urdf_UrdfWriter(__defaults__, __factories__, __sentinel__, __set__, __slot__):
     def __init__(self, robot, flavor=__defaults__['flavor'], diagnostics=__sentinel__):
-        __set__(self, 'robot', robot)
-        __set__(self, 'flavor', flavor)
-        __set__(self, 'diagnostics', __factories__['diagnostics']() if diagnostics is __sentinel__ else diagnostics)
+        self.robot = robot
+        self.flavor = flavor
+        self.diagnostics = __factories__['diagnostics']() if diagnostics is __sentinel__ else diagnostics
     return __init__
 
 
 COMPILED = {
-    'urdftool.export.ExportOptions': ('floating_base=,actuators=,repair_inertia=,copy_assets=,scene=,absolute_mesh_paths=,extra*,findings=,fuse_fixed=', _init_export_ExportOptions),
-    'urdftool.export.ExportResult': ('files*,diagnostics*', _init_export_ExportResult),
-    'urdftool.export.VerifyResult': ('ok,rows*,diagnostics*', _init_export_VerifyResult),
-    'urdftool.export.assets.MeshFile': ('reference,converted,source_hash', _init_export_assets_MeshFile),
-    'urdftool.export.assets.MeshFiles': ('out_dir,native,convert,converted_suffix,copy=,files*,_seen*', _init_export_assets_MeshFiles),
-    'urdftool.export.graph.GraphOptions': ('rankdir=,collapse_fixed=,diagnostics=,select=,ignore=|post_init', _init_export_graph_GraphOptions),
-    'urdftool.export.graph.build.GraphSettings': ('rankdir=,collapse_fixed=', _init_export_graph_build_GraphSettings),
-    'urdftool.export.graph.findings.Findings': ('links*,joints*,other*', _init_export_graph_findings_Findings),
-    'urdftool.export.graph.groups.LinkGroups': ('top*,members*,offset*,merged_joints*', _init_export_graph_groups_LinkGroups),
-    'urdftool.export.mjcf_actuators.Drive': ('interface=,reduction=,rotor_inertia=', _init_export_mjcf_actuators_Drive),
-    'urdftool.export.mjcf_assets.AssetPlan': ('out_dir,copy=,meshes*,files*,materials*,_by_content*,_by_path*,_hashes*', _init_export_mjcf_assets_AssetPlan),
-    'urdftool.export.mjcf_assets.MeshAsset': ('name,file,scale', _init_export_mjcf_assets_MeshAsset),
-    'urdftool.export.mjcf_assets.VisualPart': ('mesh,material', _init_export_mjcf_assets_VisualPart),
-    'urdftool.export.mjcf_bodies.BodyTree': ('joints*,diagnostics*', _init_export_mjcf_bodies_BodyTree),
-    'urdftool.export.mjcf_bodies.MjJoint': ('name,kind,source,home,range=', _init_export_mjcf_bodies_MjJoint),
-    'urdftool.export.mjcf_classes._Member': ('joint,actuator', _init_export_mjcf_classes__Member),
-    'urdftool.export.mjcf_keyframe.LoopSolve': ('before,after,steps', _init_export_mjcf_keyframe_LoopSolve),
-    'urdftool.export.mjcf_verify.Errors': ('position=,rotation=,matrix=,worst_link=', _init_export_mjcf_verify_Errors),
-    'urdftool.export.mjcf_verify.JointMap': ('joint,kind,mj_qpos,mj_dof,pin_q,pin_v,origin', _init_export_mjcf_verify_JointMap),
-    'urdftool.export.pybullet.BasePlan': ('robot,diagnostics=', _init_export_pybullet_BasePlan),
-    'urdftool.export.pybullet.ExportPlan': ('robot,unfused,fusion,diagnostics=', _init_export_pybullet_ExportPlan),
-    'urdftool.export.pybullet.PyBulletFlavor': ('name=,joint_types*,extra_shapes=,filenames*', _init_export_pybullet_PyBulletFlavor),
-    'urdftool.export.pybullet_fuse.FusedFrame': ('link,into,pose,joint', _init_export_pybullet_fuse_FusedFrame),
-    'urdftool.export.pybullet_fuse.Fusion': ('robot,frames=', _init_export_pybullet_fuse_Fusion),
-    'urdftool.export.pybullet_inertia.PyBulletInertia': ('inertials*,base=,diagnostics*', _init_export_pybullet_inertia_PyBulletInertia),
-    'urdftool.export.pybullet_meshes.MeshPlan': ('files,filenames*,diagnostics*,_colours*', _init_export_pybullet_meshes_MeshPlan),
-    'urdftool.export.pybullet_verify.Comparison': ('robot,rows*', _init_export_pybullet_verify_Comparison),
-    'urdftool.export.pybullet_verify.Worst': ('quantity,tolerance=,error=,element=,span=', _init_export_pybullet_verify_Worst),
-    'urdftool.export.sdf.SdfWriter': ('robot,tree,diagnostics*', _init_export_sdf_SdfWriter),
-    'urdftool.export.urdf.UrdfFlavor': ('name=,joint_types*,extra_shapes=', _init_export_urdf_UrdfFlavor),
-    'urdftool.export.urdf.UrdfWriter': ('robot,flavor=,diagnostics*', _init_export_urdf_UrdfWriter),
+    'urdftool.export.ExportOptions': ('floating_base=,actuators=,repair_inertia=,copy_assets=,scene=,absolute_mesh_paths=,extra*,findings=,fuse_fixed=|slots', _init_export_ExportOptions),
+    'urdftool.export.ExportResult': ('files*,diagnostics*|plain', _init_export_ExportResult),
+    'urdftool.export.VerifyResult': ('ok,rows*,diagnostics*|plain', _init_export_VerifyResult),
+    'urdftool.export.assets.MeshFile': ('reference,converted,source_hash|slots', _init_export_assets_MeshFile),
+    'urdftool.export.assets.MeshFiles': ('out_dir,native,convert,converted_suffix,copy=,files*,_seen*|plain', _init_export_assets_MeshFiles),
+    'urdftool.export.graph.GraphOptions': ('rankdir=,collapse_fixed=,diagnostics=,select=,ignore=|post_init|slots', _init_export_graph_GraphOptions),
+    'urdftool.export.graph.build.GraphSettings': ('rankdir=,collapse_fixed=|slots', _init_export_graph_build_GraphSettings),
+    'urdftool.export.graph.findings.Findings': ('links*,joints*,other*|plain', _init_export_graph_findings_Findings),
+    'urdftool.export.graph.groups.LinkGroups': ('top*,members*,offset*,merged_joints*|plain', _init_export_graph_groups_LinkGroups),
+    'urdftool.export.mjcf_actuators.Drive': ('interface=,reduction=,rotor_inertia=|slots', _init_export_mjcf_actuators_Drive),
+    'urdftool.export.mjcf_assets.AssetPlan': ('out_dir,copy=,meshes*,files*,materials*,_by_content*,_by_path*,_hashes*|plain', _init_export_mjcf_assets_AssetPlan),
+    'urdftool.export.mjcf_assets.MeshAsset': ('name,file,scale|slots', _init_export_mjcf_assets_MeshAsset),
+    'urdftool.export.mjcf_assets.VisualPart': ('mesh,material|slots', _init_export_mjcf_assets_VisualPart),
+    'urdftool.export.mjcf_bodies.BodyTree': ('joints*,diagnostics*|plain', _init_export_mjcf_bodies_BodyTree),
+    'urdftool.export.mjcf_bodies.MjJoint': ('name,kind,source,home,range=|slots', _init_export_mjcf_bodies_MjJoint),
+    'urdftool.export.mjcf_classes._Member': ('joint,actuator|plain', _init_export_mjcf_classes__Member),
+    'urdftool.export.mjcf_keyframe.LoopSolve': ('before,after,steps|slots', _init_export_mjcf_keyframe_LoopSolve),
+    'urdftool.export.mjcf_verify.Errors': ('position=,rotation=,matrix=,worst_link=|plain', _init_export_mjcf_verify_Errors),
+    'urdftool.export.mjcf_verify.JointMap': ('joint,kind,mj_qpos,mj_dof,pin_q,pin_v,origin|slots', _init_export_mjcf_verify_JointMap),
+    'urdftool.export.pybullet.BasePlan': ('robot,diagnostics=|slots', _init_export_pybullet_BasePlan),
+    'urdftool.export.pybullet.ExportPlan': ('robot,unfused,fusion,diagnostics=|slots', _init_export_pybullet_ExportPlan),
+    'urdftool.export.pybullet.PyBulletFlavor': ('name=,joint_types*,extra_shapes=,filenames*|slots', _init_export_pybullet_PyBulletFlavor),
+    'urdftool.export.pybullet_fuse.FusedFrame': ('link,into,pose,joint|slots', _init_export_pybullet_fuse_FusedFrame),
+    'urdftool.export.pybullet_fuse.Fusion': ('robot,frames=|slots', _init_export_pybullet_fuse_Fusion),
+    'urdftool.export.pybullet_inertia.PyBulletInertia': ('inertials*,base=,diagnostics*|plain', _init_export_pybullet_inertia_PyBulletInertia),
+    'urdftool.export.pybullet_meshes.MeshPlan': ('files,filenames*,diagnostics*,_colours*|plain', _init_export_pybullet_meshes_MeshPlan),
+    'urdftool.export.pybullet_verify.Comparison': ('robot,rows*|plain', _init_export_pybullet_verify_Comparison),
+    'urdftool.export.pybullet_verify.Worst': ('quantity,tolerance=,error=,element=,span=|plain', _init_export_pybullet_verify_Worst),
+    'urdftool.export.sdf.SdfWriter': ('robot,tree,diagnostics*|plain', _init_export_sdf_SdfWriter),
+    'urdftool.export.urdf.UrdfFlavor': ('name=,joint_types*,extra_shapes=|slots', _init_export_urdf_UrdfFlavor),
+    'urdftool.export.urdf.UrdfWriter': ('robot,flavor=,diagnostics*|plain', _init_export_urdf_UrdfWriter),
 }

@@ -9,45 +9,49 @@ entry maps a record to the shape of its fields and a function that builds its ``
 
 
 # urdftool.facts.collisions.Matrix
-def _init_facts_collisions_Matrix(__defaults__, __factories__, __sentinel__, __set__):
+def _init_facts_collisions_Matrix(__defaults__, __factories__, __sentinel__, __set__, __slot__):
     def __init__(self, links, reasons=__sentinel__, samples=__defaults__['samples'], seed=__defaults__['seed'], sometimes=__sentinel__):
-        __set__(self, 'links', links)
-        __set__(self, 'reasons', __factories__['reasons']() if reasons is __sentinel__ else reasons)
-        __set__(self, 'samples', samples)
-        __set__(self, 'seed', seed)
-        __set__(self, 'sometimes', __factories__['sometimes']() if sometimes is __sentinel__ else sometimes)
+        self.links = links
+        self.reasons = __factories__['reasons']() if reasons is __sentinel__ else reasons
+        self.samples = samples
+        self.seed = seed
+        self.sometimes = __factories__['sometimes']() if sometimes is __sentinel__ else sometimes
     return __init__
 
 
 # urdftool.facts.collisions.NotChecked
-def _init_facts_collisions_NotChecked(__defaults__, __factories__, __sentinel__, __set__):
+def _init_facts_collisions_NotChecked(__defaults__, __factories__, __sentinel__, __set__, __slot__):
+    _set_reason = __slot__('reason')
     def __init__(self, reason):
-        __set__(self, 'reason', reason)
+        _set_reason(self, reason)
     return __init__
 
 
 # urdftool.facts.collisions.Overlap
-def _init_facts_collisions_Overlap(__defaults__, __factories__, __sentinel__, __set__):
+def _init_facts_collisions_Overlap(__defaults__, __factories__, __sentinel__, __set__, __slot__):
+    _set_link1 = __slot__('link1')
+    _set_link2 = __slot__('link2')
+    _set_depth = __slot__('depth')
     def __init__(self, link1, link2, depth):
-        __set__(self, 'link1', link1)
-        __set__(self, 'link2', link2)
-        __set__(self, 'depth', depth)
+        _set_link1(self, link1)
+        _set_link2(self, link2)
+        _set_depth(self, depth)
     return __init__
 
 
 # urdftool.facts.context.CheckContext
-def _init_facts_context_CheckContext(__defaults__, __factories__, __sentinel__, __set__):
+def _init_facts_context_CheckContext(__defaults__, __factories__, __sentinel__, __set__, __slot__):
     def __init__(self, robot, tree, options=__sentinel__, cache=__sentinel__, simulator=__defaults__['simulator']):
-        __set__(self, 'robot', robot)
-        __set__(self, 'tree', tree)
-        __set__(self, 'options', __factories__['options']() if options is __sentinel__ else options)
-        __set__(self, 'cache', __factories__['cache']() if cache is __sentinel__ else cache)
-        __set__(self, 'simulator', simulator)
+        self.robot = robot
+        self.tree = tree
+        self.options = __factories__['options']() if options is __sentinel__ else options
+        self.cache = __factories__['cache']() if cache is __sentinel__ else cache
+        self.simulator = simulator
     return __init__
 
 
 # urdftool.facts.dynamics.analysis.Conditioning
-def _init_facts_dynamics_analysis_Conditioning(__defaults__, __factories__, __sentinel__, __set__):
+def _init_facts_dynamics_analysis_Conditioning(__defaults__, __factories__, __sentinel__, __set__, __slot__):
     def __init__(self, condition, smallest, largest, configuration, sample, matrix, names):
         __set__(self, 'condition', condition)
         __set__(self, 'smallest', smallest)
@@ -60,225 +64,278 @@ def _init_facts_dynamics_analysis_Conditioning(__defaults__, __factories__, __se
 
 
 # urdftool.facts.dynamics.analysis.DynamicsAnalysis
-def _init_facts_dynamics_analysis_DynamicsAnalysis(__defaults__, __factories__, __sentinel__, __set__):
+def _init_facts_dynamics_analysis_DynamicsAnalysis(__defaults__, __factories__, __sentinel__, __set__, __slot__):
     def __init__(self, floating, base_reason, dof, samples, conditioning, gravity=__sentinel__, gravity_computed=__defaults__['gravity_computed'], dense=__defaults__['dense']):
-        __set__(self, 'floating', floating)
-        __set__(self, 'base_reason', base_reason)
-        __set__(self, 'dof', dof)
-        __set__(self, 'samples', samples)
-        __set__(self, 'conditioning', conditioning)
-        __set__(self, 'gravity', __factories__['gravity']() if gravity is __sentinel__ else gravity)
-        __set__(self, 'gravity_computed', gravity_computed)
-        __set__(self, 'dense', dense)
+        self.floating = floating
+        self.base_reason = base_reason
+        self.dof = dof
+        self.samples = samples
+        self.conditioning = conditioning
+        self.gravity = __factories__['gravity']() if gravity is __sentinel__ else gravity
+        self.gravity_computed = gravity_computed
+        self.dense = dense
     return __init__
 
 
 # urdftool.facts.dynamics.analysis.GravityLoad
-def _init_facts_dynamics_analysis_GravityLoad(__defaults__, __factories__, __sentinel__, __set__):
+def _init_facts_dynamics_analysis_GravityLoad(__defaults__, __factories__, __sentinel__, __set__, __slot__):
+    _set_joint = __slot__('joint')
+    _set_torque = __slot__('torque')
+    _set_configuration = __slot__('configuration')
+    _set_sample = __slot__('sample')
     def __init__(self, joint, torque, configuration, sample):
-        __set__(self, 'joint', joint)
-        __set__(self, 'torque', torque)
-        __set__(self, 'configuration', configuration)
-        __set__(self, 'sample', sample)
+        _set_joint(self, joint)
+        _set_torque(self, torque)
+        _set_configuration(self, configuration)
+        _set_sample(self, sample)
     return __init__
 
 
 # urdftool.facts.dynamics.configurations.Samples
-def _init_facts_dynamics_configurations_Samples(__defaults__, __factories__, __sentinel__, __set__):
+def _init_facts_dynamics_configurations_Samples(__defaults__, __factories__, __sentinel__, __set__, __slot__):
+    _set_joints = __slot__('joints')
+    _set_values = __slot__('values')
+    _set_others = __slot__('others')
     def __init__(self, joints, values, others):
-        __set__(self, 'joints', joints)
-        __set__(self, 'values', values)
-        __set__(self, 'others', others)
+        _set_joints(self, joints)
+        _set_values(self, values)
+        _set_others(self, others)
     return __init__
 
 
 # urdftool.facts.dynamics.coverage.NotCovered
-def _init_facts_dynamics_coverage_NotCovered(__defaults__, __factories__, __sentinel__, __set__):
+def _init_facts_dynamics_coverage_NotCovered(__defaults__, __factories__, __sentinel__, __set__, __slot__):
+    _set_reason = __slot__('reason')
+    _set_elements = __slot__('elements')
     def __init__(self, reason, elements=__defaults__['elements']):
-        __set__(self, 'reason', reason)
-        __set__(self, 'elements', elements)
+        _set_reason(self, reason)
+        _set_elements(self, elements)
     return __init__
 
 
 # urdftool.facts.dynamics.run.Skipped
-def _init_facts_dynamics_run_Skipped(__defaults__, __factories__, __sentinel__, __set__):
+def _init_facts_dynamics_run_Skipped(__defaults__, __factories__, __sentinel__, __set__, __slot__):
+    _set_why = __slot__('why')
     def __init__(self, why):
-        __set__(self, 'why', why)
+        _set_why(self, why)
     return __init__
 
 
 # urdftool.facts.meshes.MeshUse
-def _init_facts_meshes_MeshUse(__defaults__, __factories__, __sentinel__, __set__):
+def _init_facts_meshes_MeshUse(__defaults__, __factories__, __sentinel__, __set__, __slot__):
+    _set_link = __slot__('link')
+    _set_role = __slot__('role')
+    _set_mesh = __slot__('mesh')
+    _set_origin = __slot__('origin')
     def __init__(self, link, role, mesh, origin):
-        __set__(self, 'link', link)
-        __set__(self, 'role', role)
-        __set__(self, 'mesh', mesh)
-        __set__(self, 'origin', origin)
+        _set_link(self, link)
+        _set_role(self, role)
+        _set_mesh(self, mesh)
+        _set_origin(self, origin)
     return __init__
 
 
 # urdftool.facts.range_sweep.Sweep
-def _init_facts_range_sweep_Sweep(__defaults__, __factories__, __sentinel__, __set__):
+def _init_facts_range_sweep_Sweep(__defaults__, __factories__, __sentinel__, __set__, __slot__):
+    _set_joint = __slot__('joint')
+    _set_parent = __slot__('parent')
+    _set_child = __slot__('child')
+    _set_lower = __slot__('lower')
+    _set_upper = __slot__('upper')
+    _set_home = __slot__('home')
+    _set_home_depth = __slot__('home_depth')
+    _set_angles = __slot__('angles')
+    _set_depths = __slot__('depths')
+    _set_step = __slot__('step')
+    _set_exact = __slot__('exact')
     def __init__(self, joint, parent, child, lower, upper, home, home_depth, angles, depths, step, exact):
-        __set__(self, 'joint', joint)
-        __set__(self, 'parent', parent)
-        __set__(self, 'child', child)
-        __set__(self, 'lower', lower)
-        __set__(self, 'upper', upper)
-        __set__(self, 'home', home)
-        __set__(self, 'home_depth', home_depth)
-        __set__(self, 'angles', angles)
-        __set__(self, 'depths', depths)
-        __set__(self, 'step', step)
-        __set__(self, 'exact', exact)
+        _set_joint(self, joint)
+        _set_parent(self, parent)
+        _set_child(self, child)
+        _set_lower(self, lower)
+        _set_upper(self, upper)
+        _set_home(self, home)
+        _set_home_depth(self, home_depth)
+        _set_angles(self, angles)
+        _set_depths(self, depths)
+        _set_step(self, step)
+        _set_exact(self, exact)
     return __init__
 
 
 # urdftool.facts.ros2_control.Block
-def _init_facts_ros2_control_Block(__defaults__, __factories__, __sentinel__, __set__):
+def _init_facts_ros2_control_Block(__defaults__, __factories__, __sentinel__, __set__, __slot__):
+    _set_name = __slot__('name')
+    _set_type = __slot__('type')
+    _set_element = __slot__('element')
+    _set_plugin = __slot__('plugin')
+    _set_components = __slot__('components')
+    _set_hardware_params = __slot__('hardware_params')
     def __init__(self, name, type, element, plugin, components=__defaults__['components'], hardware_params=__sentinel__):
-        __set__(self, 'name', name)
-        __set__(self, 'type', type)
-        __set__(self, 'element', element)
-        __set__(self, 'plugin', plugin)
-        __set__(self, 'components', components)
-        __set__(self, 'hardware_params', __factories__['hardware_params']() if hardware_params is __sentinel__ else hardware_params)
+        _set_name(self, name)
+        _set_type(self, type)
+        _set_element(self, element)
+        _set_plugin(self, plugin)
+        _set_components(self, components)
+        _set_hardware_params(self, __factories__['hardware_params']() if hardware_params is __sentinel__ else hardware_params)
     return __init__
 
 
 # urdftool.facts.ros2_control.Component
-def _init_facts_ros2_control_Component(__defaults__, __factories__, __sentinel__, __set__):
+def _init_facts_ros2_control_Component(__defaults__, __factories__, __sentinel__, __set__, __slot__):
+    _set_kind = __slot__('kind')
+    _set_name = __slot__('name')
+    _set_element = __slot__('element')
+    _set_command = __slot__('command')
+    _set_state = __slot__('state')
+    _set_params = __slot__('params')
     def __init__(self, kind, name, element, command=__defaults__['command'], state=__defaults__['state'], params=__sentinel__):
-        __set__(self, 'kind', kind)
-        __set__(self, 'name', name)
-        __set__(self, 'element', element)
-        __set__(self, 'command', command)
-        __set__(self, 'state', state)
-        __set__(self, 'params', __factories__['params']() if params is __sentinel__ else params)
+        _set_kind(self, kind)
+        _set_name(self, name)
+        _set_element(self, element)
+        _set_command(self, command)
+        _set_state(self, state)
+        _set_params(self, __factories__['params']() if params is __sentinel__ else params)
     return __init__
 
 
 # urdftool.facts.ros2_control.Interface
-def _init_facts_ros2_control_Interface(__defaults__, __factories__, __sentinel__, __set__):
+def _init_facts_ros2_control_Interface(__defaults__, __factories__, __sentinel__, __set__, __slot__):
+    _set_name = __slot__('name')
+    _set_element = __slot__('element')
+    _set_params = __slot__('params')
     def __init__(self, name, element, params=__sentinel__):
-        __set__(self, 'name', name)
-        __set__(self, 'element', element)
-        __set__(self, 'params', __factories__['params']() if params is __sentinel__ else params)
+        _set_name(self, name)
+        _set_element(self, element)
+        _set_params(self, __factories__['params']() if params is __sentinel__ else params)
     return __init__
 
 
 # urdftool.facts.simulation.SimResult
-def _init_facts_simulation_SimResult(__defaults__, __factories__, __sentinel__, __set__):
+def _init_facts_simulation_SimResult(__defaults__, __factories__, __sentinel__, __set__, __slot__):
     def __init__(self, scene, runs):
-        __set__(self, 'scene', scene)
-        __set__(self, 'runs', runs)
+        self.scene = scene
+        self.runs = runs
     return __init__
 
 
 # urdftool.facts.simulation.options.SimOptions
-def _init_facts_simulation_options_SimOptions(__defaults__, __factories__, __sentinel__, __set__):
+def _init_facts_simulation_options_SimOptions(__defaults__, __factories__, __sentinel__, __set__, __slot__):
+    _set_engines = __slot__('engines')
+    _set_duration = __slot__('duration')
+    _set_timestep = __slot__('timestep')
+    _set_hold = __slot__('hold')
+    _set_repair_inertia = __slot__('repair_inertia')
     def __init__(self, engines=__defaults__['engines'], duration=__defaults__['duration'], timestep=__defaults__['timestep'], hold=__defaults__['hold'], repair_inertia=__defaults__['repair_inertia']):
-        __set__(self, 'engines', engines)
-        __set__(self, 'duration', duration)
-        __set__(self, 'timestep', timestep)
-        __set__(self, 'hold', hold)
-        __set__(self, 'repair_inertia', repair_inertia)
+        _set_engines(self, engines)
+        _set_duration(self, duration)
+        _set_timestep(self, timestep)
+        _set_hold(self, hold)
+        _set_repair_inertia(self, repair_inertia)
     return __init__
 
 
 # urdftool.facts.simulation.record.EngineRun
-def _init_facts_simulation_record_EngineRun(__defaults__, __factories__, __sentinel__, __set__):
+def _init_facts_simulation_record_EngineRun(__defaults__, __factories__, __sentinel__, __set__, __slot__):
     def __init__(self, engine, refused=__sentinel__, loaded=__defaults__['loaded'], unavailable=__defaults__['unavailable'], timestep=__defaults__['timestep'], steps=__defaults__['steps'], wall_time=__defaults__['wall_time'], diverged_at=__defaults__['diverged_at'], max_joint_speed=__defaults__['max_joint_speed'], fastest_joint=__defaults__['fastest_joint'], late_joint_speed=__defaults__['late_joint_speed'], late_fastest_joint=__defaults__['late_fastest_joint'], max_base_speed=__defaults__['max_base_speed'], energy_initial=__defaults__['energy_initial'], energy_max=__defaults__['energy_max'], energy_final=__defaults__['energy_final'], energy_scale=__defaults__['energy_scale'], base_displacement=__defaults__['base_displacement'], base_late_speed=__defaults__['base_late_speed'], base_late_distance=__defaults__['base_late_distance'], penetrations=__sentinel__, loop_gap=__defaults__['loop_gap'], limit_violations=__sentinel__, mimic_error=__defaults__['mimic_error'], mimic_joint=__defaults__['mimic_joint']):
-        __set__(self, 'engine', engine)
-        __set__(self, 'refused', __factories__['refused']() if refused is __sentinel__ else refused)
-        __set__(self, 'loaded', loaded)
-        __set__(self, 'unavailable', unavailable)
-        __set__(self, 'timestep', timestep)
-        __set__(self, 'steps', steps)
-        __set__(self, 'wall_time', wall_time)
-        __set__(self, 'diverged_at', diverged_at)
-        __set__(self, 'max_joint_speed', max_joint_speed)
-        __set__(self, 'fastest_joint', fastest_joint)
-        __set__(self, 'late_joint_speed', late_joint_speed)
-        __set__(self, 'late_fastest_joint', late_fastest_joint)
-        __set__(self, 'max_base_speed', max_base_speed)
-        __set__(self, 'energy_initial', energy_initial)
-        __set__(self, 'energy_max', energy_max)
-        __set__(self, 'energy_final', energy_final)
-        __set__(self, 'energy_scale', energy_scale)
-        __set__(self, 'base_displacement', base_displacement)
-        __set__(self, 'base_late_speed', base_late_speed)
-        __set__(self, 'base_late_distance', base_late_distance)
-        __set__(self, 'penetrations', __factories__['penetrations']() if penetrations is __sentinel__ else penetrations)
-        __set__(self, 'loop_gap', loop_gap)
-        __set__(self, 'limit_violations', __factories__['limit_violations']() if limit_violations is __sentinel__ else limit_violations)
-        __set__(self, 'mimic_error', mimic_error)
-        __set__(self, 'mimic_joint', mimic_joint)
+        self.engine = engine
+        self.refused = __factories__['refused']() if refused is __sentinel__ else refused
+        self.loaded = loaded
+        self.unavailable = unavailable
+        self.timestep = timestep
+        self.steps = steps
+        self.wall_time = wall_time
+        self.diverged_at = diverged_at
+        self.max_joint_speed = max_joint_speed
+        self.fastest_joint = fastest_joint
+        self.late_joint_speed = late_joint_speed
+        self.late_fastest_joint = late_fastest_joint
+        self.max_base_speed = max_base_speed
+        self.energy_initial = energy_initial
+        self.energy_max = energy_max
+        self.energy_final = energy_final
+        self.energy_scale = energy_scale
+        self.base_displacement = base_displacement
+        self.base_late_speed = base_late_speed
+        self.base_late_distance = base_late_distance
+        self.penetrations = __factories__['penetrations']() if penetrations is __sentinel__ else penetrations
+        self.loop_gap = loop_gap
+        self.limit_violations = __factories__['limit_violations']() if limit_violations is __sentinel__ else limit_violations
+        self.mimic_error = mimic_error
+        self.mimic_joint = mimic_joint
     return __init__
 
 
 # urdftool.facts.simulation.record.LimitViolation
-def _init_facts_simulation_record_LimitViolation(__defaults__, __factories__, __sentinel__, __set__):
+def _init_facts_simulation_record_LimitViolation(__defaults__, __factories__, __sentinel__, __set__, __slot__):
+    _set_joint = __slot__('joint')
+    _set_amount = __slot__('amount')
+    _set_position = __slot__('position')
+    _set_bound = __slot__('bound')
+    _set_time = __slot__('time')
     def __init__(self, joint, amount, position, bound, time):
-        __set__(self, 'joint', joint)
-        __set__(self, 'amount', amount)
-        __set__(self, 'position', position)
-        __set__(self, 'bound', bound)
-        __set__(self, 'time', time)
+        _set_joint(self, joint)
+        _set_amount(self, amount)
+        _set_position(self, position)
+        _set_bound(self, bound)
+        _set_time(self, time)
     return __init__
 
 
 # urdftool.facts.simulation.record.Penetration
-def _init_facts_simulation_record_Penetration(__defaults__, __factories__, __sentinel__, __set__):
+def _init_facts_simulation_record_Penetration(__defaults__, __factories__, __sentinel__, __set__, __slot__):
+    _set_link_a = __slot__('link_a')
+    _set_link_b = __slot__('link_b')
+    _set_depth = __slot__('depth')
     def __init__(self, link_a, link_b, depth):
-        __set__(self, 'link_a', link_a)
-        __set__(self, 'link_b', link_b)
-        __set__(self, 'depth', depth)
+        _set_link_a(self, link_a)
+        _set_link_b(self, link_b)
+        _set_depth(self, depth)
     return __init__
 
 
 # urdftool.facts.simulation.scene.Scene
-def _init_facts_simulation_scene_Scene(__defaults__, __factories__, __sentinel__, __set__):
+def _init_facts_simulation_scene_Scene(__defaults__, __factories__, __sentinel__, __set__, __slot__):
     def __init__(self, robot, tree, floating, base_reason, start, neighbours=__sentinel__, size=__defaults__['size']):
-        __set__(self, 'robot', robot)
-        __set__(self, 'tree', tree)
-        __set__(self, 'floating', floating)
-        __set__(self, 'base_reason', base_reason)
-        __set__(self, 'start', start)
-        __set__(self, 'neighbours', __factories__['neighbours']() if neighbours is __sentinel__ else neighbours)
-        __set__(self, 'size', size)
+        self.robot = robot
+        self.tree = tree
+        self.floating = floating
+        self.base_reason = base_reason
+        self.start = start
+        self.neighbours = __factories__['neighbours']() if neighbours is __sentinel__ else neighbours
+        self.size = size
     return __init__
 
 
 # urdftool.facts.srdf.GroupContents
-def _init_facts_srdf_GroupContents(__defaults__, __factories__, __sentinel__, __set__):
+def _init_facts_srdf_GroupContents(__defaults__, __factories__, __sentinel__, __set__, __slot__):
     def __init__(self, joints=__sentinel__, links=__sentinel__):
-        __set__(self, 'joints', __factories__['joints']() if joints is __sentinel__ else joints)
-        __set__(self, 'links', __factories__['links']() if links is __sentinel__ else links)
+        self.joints = __factories__['joints']() if joints is __sentinel__ else joints
+        self.links = __factories__['links']() if links is __sentinel__ else links
     return __init__
 
 
 COMPILED = {
-    'urdftool.facts.collisions.Matrix': ('links,reasons*,samples=,seed=,sometimes*', _init_facts_collisions_Matrix),
-    'urdftool.facts.collisions.NotChecked': ('reason', _init_facts_collisions_NotChecked),
-    'urdftool.facts.collisions.Overlap': ('link1,link2,depth', _init_facts_collisions_Overlap),
-    'urdftool.facts.context.CheckContext': ('robot,tree,options*,cache*,simulator=', _init_facts_context_CheckContext),
-    'urdftool.facts.dynamics.analysis.Conditioning': ('condition,smallest,largest,configuration,sample,matrix,names', _init_facts_dynamics_analysis_Conditioning),
-    'urdftool.facts.dynamics.analysis.DynamicsAnalysis': ('floating,base_reason,dof,samples,conditioning,gravity*,gravity_computed=,dense=', _init_facts_dynamics_analysis_DynamicsAnalysis),
-    'urdftool.facts.dynamics.analysis.GravityLoad': ('joint,torque,configuration,sample', _init_facts_dynamics_analysis_GravityLoad),
-    'urdftool.facts.dynamics.configurations.Samples': ('joints,values,others', _init_facts_dynamics_configurations_Samples),
-    'urdftool.facts.dynamics.coverage.NotCovered': ('reason,elements=', _init_facts_dynamics_coverage_NotCovered),
-    'urdftool.facts.dynamics.run.Skipped': ('why', _init_facts_dynamics_run_Skipped),
-    'urdftool.facts.meshes.MeshUse': ('link,role,mesh,origin', _init_facts_meshes_MeshUse),
-    'urdftool.facts.range_sweep.Sweep': ('joint,parent,child,lower,upper,home,home_depth,angles,depths,step,exact', _init_facts_range_sweep_Sweep),
-    'urdftool.facts.ros2_control.Block': ('name,type,element,plugin,components=,hardware_params*', _init_facts_ros2_control_Block),
-    'urdftool.facts.ros2_control.Component': ('kind,name,element,command=,state=,params*', _init_facts_ros2_control_Component),
-    'urdftool.facts.ros2_control.Interface': ('name,element,params*', _init_facts_ros2_control_Interface),
-    'urdftool.facts.simulation.SimResult': ('scene,runs', _init_facts_simulation_SimResult),
-    'urdftool.facts.simulation.options.SimOptions': ('engines=,duration=,timestep=,hold=,repair_inertia=', _init_facts_simulation_options_SimOptions),
-    'urdftool.facts.simulation.record.EngineRun': ('engine,refused*,loaded=,unavailable=,timestep=,steps=,wall_time=,diverged_at=,max_joint_speed=,fastest_joint=,late_joint_speed=,late_fastest_joint=,max_base_speed=,energy_initial=,energy_max=,energy_final=,energy_scale=,base_displacement=,base_late_speed=,base_late_distance=,penetrations*,loop_gap=,limit_violations*,mimic_error=,mimic_joint=', _init_facts_simulation_record_EngineRun),
-    'urdftool.facts.simulation.record.LimitViolation': ('joint,amount,position,bound,time', _init_facts_simulation_record_LimitViolation),
-    'urdftool.facts.simulation.record.Penetration': ('link_a,link_b,depth', _init_facts_simulation_record_Penetration),
-    'urdftool.facts.simulation.scene.Scene': ('robot,tree,floating,base_reason,start,neighbours*,size=', _init_facts_simulation_scene_Scene),
-    'urdftool.facts.srdf.GroupContents': ('joints*,links*', _init_facts_srdf_GroupContents),
+    'urdftool.facts.collisions.Matrix': ('links,reasons*,samples=,seed=,sometimes*|plain', _init_facts_collisions_Matrix),
+    'urdftool.facts.collisions.NotChecked': ('reason|slots', _init_facts_collisions_NotChecked),
+    'urdftool.facts.collisions.Overlap': ('link1,link2,depth|slots', _init_facts_collisions_Overlap),
+    'urdftool.facts.context.CheckContext': ('robot,tree,options*,cache*,simulator=|plain', _init_facts_context_CheckContext),
+    'urdftool.facts.dynamics.analysis.Conditioning': ('condition,smallest,largest,configuration,sample,matrix,names|frozen', _init_facts_dynamics_analysis_Conditioning),
+    'urdftool.facts.dynamics.analysis.DynamicsAnalysis': ('floating,base_reason,dof,samples,conditioning,gravity*,gravity_computed=,dense=|plain', _init_facts_dynamics_analysis_DynamicsAnalysis),
+    'urdftool.facts.dynamics.analysis.GravityLoad': ('joint,torque,configuration,sample|slots', _init_facts_dynamics_analysis_GravityLoad),
+    'urdftool.facts.dynamics.configurations.Samples': ('joints,values,others|slots', _init_facts_dynamics_configurations_Samples),
+    'urdftool.facts.dynamics.coverage.NotCovered': ('reason,elements=|slots', _init_facts_dynamics_coverage_NotCovered),
+    'urdftool.facts.dynamics.run.Skipped': ('why|slots', _init_facts_dynamics_run_Skipped),
+    'urdftool.facts.meshes.MeshUse': ('link,role,mesh,origin|slots', _init_facts_meshes_MeshUse),
+    'urdftool.facts.range_sweep.Sweep': ('joint,parent,child,lower,upper,home,home_depth,angles,depths,step,exact|slots', _init_facts_range_sweep_Sweep),
+    'urdftool.facts.ros2_control.Block': ('name,type,element,plugin,components=,hardware_params*|slots', _init_facts_ros2_control_Block),
+    'urdftool.facts.ros2_control.Component': ('kind,name,element,command=,state=,params*|slots', _init_facts_ros2_control_Component),
+    'urdftool.facts.ros2_control.Interface': ('name,element,params*|slots', _init_facts_ros2_control_Interface),
+    'urdftool.facts.simulation.SimResult': ('scene,runs|plain', _init_facts_simulation_SimResult),
+    'urdftool.facts.simulation.options.SimOptions': ('engines=,duration=,timestep=,hold=,repair_inertia=|slots', _init_facts_simulation_options_SimOptions),
+    'urdftool.facts.simulation.record.EngineRun': ('engine,refused*,loaded=,unavailable=,timestep=,steps=,wall_time=,diverged_at=,max_joint_speed=,fastest_joint=,late_joint_speed=,late_fastest_joint=,max_base_speed=,energy_initial=,energy_max=,energy_final=,energy_scale=,base_displacement=,base_late_speed=,base_late_distance=,penetrations*,loop_gap=,limit_violations*,mimic_error=,mimic_joint=|plain', _init_facts_simulation_record_EngineRun),
+    'urdftool.facts.simulation.record.LimitViolation': ('joint,amount,position,bound,time|slots', _init_facts_simulation_record_LimitViolation),
+    'urdftool.facts.simulation.record.Penetration': ('link_a,link_b,depth|slots', _init_facts_simulation_record_Penetration),
+    'urdftool.facts.simulation.scene.Scene': ('robot,tree,floating,base_reason,start,neighbours*,size=|plain', _init_facts_simulation_scene_Scene),
+    'urdftool.facts.srdf.GroupContents': ('joints*,links*|plain', _init_facts_srdf_GroupContents),
 }

@@ -9,36 +9,47 @@ entry maps a record to the shape of its fields and a function that builds its ``
 
 
 # urdftool.lsp.analysis.LineEdit
-def _init_lsp_analysis_LineEdit(__defaults__, __factories__, __sentinel__, __set__):
+def _init_lsp_analysis_LineEdit(__defaults__, __factories__, __sentinel__, __set__, __slot__):
+    _set_start = __slot__('start')
+    _set_end = __slot__('end')
+    _set_text = __slot__('text')
     def __init__(self, start, end, text):
-        __set__(self, 'start', start)
-        __set__(self, 'end', end)
-        __set__(self, 'text', text)
+        _set_start(self, start)
+        _set_end(self, end)
+        _set_text(self, text)
     return __init__
 
 
 # urdftool.lsp.analysis.Placed
-def _init_lsp_analysis_Placed(__defaults__, __factories__, __sentinel__, __set__):
+def _init_lsp_analysis_Placed(__defaults__, __factories__, __sentinel__, __set__, __slot__):
+    _set_diagnostic = __slot__('diagnostic')
+    _set_line = __slot__('line')
+    _set_start = __slot__('start')
+    _set_end = __slot__('end')
     def __init__(self, diagnostic, line, start, end):
-        __set__(self, 'diagnostic', diagnostic)
-        __set__(self, 'line', line)
-        __set__(self, 'start', start)
-        __set__(self, 'end', end)
+        _set_diagnostic(self, diagnostic)
+        _set_line(self, line)
+        _set_start(self, start)
+        _set_end(self, end)
     return __init__
 
 
 # urdftool.lsp.analysis.TextEdit
-def _init_lsp_analysis_TextEdit(__defaults__, __factories__, __sentinel__, __set__):
+def _init_lsp_analysis_TextEdit(__defaults__, __factories__, __sentinel__, __set__, __slot__):
+    _set_path = __slot__('path')
+    _set_start = __slot__('start')
+    _set_end = __slot__('end')
+    _set_text = __slot__('text')
     def __init__(self, path, start, end, text):
-        __set__(self, 'path', path)
-        __set__(self, 'start', start)
-        __set__(self, 'end', end)
-        __set__(self, 'text', text)
+        _set_path(self, path)
+        _set_start(self, start)
+        _set_end(self, end)
+        _set_text(self, text)
     return __init__
 
 
 COMPILED = {
-    'urdftool.lsp.analysis.LineEdit': ('start,end,text', _init_lsp_analysis_LineEdit),
-    'urdftool.lsp.analysis.Placed': ('diagnostic,line,start,end', _init_lsp_analysis_Placed),
-    'urdftool.lsp.analysis.TextEdit': ('path,start,end,text', _init_lsp_analysis_TextEdit),
+    'urdftool.lsp.analysis.LineEdit': ('start,end,text|slots', _init_lsp_analysis_LineEdit),
+    'urdftool.lsp.analysis.Placed': ('diagnostic,line,start,end|slots', _init_lsp_analysis_Placed),
+    'urdftool.lsp.analysis.TextEdit': ('path,start,end,text|slots', _init_lsp_analysis_TextEdit),
 }

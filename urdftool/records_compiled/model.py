@@ -9,216 +9,305 @@ entry maps a record to the shape of its fields and a function that builds its ``
 
 
 # urdftool.model.geometry.Box
-def _init_model_geometry_Box(__defaults__, __factories__, __sentinel__, __set__):
+def _init_model_geometry_Box(__defaults__, __factories__, __sentinel__, __set__, __slot__):
+    _set_size = __slot__('size')
+    _set_span = __slot__('span')
     def __init__(self, size, span=__defaults__['span']):
-        __set__(self, 'size', size)
-        __set__(self, 'span', span)
+        _set_size(self, size)
+        _set_span(self, span)
     return __init__
 
 
 # urdftool.model.geometry.Capsule
-def _init_model_geometry_Capsule(__defaults__, __factories__, __sentinel__, __set__):
+def _init_model_geometry_Capsule(__defaults__, __factories__, __sentinel__, __set__, __slot__):
+    _set_radius = __slot__('radius')
+    _set_length = __slot__('length')
+    _set_span = __slot__('span')
     def __init__(self, radius, length, span=__defaults__['span']):
-        __set__(self, 'radius', radius)
-        __set__(self, 'length', length)
-        __set__(self, 'span', span)
+        _set_radius(self, radius)
+        _set_length(self, length)
+        _set_span(self, span)
     return __init__
 
 
 # urdftool.model.geometry.Cylinder
-def _init_model_geometry_Cylinder(__defaults__, __factories__, __sentinel__, __set__):
+def _init_model_geometry_Cylinder(__defaults__, __factories__, __sentinel__, __set__, __slot__):
+    _set_radius = __slot__('radius')
+    _set_length = __slot__('length')
+    _set_span = __slot__('span')
     def __init__(self, radius, length, span=__defaults__['span']):
-        __set__(self, 'radius', radius)
-        __set__(self, 'length', length)
-        __set__(self, 'span', span)
+        _set_radius(self, radius)
+        _set_length(self, length)
+        _set_span(self, span)
     return __init__
 
 
 # urdftool.model.geometry.Ellipsoid
-def _init_model_geometry_Ellipsoid(__defaults__, __factories__, __sentinel__, __set__):
+def _init_model_geometry_Ellipsoid(__defaults__, __factories__, __sentinel__, __set__, __slot__):
+    _set_radii = __slot__('radii')
+    _set_span = __slot__('span')
     def __init__(self, radii, span=__defaults__['span']):
-        __set__(self, 'radii', radii)
-        __set__(self, 'span', span)
+        _set_radii(self, radii)
+        _set_span(self, span)
     return __init__
 
 
 # urdftool.model.geometry.Mesh
-def _init_model_geometry_Mesh(__defaults__, __factories__, __sentinel__, __set__):
+def _init_model_geometry_Mesh(__defaults__, __factories__, __sentinel__, __set__, __slot__):
+    _set_filename = __slot__('filename')
+    _set_resolved = __slot__('resolved')
+    _set_scale = __slot__('scale')
+    _set_span = __slot__('span')
+    _set_resolution = __slot__('resolution')
     def __init__(self, filename, resolved=__defaults__['resolved'], scale=__defaults__['scale'], span=__defaults__['span'], resolution=__defaults__['resolution']):
-        __set__(self, 'filename', filename)
-        __set__(self, 'resolved', resolved)
-        __set__(self, 'scale', scale)
-        __set__(self, 'span', span)
-        __set__(self, 'resolution', resolution)
+        _set_filename(self, filename)
+        _set_resolved(self, resolved)
+        _set_scale(self, scale)
+        _set_span(self, span)
+        _set_resolution(self, resolution)
     return __init__
 
 
 # urdftool.model.geometry.Plane
-def _init_model_geometry_Plane(__defaults__, __factories__, __sentinel__, __set__):
+def _init_model_geometry_Plane(__defaults__, __factories__, __sentinel__, __set__, __slot__):
+    _set_normal = __slot__('normal')
+    _set_size = __slot__('size')
+    _set_span = __slot__('span')
     def __init__(self, normal=__defaults__['normal'], size=__defaults__['size'], span=__defaults__['span']):
-        __set__(self, 'normal', normal)
-        __set__(self, 'size', size)
-        __set__(self, 'span', span)
+        _set_normal(self, normal)
+        _set_size(self, size)
+        _set_span(self, span)
     return __init__
 
 
 # urdftool.model.geometry.Resolution
-def _init_model_geometry_Resolution(__defaults__, __factories__, __sentinel__, __set__):
+def _init_model_geometry_Resolution(__defaults__, __factories__, __sentinel__, __set__, __slot__):
+    _set_path = __slot__('path')
+    _set_tried = __slot__('tried')
+    _set_package = __slot__('package')
+    _set_package_missing = __slot__('package_missing')
+    _set_package_dir = __slot__('package_dir')
     def __init__(self, path, tried=__defaults__['tried'], package=__defaults__['package'], package_missing=__defaults__['package_missing'], package_dir=__defaults__['package_dir']):
-        __set__(self, 'path', path)
-        __set__(self, 'tried', tried)
-        __set__(self, 'package', package)
-        __set__(self, 'package_missing', package_missing)
-        __set__(self, 'package_dir', package_dir)
+        _set_path(self, path)
+        _set_tried(self, tried)
+        _set_package(self, package)
+        _set_package_missing(self, package_missing)
+        _set_package_dir(self, package_dir)
     return __init__
 
 
 # urdftool.model.geometry.Sphere
-def _init_model_geometry_Sphere(__defaults__, __factories__, __sentinel__, __set__):
+def _init_model_geometry_Sphere(__defaults__, __factories__, __sentinel__, __set__, __slot__):
+    _set_radius = __slot__('radius')
+    _set_span = __slot__('span')
     def __init__(self, radius, span=__defaults__['span']):
-        __set__(self, 'radius', radius)
-        __set__(self, 'span', span)
+        _set_radius(self, radius)
+        _set_span(self, span)
     return __init__
 
 
 # urdftool.model.pose.Pose
-def _init_model_pose_Pose(__defaults__, __factories__, __sentinel__, __set__):
+def _init_model_pose_Pose(__defaults__, __factories__, __sentinel__, __set__, __slot__):
+    _set_xyz = __slot__('xyz')
+    _set_rpy = __slot__('rpy')
     def __init__(self, xyz=__defaults__['xyz'], rpy=__defaults__['rpy']):
-        __set__(self, 'xyz', xyz)
-        __set__(self, 'rpy', rpy)
+        _set_xyz(self, xyz)
+        _set_rpy(self, rpy)
     return __init__
 
 
 # urdftool.model.robot.Calibration
-def _init_model_robot_Calibration(__defaults__, __factories__, __sentinel__, __set__):
+def _init_model_robot_Calibration(__defaults__, __factories__, __sentinel__, __set__, __slot__):
+    _set_rising = __slot__('rising')
+    _set_falling = __slot__('falling')
+    _set_span = __slot__('span')
     def __init__(self, rising=__defaults__['rising'], falling=__defaults__['falling'], span=__defaults__['span']):
-        __set__(self, 'rising', rising)
-        __set__(self, 'falling', falling)
-        __set__(self, 'span', span)
+        _set_rising(self, rising)
+        _set_falling(self, falling)
+        _set_span(self, span)
     return __init__
 
 
 # urdftool.model.robot.Collision
-def _init_model_robot_Collision(__defaults__, __factories__, __sentinel__, __set__):
+def _init_model_robot_Collision(__defaults__, __factories__, __sentinel__, __set__, __slot__):
+    _set_geometry = __slot__('geometry')
+    _set_origin = __slot__('origin')
+    _set_name = __slot__('name')
+    _set_span = __slot__('span')
     def __init__(self, geometry, origin=__defaults__['origin'], name=__defaults__['name'], span=__defaults__['span']):
-        __set__(self, 'geometry', geometry)
-        __set__(self, 'origin', origin)
-        __set__(self, 'name', name)
-        __set__(self, 'span', span)
+        _set_geometry(self, geometry)
+        _set_origin(self, origin)
+        _set_name(self, name)
+        _set_span(self, span)
     return __init__
 
 
 # urdftool.model.robot.Dynamics
-def _init_model_robot_Dynamics(__defaults__, __factories__, __sentinel__, __set__):
+def _init_model_robot_Dynamics(__defaults__, __factories__, __sentinel__, __set__, __slot__):
+    _set_damping = __slot__('damping')
+    _set_friction = __slot__('friction')
+    _set_span = __slot__('span')
+    _set_spring_stiffness = __slot__('spring_stiffness')
+    _set_spring_reference = __slot__('spring_reference')
     def __init__(self, damping=__defaults__['damping'], friction=__defaults__['friction'], span=__defaults__['span'], spring_stiffness=__defaults__['spring_stiffness'], spring_reference=__defaults__['spring_reference']):
-        __set__(self, 'damping', damping)
-        __set__(self, 'friction', friction)
-        __set__(self, 'span', span)
-        __set__(self, 'spring_stiffness', spring_stiffness)
-        __set__(self, 'spring_reference', spring_reference)
+        _set_damping(self, damping)
+        _set_friction(self, friction)
+        _set_span(self, span)
+        _set_spring_stiffness(self, spring_stiffness)
+        _set_spring_reference(self, spring_reference)
     return __init__
 
 
 # urdftool.model.robot.Extension
-def _init_model_robot_Extension(__defaults__, __factories__, __sentinel__, __set__):
+def _init_model_robot_Extension(__defaults__, __factories__, __sentinel__, __set__, __slot__):
+    _set_tag = __slot__('tag')
+    _set_attributes = __slot__('attributes')
+    _set_element = __slot__('element')
+    _set_span = __slot__('span')
     def __init__(self, tag, attributes, element, span=__defaults__['span']):
-        __set__(self, 'tag', tag)
-        __set__(self, 'attributes', attributes)
-        __set__(self, 'element', element)
-        __set__(self, 'span', span)
+        _set_tag(self, tag)
+        _set_attributes(self, attributes)
+        _set_element(self, element)
+        _set_span(self, span)
     return __init__
 
 
 # urdftool.model.robot.Inertial
-def _init_model_robot_Inertial(__defaults__, __factories__, __sentinel__, __set__):
+def _init_model_robot_Inertial(__defaults__, __factories__, __sentinel__, __set__, __slot__):
+    _set_mass = __slot__('mass')
+    _set_inertia = __slot__('inertia')
+    _set_origin = __slot__('origin')
+    _set_span = __slot__('span')
+    _set_mass_span = __slot__('mass_span')
+    _set_inertia_span = __slot__('inertia_span')
     def __init__(self, mass, inertia, origin=__defaults__['origin'], span=__defaults__['span'], mass_span=__defaults__['mass_span'], inertia_span=__defaults__['inertia_span']):
-        __set__(self, 'mass', mass)
-        __set__(self, 'inertia', inertia)
-        __set__(self, 'origin', origin)
-        __set__(self, 'span', span)
-        __set__(self, 'mass_span', mass_span)
-        __set__(self, 'inertia_span', inertia_span)
+        _set_mass(self, mass)
+        _set_inertia(self, inertia)
+        _set_origin(self, origin)
+        _set_span(self, span)
+        _set_mass_span(self, mass_span)
+        _set_inertia_span(self, inertia_span)
     return __init__
 
 
 # urdftool.model.robot.Joint
-def _init_model_robot_Joint(__defaults__, __factories__, __sentinel__, __set__):
+def _init_model_robot_Joint(__defaults__, __factories__, __sentinel__, __set__, __slot__):
+    _set_name = __slot__('name')
+    _set_type = __slot__('type')
+    _set_parent = __slot__('parent')
+    _set_child = __slot__('child')
+    _set_origin = __slot__('origin')
+    _set_axis = __slot__('axis')
+    _set_limit = __slot__('limit')
+    _set_dynamics = __slot__('dynamics')
+    _set_mimic = __slot__('mimic')
+    _set_safety_controller = __slot__('safety_controller')
+    _set_calibration = __slot__('calibration')
+    _set_span = __slot__('span')
+    _set_axis_span = __slot__('axis_span')
+    _set_axis2 = __slot__('axis2')
+    _set_limit2 = __slot__('limit2')
+    _set_extensions = __slot__('extensions')
     def __init__(self, name, type, parent, child, origin=__defaults__['origin'], axis=__defaults__['axis'], limit=__defaults__['limit'], dynamics=__defaults__['dynamics'], mimic=__defaults__['mimic'], safety_controller=__defaults__['safety_controller'], calibration=__defaults__['calibration'], span=__defaults__['span'], axis_span=__defaults__['axis_span'], axis2=__defaults__['axis2'], limit2=__defaults__['limit2'], extensions=__defaults__['extensions']):
-        __set__(self, 'name', name)
-        __set__(self, 'type', type)
-        __set__(self, 'parent', parent)
-        __set__(self, 'child', child)
-        __set__(self, 'origin', origin)
-        __set__(self, 'axis', axis)
-        __set__(self, 'limit', limit)
-        __set__(self, 'dynamics', dynamics)
-        __set__(self, 'mimic', mimic)
-        __set__(self, 'safety_controller', safety_controller)
-        __set__(self, 'calibration', calibration)
-        __set__(self, 'span', span)
-        __set__(self, 'axis_span', axis_span)
-        __set__(self, 'axis2', axis2)
-        __set__(self, 'limit2', limit2)
-        __set__(self, 'extensions', extensions)
+        _set_name(self, name)
+        _set_type(self, type)
+        _set_parent(self, parent)
+        _set_child(self, child)
+        _set_origin(self, origin)
+        _set_axis(self, axis)
+        _set_limit(self, limit)
+        _set_dynamics(self, dynamics)
+        _set_mimic(self, mimic)
+        _set_safety_controller(self, safety_controller)
+        _set_calibration(self, calibration)
+        _set_span(self, span)
+        _set_axis_span(self, axis_span)
+        _set_axis2(self, axis2)
+        _set_limit2(self, limit2)
+        _set_extensions(self, extensions)
     return __init__
 
 
 # urdftool.model.robot.Limit
-def _init_model_robot_Limit(__defaults__, __factories__, __sentinel__, __set__):
+def _init_model_robot_Limit(__defaults__, __factories__, __sentinel__, __set__, __slot__):
+    _set_lower = __slot__('lower')
+    _set_upper = __slot__('upper')
+    _set_effort = __slot__('effort')
+    _set_velocity = __slot__('velocity')
+    _set_span = __slot__('span')
+    _set_lower_span = __slot__('lower_span')
+    _set_upper_span = __slot__('upper_span')
     def __init__(self, lower=__defaults__['lower'], upper=__defaults__['upper'], effort=__defaults__['effort'], velocity=__defaults__['velocity'], span=__defaults__['span'], lower_span=__defaults__['lower_span'], upper_span=__defaults__['upper_span']):
-        __set__(self, 'lower', lower)
-        __set__(self, 'upper', upper)
-        __set__(self, 'effort', effort)
-        __set__(self, 'velocity', velocity)
-        __set__(self, 'span', span)
-        __set__(self, 'lower_span', lower_span)
-        __set__(self, 'upper_span', upper_span)
+        _set_lower(self, lower)
+        _set_upper(self, upper)
+        _set_effort(self, effort)
+        _set_velocity(self, velocity)
+        _set_span(self, span)
+        _set_lower_span(self, lower_span)
+        _set_upper_span(self, upper_span)
     return __init__
 
 
 # urdftool.model.robot.Link
-def _init_model_robot_Link(__defaults__, __factories__, __sentinel__, __set__):
+def _init_model_robot_Link(__defaults__, __factories__, __sentinel__, __set__, __slot__):
+    _set_name = __slot__('name')
+    _set_inertial = __slot__('inertial')
+    _set_visuals = __slot__('visuals')
+    _set_collisions = __slot__('collisions')
+    _set_span = __slot__('span')
+    _set_extensions = __slot__('extensions')
     def __init__(self, name, inertial=__defaults__['inertial'], visuals=__defaults__['visuals'], collisions=__defaults__['collisions'], span=__defaults__['span'], extensions=__defaults__['extensions']):
-        __set__(self, 'name', name)
-        __set__(self, 'inertial', inertial)
-        __set__(self, 'visuals', visuals)
-        __set__(self, 'collisions', collisions)
-        __set__(self, 'span', span)
-        __set__(self, 'extensions', extensions)
+        _set_name(self, name)
+        _set_inertial(self, inertial)
+        _set_visuals(self, visuals)
+        _set_collisions(self, collisions)
+        _set_span(self, span)
+        _set_extensions(self, extensions)
     return __init__
 
 
 # urdftool.model.robot.LoopClosure
-def _init_model_robot_LoopClosure(__defaults__, __factories__, __sentinel__, __set__):
+def _init_model_robot_LoopClosure(__defaults__, __factories__, __sentinel__, __set__, __slot__):
+    _set_joint = __slot__('joint')
+    _set_parent_anchor = __slot__('parent_anchor')
+    _set_child_anchor = __slot__('child_anchor')
     def __init__(self, joint, parent_anchor, child_anchor):
-        __set__(self, 'joint', joint)
-        __set__(self, 'parent_anchor', parent_anchor)
-        __set__(self, 'child_anchor', child_anchor)
+        _set_joint(self, joint)
+        _set_parent_anchor(self, parent_anchor)
+        _set_child_anchor(self, child_anchor)
     return __init__
 
 
 # urdftool.model.robot.Material
-def _init_model_robot_Material(__defaults__, __factories__, __sentinel__, __set__):
+def _init_model_robot_Material(__defaults__, __factories__, __sentinel__, __set__, __slot__):
+    _set_name = __slot__('name')
+    _set_color = __slot__('color')
+    _set_texture = __slot__('texture')
+    _set_span = __slot__('span')
     def __init__(self, name, color=__defaults__['color'], texture=__defaults__['texture'], span=__defaults__['span']):
-        __set__(self, 'name', name)
-        __set__(self, 'color', color)
-        __set__(self, 'texture', texture)
-        __set__(self, 'span', span)
+        _set_name(self, name)
+        _set_color(self, color)
+        _set_texture(self, texture)
+        _set_span(self, span)
     return __init__
 
 
 # urdftool.model.robot.Mimic
-def _init_model_robot_Mimic(__defaults__, __factories__, __sentinel__, __set__):
+def _init_model_robot_Mimic(__defaults__, __factories__, __sentinel__, __set__, __slot__):
+    _set_joint = __slot__('joint')
+    _set_multiplier = __slot__('multiplier')
+    _set_offset = __slot__('offset')
+    _set_span = __slot__('span')
     def __init__(self, joint, multiplier=__defaults__['multiplier'], offset=__defaults__['offset'], span=__defaults__['span']):
-        __set__(self, 'joint', joint)
-        __set__(self, 'multiplier', multiplier)
-        __set__(self, 'offset', offset)
-        __set__(self, 'span', span)
+        _set_joint(self, joint)
+        _set_multiplier(self, multiplier)
+        _set_offset(self, offset)
+        _set_span(self, span)
     return __init__
 
 
 # urdftool.model.robot.Robot
-def _init_model_robot_Robot(__defaults__, __factories__, __sentinel__, __set__):
+def _init_model_robot_Robot(__defaults__, __factories__, __sentinel__, __set__, __slot__):
     def __init__(self, name, links=__defaults__['links'], joints=__defaults__['joints'], materials=__defaults__['materials'], extensions=__defaults__['extensions'], loop_closures=__defaults__['loop_closures'], path=__defaults__['path'], format=__defaults__['format'], span=__defaults__['span'], diagnostics=__defaults__['diagnostics'], home=__defaults__['home'], root_poses=__defaults__['root_poses'], world_plugins=__defaults__['world_plugins']):
         __set__(self, 'name', name)
         __set__(self, 'links', links)
@@ -237,60 +326,70 @@ def _init_model_robot_Robot(__defaults__, __factories__, __sentinel__, __set__):
 
 
 # urdftool.model.robot.SafetyController
-def _init_model_robot_SafetyController(__defaults__, __factories__, __sentinel__, __set__):
+def _init_model_robot_SafetyController(__defaults__, __factories__, __sentinel__, __set__, __slot__):
+    _set_k_velocity = __slot__('k_velocity')
+    _set_k_position = __slot__('k_position')
+    _set_soft_lower_limit = __slot__('soft_lower_limit')
+    _set_soft_upper_limit = __slot__('soft_upper_limit')
+    _set_span = __slot__('span')
     def __init__(self, k_velocity, k_position=__defaults__['k_position'], soft_lower_limit=__defaults__['soft_lower_limit'], soft_upper_limit=__defaults__['soft_upper_limit'], span=__defaults__['span']):
-        __set__(self, 'k_velocity', k_velocity)
-        __set__(self, 'k_position', k_position)
-        __set__(self, 'soft_lower_limit', soft_lower_limit)
-        __set__(self, 'soft_upper_limit', soft_upper_limit)
-        __set__(self, 'span', span)
+        _set_k_velocity(self, k_velocity)
+        _set_k_position(self, k_position)
+        _set_soft_lower_limit(self, soft_lower_limit)
+        _set_soft_upper_limit(self, soft_upper_limit)
+        _set_span(self, span)
     return __init__
 
 
 # urdftool.model.robot.Visual
-def _init_model_robot_Visual(__defaults__, __factories__, __sentinel__, __set__):
+def _init_model_robot_Visual(__defaults__, __factories__, __sentinel__, __set__, __slot__):
+    _set_geometry = __slot__('geometry')
+    _set_origin = __slot__('origin')
+    _set_name = __slot__('name')
+    _set_material = __slot__('material')
+    _set_span = __slot__('span')
     def __init__(self, geometry, origin=__defaults__['origin'], name=__defaults__['name'], material=__defaults__['material'], span=__defaults__['span']):
-        __set__(self, 'geometry', geometry)
-        __set__(self, 'origin', origin)
-        __set__(self, 'name', name)
-        __set__(self, 'material', material)
-        __set__(self, 'span', span)
+        _set_geometry(self, geometry)
+        _set_origin(self, origin)
+        _set_name(self, name)
+        _set_material(self, material)
+        _set_span(self, span)
     return __init__
 
 
 # urdftool.model.tree.KinematicTree
-def _init_model_tree_KinematicTree(__defaults__, __factories__, __sentinel__, __set__):
+def _init_model_tree_KinematicTree(__defaults__, __factories__, __sentinel__, __set__, __slot__):
     def __init__(self, robot, parent_joint=__sentinel__, child_joints=__sentinel__, cycle_joints=__sentinel__):
-        __set__(self, 'robot', robot)
-        __set__(self, 'parent_joint', __factories__['parent_joint']() if parent_joint is __sentinel__ else parent_joint)
-        __set__(self, 'child_joints', __factories__['child_joints']() if child_joints is __sentinel__ else child_joints)
-        __set__(self, 'cycle_joints', __factories__['cycle_joints']() if cycle_joints is __sentinel__ else cycle_joints)
+        self.robot = robot
+        self.parent_joint = __factories__['parent_joint']() if parent_joint is __sentinel__ else parent_joint
+        self.child_joints = __factories__['child_joints']() if child_joints is __sentinel__ else child_joints
+        self.cycle_joints = __factories__['cycle_joints']() if cycle_joints is __sentinel__ else cycle_joints
     return __init__
 
 
 COMPILED = {
-    'urdftool.model.geometry.Box': ('size,span=', _init_model_geometry_Box),
-    'urdftool.model.geometry.Capsule': ('radius,length,span=', _init_model_geometry_Capsule),
-    'urdftool.model.geometry.Cylinder': ('radius,length,span=', _init_model_geometry_Cylinder),
-    'urdftool.model.geometry.Ellipsoid': ('radii,span=', _init_model_geometry_Ellipsoid),
-    'urdftool.model.geometry.Mesh': ('filename,resolved=,scale=,span=,resolution=', _init_model_geometry_Mesh),
-    'urdftool.model.geometry.Plane': ('normal=,size=,span=', _init_model_geometry_Plane),
-    'urdftool.model.geometry.Resolution': ('path,tried=,package=,package_missing=,package_dir=', _init_model_geometry_Resolution),
-    'urdftool.model.geometry.Sphere': ('radius,span=', _init_model_geometry_Sphere),
-    'urdftool.model.pose.Pose': ('xyz=,rpy=', _init_model_pose_Pose),
-    'urdftool.model.robot.Calibration': ('rising=,falling=,span=', _init_model_robot_Calibration),
-    'urdftool.model.robot.Collision': ('geometry,origin=,name=,span=', _init_model_robot_Collision),
-    'urdftool.model.robot.Dynamics': ('damping=,friction=,span=,spring_stiffness=,spring_reference=', _init_model_robot_Dynamics),
-    'urdftool.model.robot.Extension': ('tag,attributes,element,span=', _init_model_robot_Extension),
-    'urdftool.model.robot.Inertial': ('mass,inertia,origin=,span=,mass_span=,inertia_span=', _init_model_robot_Inertial),
-    'urdftool.model.robot.Joint': ('name,type,parent,child,origin=,axis=,limit=,dynamics=,mimic=,safety_controller=,calibration=,span=,axis_span=,axis2=,limit2=,extensions=', _init_model_robot_Joint),
-    'urdftool.model.robot.Limit': ('lower=,upper=,effort=,velocity=,span=,lower_span=,upper_span=', _init_model_robot_Limit),
-    'urdftool.model.robot.Link': ('name,inertial=,visuals=,collisions=,span=,extensions=', _init_model_robot_Link),
-    'urdftool.model.robot.LoopClosure': ('joint,parent_anchor,child_anchor', _init_model_robot_LoopClosure),
-    'urdftool.model.robot.Material': ('name,color=,texture=,span=', _init_model_robot_Material),
-    'urdftool.model.robot.Mimic': ('joint,multiplier=,offset=,span=', _init_model_robot_Mimic),
-    'urdftool.model.robot.Robot': ('name,links=,joints=,materials=,extensions=,loop_closures=,path=,format=,span=,diagnostics=,home=,root_poses=,world_plugins=', _init_model_robot_Robot),
-    'urdftool.model.robot.SafetyController': ('k_velocity,k_position=,soft_lower_limit=,soft_upper_limit=,span=', _init_model_robot_SafetyController),
-    'urdftool.model.robot.Visual': ('geometry,origin=,name=,material=,span=', _init_model_robot_Visual),
-    'urdftool.model.tree.KinematicTree': ('robot,parent_joint*,child_joints*,cycle_joints*', _init_model_tree_KinematicTree),
+    'urdftool.model.geometry.Box': ('size,span=|slots', _init_model_geometry_Box),
+    'urdftool.model.geometry.Capsule': ('radius,length,span=|slots', _init_model_geometry_Capsule),
+    'urdftool.model.geometry.Cylinder': ('radius,length,span=|slots', _init_model_geometry_Cylinder),
+    'urdftool.model.geometry.Ellipsoid': ('radii,span=|slots', _init_model_geometry_Ellipsoid),
+    'urdftool.model.geometry.Mesh': ('filename,resolved=,scale=,span=,resolution=|slots', _init_model_geometry_Mesh),
+    'urdftool.model.geometry.Plane': ('normal=,size=,span=|slots', _init_model_geometry_Plane),
+    'urdftool.model.geometry.Resolution': ('path,tried=,package=,package_missing=,package_dir=|slots', _init_model_geometry_Resolution),
+    'urdftool.model.geometry.Sphere': ('radius,span=|slots', _init_model_geometry_Sphere),
+    'urdftool.model.pose.Pose': ('xyz=,rpy=|slots', _init_model_pose_Pose),
+    'urdftool.model.robot.Calibration': ('rising=,falling=,span=|slots', _init_model_robot_Calibration),
+    'urdftool.model.robot.Collision': ('geometry,origin=,name=,span=|slots', _init_model_robot_Collision),
+    'urdftool.model.robot.Dynamics': ('damping=,friction=,span=,spring_stiffness=,spring_reference=|slots', _init_model_robot_Dynamics),
+    'urdftool.model.robot.Extension': ('tag,attributes,element,span=|slots', _init_model_robot_Extension),
+    'urdftool.model.robot.Inertial': ('mass,inertia,origin=,span=,mass_span=,inertia_span=|slots', _init_model_robot_Inertial),
+    'urdftool.model.robot.Joint': ('name,type,parent,child,origin=,axis=,limit=,dynamics=,mimic=,safety_controller=,calibration=,span=,axis_span=,axis2=,limit2=,extensions=|slots', _init_model_robot_Joint),
+    'urdftool.model.robot.Limit': ('lower=,upper=,effort=,velocity=,span=,lower_span=,upper_span=|slots', _init_model_robot_Limit),
+    'urdftool.model.robot.Link': ('name,inertial=,visuals=,collisions=,span=,extensions=|slots', _init_model_robot_Link),
+    'urdftool.model.robot.LoopClosure': ('joint,parent_anchor,child_anchor|slots', _init_model_robot_LoopClosure),
+    'urdftool.model.robot.Material': ('name,color=,texture=,span=|slots', _init_model_robot_Material),
+    'urdftool.model.robot.Mimic': ('joint,multiplier=,offset=,span=|slots', _init_model_robot_Mimic),
+    'urdftool.model.robot.Robot': ('name,links=,joints=,materials=,extensions=,loop_closures=,path=,format=,span=,diagnostics=,home=,root_poses=,world_plugins=|frozen', _init_model_robot_Robot),
+    'urdftool.model.robot.SafetyController': ('k_velocity,k_position=,soft_lower_limit=,soft_upper_limit=,span=|slots', _init_model_robot_SafetyController),
+    'urdftool.model.robot.Visual': ('geometry,origin=,name=,material=,span=|slots', _init_model_robot_Visual),
+    'urdftool.model.tree.KinematicTree': ('robot,parent_joint*,child_joints*,cycle_joints*|plain', _init_model_tree_KinematicTree),
 }

@@ -9,421 +9,462 @@ entry maps a record to the shape of its fields and a function that builds its ``
 
 
 # urdftool.parse.Loaded
-def _init_parse_Loaded(__defaults__, __factories__, __sentinel__, __set__):
+def _init_parse_Loaded(__defaults__, __factories__, __sentinel__, __set__, __slot__):
     def __init__(self, path, format, robot, diagnostics=__sentinel__, files=__sentinel__, srdf=__defaults__['srdf'], controllers=__defaults__['controllers']):
-        __set__(self, 'path', path)
-        __set__(self, 'format', format)
-        __set__(self, 'robot', robot)
-        __set__(self, 'diagnostics', __factories__['diagnostics']() if diagnostics is __sentinel__ else diagnostics)
-        __set__(self, 'files', __factories__['files']() if files is __sentinel__ else files)
-        __set__(self, 'srdf', srdf)
-        __set__(self, 'controllers', controllers)
+        self.path = path
+        self.format = format
+        self.robot = robot
+        self.diagnostics = __factories__['diagnostics']() if diagnostics is __sentinel__ else diagnostics
+        self.files = __factories__['files']() if files is __sentinel__ else files
+        self.srdf = srdf
+        self.controllers = controllers
     return __init__
 
 
 # urdftool.parse.controllers.Controller
-def _init_parse_controllers_Controller(__defaults__, __factories__, __sentinel__, __set__):
+def _init_parse_controllers_Controller(__defaults__, __factories__, __sentinel__, __set__, __slot__):
+    _set_name = __slot__('name')
+    _set_span = __slot__('span')
+    _set_type = __slot__('type')
+    _set_params = __slot__('params')
     def __init__(self, name, span, type=__defaults__['type'], params=__sentinel__):
-        __set__(self, 'name', name)
-        __set__(self, 'span', span)
-        __set__(self, 'type', type)
-        __set__(self, 'params', __factories__['params']() if params is __sentinel__ else params)
+        _set_name(self, name)
+        _set_span(self, span)
+        _set_type(self, type)
+        _set_params(self, __factories__['params']() if params is __sentinel__ else params)
     return __init__
 
 
 # urdftool.parse.controllers.ControllerConfig
-def _init_parse_controllers_ControllerConfig(__defaults__, __factories__, __sentinel__, __set__):
+def _init_parse_controllers_ControllerConfig(__defaults__, __factories__, __sentinel__, __set__, __slot__):
     def __init__(self, path, controllers=__sentinel__, diagnostics=__sentinel__):
-        __set__(self, 'path', path)
-        __set__(self, 'controllers', __factories__['controllers']() if controllers is __sentinel__ else controllers)
-        __set__(self, 'diagnostics', __factories__['diagnostics']() if diagnostics is __sentinel__ else diagnostics)
+        self.path = path
+        self.controllers = __factories__['controllers']() if controllers is __sentinel__ else controllers
+        self.diagnostics = __factories__['diagnostics']() if diagnostics is __sentinel__ else diagnostics
     return __init__
 
 
 # urdftool.parse.controllers.Controllers
-def _init_parse_controllers_Controllers(__defaults__, __factories__, __sentinel__, __set__):
+def _init_parse_controllers_Controllers(__defaults__, __factories__, __sentinel__, __set__, __slot__):
     def __init__(self, configs=__sentinel__, missing=__sentinel__, given=__defaults__['given']):
-        __set__(self, 'configs', __factories__['configs']() if configs is __sentinel__ else configs)
-        __set__(self, 'missing', __factories__['missing']() if missing is __sentinel__ else missing)
-        __set__(self, 'given', given)
+        self.configs = __factories__['configs']() if configs is __sentinel__ else configs
+        self.missing = __factories__['missing']() if missing is __sentinel__ else missing
+        self.given = given
     return __init__
 
 
 # urdftool.parse.controllers.Value
-def _init_parse_controllers_Value(__defaults__, __factories__, __sentinel__, __set__):
+def _init_parse_controllers_Value(__defaults__, __factories__, __sentinel__, __set__, __slot__):
+    _set_value = __slot__('value')
+    _set_span = __slot__('span')
     def __init__(self, value, span):
-        __set__(self, 'value', value)
-        __set__(self, 'span', span)
+        _set_value(self, value)
+        _set_span(self, span)
     return __init__
 
 
 # urdftool.parse.locate.PositionTable
-def _init_parse_locate_PositionTable(__defaults__, __factories__, __sentinel__, __set__):
+def _init_parse_locate_PositionTable(__defaults__, __factories__, __sentinel__, __set__, __slot__):
     def __init__(self, root, data, path, _found=__defaults__['_found'], _key=__defaults__['_key']):
-        __set__(self, 'root', root)
-        __set__(self, 'data', data)
-        __set__(self, 'path', path)
-        __set__(self, '_found', _found)
-        __set__(self, '_key', _key)
+        self.root = root
+        self.data = data
+        self.path = path
+        self._found = _found
+        self._key = _key
     return __init__
 
 
 # urdftool.parse.packages.Lookup
-def _init_parse_packages_Lookup(__defaults__, __factories__, __sentinel__, __set__):
+def _init_parse_packages_Lookup(__defaults__, __factories__, __sentinel__, __set__, __slot__):
     def __init__(self, path, tried=__sentinel__, package=__defaults__['package'], package_missing=__defaults__['package_missing'], package_dir=__defaults__['package_dir']):
-        __set__(self, 'path', path)
-        __set__(self, 'tried', __factories__['tried']() if tried is __sentinel__ else tried)
-        __set__(self, 'package', package)
-        __set__(self, 'package_missing', package_missing)
-        __set__(self, 'package_dir', package_dir)
+        self.path = path
+        self.tried = __factories__['tried']() if tried is __sentinel__ else tried
+        self.package = package
+        self.package_missing = package_missing
+        self.package_dir = package_dir
     return __init__
 
 
 # urdftool.parse.packages.PackageResolver
-def _init_parse_packages_PackageResolver(__defaults__, __factories__, __sentinel__, __set__):
+def _init_parse_packages_PackageResolver(__defaults__, __factories__, __sentinel__, __set__, __slot__):
     def __init__(self, packages=__sentinel__, package_paths=__sentinel__, environ=__sentinel__, _scanned=__sentinel__, _found=__sentinel__, _resolutions=__sentinel__):
-        __set__(self, 'packages', __factories__['packages']() if packages is __sentinel__ else packages)
-        __set__(self, 'package_paths', __factories__['package_paths']() if package_paths is __sentinel__ else package_paths)
-        __set__(self, 'environ', __factories__['environ']() if environ is __sentinel__ else environ)
-        __set__(self, '_scanned', __factories__['_scanned']() if _scanned is __sentinel__ else _scanned)
-        __set__(self, '_found', __factories__['_found']() if _found is __sentinel__ else _found)
-        __set__(self, '_resolutions', __factories__['_resolutions']() if _resolutions is __sentinel__ else _resolutions)
+        self.packages = __factories__['packages']() if packages is __sentinel__ else packages
+        self.package_paths = __factories__['package_paths']() if package_paths is __sentinel__ else package_paths
+        self.environ = __factories__['environ']() if environ is __sentinel__ else environ
+        self._scanned = __factories__['_scanned']() if _scanned is __sentinel__ else _scanned
+        self._found = __factories__['_found']() if _found is __sentinel__ else _found
+        self._resolutions = __factories__['_resolutions']() if _resolutions is __sentinel__ else _resolutions
     return __init__
 
 
 # urdftool.parse.sdf_elements.JointDetails
-def _init_parse_sdf_elements_JointDetails(__defaults__, __factories__, __sentinel__, __set__):
+def _init_parse_sdf_elements_JointDetails(__defaults__, __factories__, __sentinel__, __set__, __slot__):
     def __init__(self, type, axis, axis_frame, limit, dynamics, axis_span, axis2=__defaults__['axis2'], axis2_frame=__defaults__['axis2_frame'], limit2=__defaults__['limit2']):
-        __set__(self, 'type', type)
-        __set__(self, 'axis', axis)
-        __set__(self, 'axis_frame', axis_frame)
-        __set__(self, 'limit', limit)
-        __set__(self, 'dynamics', dynamics)
-        __set__(self, 'axis_span', axis_span)
-        __set__(self, 'axis2', axis2)
-        __set__(self, 'axis2_frame', axis2_frame)
-        __set__(self, 'limit2', limit2)
+        self.type = type
+        self.axis = axis
+        self.axis_frame = axis_frame
+        self.limit = limit
+        self.dynamics = dynamics
+        self.axis_span = axis_span
+        self.axis2 = axis2
+        self.axis2_frame = axis2_frame
+        self.limit2 = limit2
     return __init__
 
 
 # urdftool.parse.sdf_elements.LinkBodyReader
-def _init_parse_sdf_elements_LinkBodyReader(__defaults__, __factories__, __sentinel__, __set__):
+def _init_parse_sdf_elements_LinkBodyReader(__defaults__, __factories__, __sentinel__, __set__, __slot__):
     def __init__(self, values, resolver, path):
-        __set__(self, 'values', values)
-        __set__(self, 'resolver', resolver)
-        __set__(self, 'path', path)
+        self.values = values
+        self.resolver = resolver
+        self.path = path
     return __init__
 
 
 # urdftool.parse.sdf_elements.PlacedElement
-def _init_parse_sdf_elements_PlacedElement(__defaults__, __factories__, __sentinel__, __set__):
+def _init_parse_sdf_elements_PlacedElement(__defaults__, __factories__, __sentinel__, __set__, __slot__):
     def __init__(self, item, relative_to, pose_span):
-        __set__(self, 'item', item)
-        __set__(self, 'relative_to', relative_to)
-        __set__(self, 'pose_span', pose_span)
+        self.item = item
+        self.relative_to = relative_to
+        self.pose_span = pose_span
     return __init__
 
 
 # urdftool.parse.sdf_frames.FrameGraph
-def _init_parse_sdf_frames_FrameGraph(__defaults__, __factories__, __sentinel__, __set__):
+def _init_parse_sdf_frames_FrameGraph(__defaults__, __factories__, __sentinel__, __set__, __slot__):
     def __init__(self, nodes=__sentinel__, aliases=__sentinel__, diagnostics=__sentinel__, _poses=__sentinel__, _links=__sentinel__, _reported=__sentinel__):
-        __set__(self, 'nodes', __factories__['nodes']() if nodes is __sentinel__ else nodes)
-        __set__(self, 'aliases', __factories__['aliases']() if aliases is __sentinel__ else aliases)
-        __set__(self, 'diagnostics', __factories__['diagnostics']() if diagnostics is __sentinel__ else diagnostics)
-        __set__(self, '_poses', __factories__['_poses']() if _poses is __sentinel__ else _poses)
-        __set__(self, '_links', __factories__['_links']() if _links is __sentinel__ else _links)
-        __set__(self, '_reported', __factories__['_reported']() if _reported is __sentinel__ else _reported)
+        self.nodes = __factories__['nodes']() if nodes is __sentinel__ else nodes
+        self.aliases = __factories__['aliases']() if aliases is __sentinel__ else aliases
+        self.diagnostics = __factories__['diagnostics']() if diagnostics is __sentinel__ else diagnostics
+        self._poses = __factories__['_poses']() if _poses is __sentinel__ else _poses
+        self._links = __factories__['_links']() if _links is __sentinel__ else _links
+        self._reported = __factories__['_reported']() if _reported is __sentinel__ else _reported
     return __init__
 
 
 # urdftool.parse.sdf_frames.FrameNode
-def _init_parse_sdf_frames_FrameNode(__defaults__, __factories__, __sentinel__, __set__):
+def _init_parse_sdf_frames_FrameNode(__defaults__, __factories__, __sentinel__, __set__, __slot__):
     def __init__(self, name, kind, pose, relative_to, attached_to, span=__defaults__['span'], attached_span=__defaults__['attached_span']):
-        __set__(self, 'name', name)
-        __set__(self, 'kind', kind)
-        __set__(self, 'pose', pose)
-        __set__(self, 'relative_to', relative_to)
-        __set__(self, 'attached_to', attached_to)
-        __set__(self, 'span', span)
-        __set__(self, 'attached_span', attached_span)
+        self.name = name
+        self.kind = kind
+        self.pose = pose
+        self.relative_to = relative_to
+        self.attached_to = attached_to
+        self.span = span
+        self.attached_span = attached_span
     return __init__
 
 
 # urdftool.parse.sdf_include.IncludedFile
-def _init_parse_sdf_include_IncludedFile(__defaults__, __factories__, __sentinel__, __set__):
+def _init_parse_sdf_include_IncludedFile(__defaults__, __factories__, __sentinel__, __set__, __slot__):
     def __init__(self, uri, path, document, diagnostics=__sentinel__, standard=__defaults__['standard']):
-        __set__(self, 'uri', uri)
-        __set__(self, 'path', path)
-        __set__(self, 'document', document)
-        __set__(self, 'diagnostics', __factories__['diagnostics']() if diagnostics is __sentinel__ else diagnostics)
-        __set__(self, 'standard', standard)
+        self.uri = uri
+        self.path = path
+        self.document = document
+        self.diagnostics = __factories__['diagnostics']() if diagnostics is __sentinel__ else diagnostics
+        self.standard = standard
     return __init__
 
 
 # urdftool.parse.sdf_model.SdfModelReader
-def _init_parse_sdf_model_SdfModelReader(__defaults__, __factories__, __sentinel__, __set__):
+def _init_parse_sdf_model_SdfModelReader(__defaults__, __factories__, __sentinel__, __set__, __slot__):
     def __init__(self, path, resolver, values=__sentinel__, graph=__sentinel__, files=__sentinel__, links=__sentinel__, joints=__sentinel__, frames=__sentinel__, extensions=__sentinel__, merged_frames=__sentinel__):
-        __set__(self, 'path', path)
-        __set__(self, 'resolver', resolver)
-        __set__(self, 'values', __factories__['values']() if values is __sentinel__ else values)
-        __set__(self, 'graph', __factories__['graph']() if graph is __sentinel__ else graph)
-        __set__(self, 'files', __factories__['files']() if files is __sentinel__ else files)
-        __set__(self, 'links', __factories__['links']() if links is __sentinel__ else links)
-        __set__(self, 'joints', __factories__['joints']() if joints is __sentinel__ else joints)
-        __set__(self, 'frames', __factories__['frames']() if frames is __sentinel__ else frames)
-        __set__(self, 'extensions', __factories__['extensions']() if extensions is __sentinel__ else extensions)
-        __set__(self, 'merged_frames', __factories__['merged_frames']() if merged_frames is __sentinel__ else merged_frames)
+        self.path = path
+        self.resolver = resolver
+        self.values = __factories__['values']() if values is __sentinel__ else values
+        self.graph = __factories__['graph']() if graph is __sentinel__ else graph
+        self.files = __factories__['files']() if files is __sentinel__ else files
+        self.links = __factories__['links']() if links is __sentinel__ else links
+        self.joints = __factories__['joints']() if joints is __sentinel__ else joints
+        self.frames = __factories__['frames']() if frames is __sentinel__ else frames
+        self.extensions = __factories__['extensions']() if extensions is __sentinel__ else extensions
+        self.merged_frames = __factories__['merged_frames']() if merged_frames is __sentinel__ else merged_frames
     return __init__
 
 
 # urdftool.parse.sdf_model._RawFrame
-def _init_parse_sdf_model__RawFrame(__defaults__, __factories__, __sentinel__, __set__):
+def _init_parse_sdf_model__RawFrame(__defaults__, __factories__, __sentinel__, __set__, __slot__):
     def __init__(self, name, element):
-        __set__(self, 'name', name)
-        __set__(self, 'element', element)
+        self.name = name
+        self.element = element
     return __init__
 
 
 # urdftool.parse.sdf_model._RawJoint
-def _init_parse_sdf_model__RawJoint(__defaults__, __factories__, __sentinel__, __set__):
+def _init_parse_sdf_model__RawJoint(__defaults__, __factories__, __sentinel__, __set__, __slot__):
     def __init__(self, name, element, parent, child, scope, version, key=__defaults__['key'], model_frame=__defaults__['model_frame']):
-        __set__(self, 'name', name)
-        __set__(self, 'element', element)
-        __set__(self, 'parent', parent)
-        __set__(self, 'child', child)
-        __set__(self, 'scope', scope)
-        __set__(self, 'version', version)
-        __set__(self, 'key', key)
-        __set__(self, 'model_frame', model_frame)
+        self.name = name
+        self.element = element
+        self.parent = parent
+        self.child = child
+        self.scope = scope
+        self.version = version
+        self.key = key
+        self.model_frame = model_frame
     return __init__
 
 
 # urdftool.parse.sdf_model._RawLink
-def _init_parse_sdf_model__RawLink(__defaults__, __factories__, __sentinel__, __set__):
+def _init_parse_sdf_model__RawLink(__defaults__, __factories__, __sentinel__, __set__, __slot__):
     def __init__(self, name, element, version):
-        __set__(self, 'name', name)
-        __set__(self, 'element', element)
-        __set__(self, 'version', version)
+        self.name = name
+        self.element = element
+        self.version = version
     return __init__
 
 
 # urdftool.parse.sdf_semantics.SdfSemantics
-def _init_parse_sdf_semantics_SdfSemantics(__defaults__, __factories__, __sentinel__, __set__):
+def _init_parse_sdf_semantics_SdfSemantics(__defaults__, __factories__, __sentinel__, __set__, __slot__):
     def __init__(self, version, values=__sentinel__, out=__sentinel__):
-        __set__(self, 'version', version)
-        __set__(self, 'values', __factories__['values']() if values is __sentinel__ else values)
-        __set__(self, 'out', __factories__['out']() if out is __sentinel__ else out)
+        self.version = version
+        self.values = __factories__['values']() if values is __sentinel__ else values
+        self.out = __factories__['out']() if out is __sentinel__ else out
     return __init__
 
 
 # urdftool.parse.sdf_semantics._Scope
-def _init_parse_sdf_semantics__Scope(__defaults__, __factories__, __sentinel__, __set__):
+def _init_parse_sdf_semantics__Scope(__defaults__, __factories__, __sentinel__, __set__, __slot__):
     def __init__(self, names=__sentinel__, opaque=__sentinel__, canonical=__sentinel__):
-        __set__(self, 'names', __factories__['names']() if names is __sentinel__ else names)
-        __set__(self, 'opaque', __factories__['opaque']() if opaque is __sentinel__ else opaque)
-        __set__(self, 'canonical', __factories__['canonical']() if canonical is __sentinel__ else canonical)
+        self.names = __factories__['names']() if names is __sentinel__ else names
+        self.opaque = __factories__['opaque']() if opaque is __sentinel__ else opaque
+        self.canonical = __factories__['canonical']() if canonical is __sentinel__ else canonical
     return __init__
 
 
 # urdftool.parse.srdf.Chain
-def _init_parse_srdf_Chain(__defaults__, __factories__, __sentinel__, __set__):
+def _init_parse_srdf_Chain(__defaults__, __factories__, __sentinel__, __set__, __slot__):
+    _set_base = __slot__('base')
+    _set_tip = __slot__('tip')
+    _set_span = __slot__('span')
     def __init__(self, base, tip, span=__defaults__['span']):
-        __set__(self, 'base', base)
-        __set__(self, 'tip', tip)
-        __set__(self, 'span', span)
+        _set_base(self, base)
+        _set_tip(self, tip)
+        _set_span(self, span)
     return __init__
 
 
 # urdftool.parse.srdf.CollisionPair
-def _init_parse_srdf_CollisionPair(__defaults__, __factories__, __sentinel__, __set__):
+def _init_parse_srdf_CollisionPair(__defaults__, __factories__, __sentinel__, __set__, __slot__):
+    _set_link1 = __slot__('link1')
+    _set_link2 = __slot__('link2')
+    _set_reason = __slot__('reason')
+    _set_span = __slot__('span')
+    _set_enable = __slot__('enable')
     def __init__(self, link1, link2, reason, span=__defaults__['span'], enable=__defaults__['enable']):
-        __set__(self, 'link1', link1)
-        __set__(self, 'link2', link2)
-        __set__(self, 'reason', reason)
-        __set__(self, 'span', span)
-        __set__(self, 'enable', enable)
+        _set_link1(self, link1)
+        _set_link2(self, link2)
+        _set_reason(self, reason)
+        _set_span(self, span)
+        _set_enable(self, enable)
     return __init__
 
 
 # urdftool.parse.srdf.EndEffector
-def _init_parse_srdf_EndEffector(__defaults__, __factories__, __sentinel__, __set__):
+def _init_parse_srdf_EndEffector(__defaults__, __factories__, __sentinel__, __set__, __slot__):
+    _set_name = __slot__('name')
+    _set_parent_link = __slot__('parent_link')
+    _set_group = __slot__('group')
+    _set_parent_group = __slot__('parent_group')
+    _set_span = __slot__('span')
     def __init__(self, name, parent_link, group, parent_group=__defaults__['parent_group'], span=__defaults__['span']):
-        __set__(self, 'name', name)
-        __set__(self, 'parent_link', parent_link)
-        __set__(self, 'group', group)
-        __set__(self, 'parent_group', parent_group)
-        __set__(self, 'span', span)
+        _set_name(self, name)
+        _set_parent_link(self, parent_link)
+        _set_group(self, group)
+        _set_parent_group(self, parent_group)
+        _set_span(self, span)
     return __init__
 
 
 # urdftool.parse.srdf.Group
-def _init_parse_srdf_Group(__defaults__, __factories__, __sentinel__, __set__):
+def _init_parse_srdf_Group(__defaults__, __factories__, __sentinel__, __set__, __slot__):
+    _set_name = __slot__('name')
+    _set_links = __slot__('links')
+    _set_joints = __slot__('joints')
+    _set_chains = __slot__('chains')
+    _set_subgroups = __slot__('subgroups')
+    _set_span = __slot__('span')
     def __init__(self, name, links=__defaults__['links'], joints=__defaults__['joints'], chains=__defaults__['chains'], subgroups=__defaults__['subgroups'], span=__defaults__['span']):
-        __set__(self, 'name', name)
-        __set__(self, 'links', links)
-        __set__(self, 'joints', joints)
-        __set__(self, 'chains', chains)
-        __set__(self, 'subgroups', subgroups)
-        __set__(self, 'span', span)
+        _set_name(self, name)
+        _set_links(self, links)
+        _set_joints(self, joints)
+        _set_chains(self, chains)
+        _set_subgroups(self, subgroups)
+        _set_span(self, span)
     return __init__
 
 
 # urdftool.parse.srdf.GroupState
-def _init_parse_srdf_GroupState(__defaults__, __factories__, __sentinel__, __set__):
+def _init_parse_srdf_GroupState(__defaults__, __factories__, __sentinel__, __set__, __slot__):
+    _set_name = __slot__('name')
+    _set_group = __slot__('group')
+    _set_joints = __slot__('joints')
+    _set_span = __slot__('span')
     def __init__(self, name, group, joints=__defaults__['joints'], span=__defaults__['span']):
-        __set__(self, 'name', name)
-        __set__(self, 'group', group)
-        __set__(self, 'joints', joints)
-        __set__(self, 'span', span)
+        _set_name(self, name)
+        _set_group(self, group)
+        _set_joints(self, joints)
+        _set_span(self, span)
     return __init__
 
 
 # urdftool.parse.srdf.JointValue
-def _init_parse_srdf_JointValue(__defaults__, __factories__, __sentinel__, __set__):
+def _init_parse_srdf_JointValue(__defaults__, __factories__, __sentinel__, __set__, __slot__):
+    _set_name = __slot__('name')
+    _set_values = __slot__('values')
+    _set_span = __slot__('span')
     def __init__(self, name, values, span=__defaults__['span']):
-        __set__(self, 'name', name)
-        __set__(self, 'values', values)
-        __set__(self, 'span', span)
+        _set_name(self, name)
+        _set_values(self, values)
+        _set_span(self, span)
     return __init__
 
 
 # urdftool.parse.srdf.Named
-def _init_parse_srdf_Named(__defaults__, __factories__, __sentinel__, __set__):
+def _init_parse_srdf_Named(__defaults__, __factories__, __sentinel__, __set__, __slot__):
+    _set_name = __slot__('name')
+    _set_span = __slot__('span')
     def __init__(self, name, span=__defaults__['span']):
-        __set__(self, 'name', name)
-        __set__(self, 'span', span)
+        _set_name(self, name)
+        _set_span(self, span)
     return __init__
 
 
 # urdftool.parse.srdf.Srdf
-def _init_parse_srdf_Srdf(__defaults__, __factories__, __sentinel__, __set__):
+def _init_parse_srdf_Srdf(__defaults__, __factories__, __sentinel__, __set__, __slot__):
     def __init__(self, path, robot_name=__defaults__['robot_name'], groups=__sentinel__, group_states=__sentinel__, end_effectors=__sentinel__, virtual_joints=__sentinel__, passive_joints=__sentinel__, collisions=__sentinel__, default_disabled=__sentinel__, diagnostics=__sentinel__, span=__defaults__['span'], files=__sentinel__):
-        __set__(self, 'path', path)
-        __set__(self, 'robot_name', robot_name)
-        __set__(self, 'groups', __factories__['groups']() if groups is __sentinel__ else groups)
-        __set__(self, 'group_states', __factories__['group_states']() if group_states is __sentinel__ else group_states)
-        __set__(self, 'end_effectors', __factories__['end_effectors']() if end_effectors is __sentinel__ else end_effectors)
-        __set__(self, 'virtual_joints', __factories__['virtual_joints']() if virtual_joints is __sentinel__ else virtual_joints)
-        __set__(self, 'passive_joints', __factories__['passive_joints']() if passive_joints is __sentinel__ else passive_joints)
-        __set__(self, 'collisions', __factories__['collisions']() if collisions is __sentinel__ else collisions)
-        __set__(self, 'default_disabled', __factories__['default_disabled']() if default_disabled is __sentinel__ else default_disabled)
-        __set__(self, 'diagnostics', __factories__['diagnostics']() if diagnostics is __sentinel__ else diagnostics)
-        __set__(self, 'span', span)
-        __set__(self, 'files', __factories__['files']() if files is __sentinel__ else files)
+        self.path = path
+        self.robot_name = robot_name
+        self.groups = __factories__['groups']() if groups is __sentinel__ else groups
+        self.group_states = __factories__['group_states']() if group_states is __sentinel__ else group_states
+        self.end_effectors = __factories__['end_effectors']() if end_effectors is __sentinel__ else end_effectors
+        self.virtual_joints = __factories__['virtual_joints']() if virtual_joints is __sentinel__ else virtual_joints
+        self.passive_joints = __factories__['passive_joints']() if passive_joints is __sentinel__ else passive_joints
+        self.collisions = __factories__['collisions']() if collisions is __sentinel__ else collisions
+        self.default_disabled = __factories__['default_disabled']() if default_disabled is __sentinel__ else default_disabled
+        self.diagnostics = __factories__['diagnostics']() if diagnostics is __sentinel__ else diagnostics
+        self.span = span
+        self.files = __factories__['files']() if files is __sentinel__ else files
     return __init__
 
 
 # urdftool.parse.srdf.VirtualJoint
-def _init_parse_srdf_VirtualJoint(__defaults__, __factories__, __sentinel__, __set__):
+def _init_parse_srdf_VirtualJoint(__defaults__, __factories__, __sentinel__, __set__, __slot__):
+    _set_name = __slot__('name')
+    _set_type = __slot__('type')
+    _set_parent_frame = __slot__('parent_frame')
+    _set_child_link = __slot__('child_link')
+    _set_span = __slot__('span')
     def __init__(self, name, type, parent_frame, child_link, span=__defaults__['span']):
-        __set__(self, 'name', name)
-        __set__(self, 'type', type)
-        __set__(self, 'parent_frame', parent_frame)
-        __set__(self, 'child_link', child_link)
-        __set__(self, 'span', span)
+        _set_name(self, name)
+        _set_type(self, type)
+        _set_parent_frame(self, parent_frame)
+        _set_child_link(self, child_link)
+        _set_span(self, span)
     return __init__
 
 
 # urdftool.parse.urdf.UrdfReader
-def _init_parse_urdf_UrdfReader(__defaults__, __factories__, __sentinel__, __set__):
+def _init_parse_urdf_UrdfReader(__defaults__, __factories__, __sentinel__, __set__, __slot__):
     def __init__(self, path, sources, resolver, expanded=__defaults__['expanded'], document=__defaults__['document']):
-        __set__(self, 'path', path)
-        __set__(self, 'sources', sources)
-        __set__(self, 'resolver', resolver)
-        __set__(self, 'expanded', expanded)
-        __set__(self, 'document', document)
+        self.path = path
+        self.sources = sources
+        self.resolver = resolver
+        self.expanded = expanded
+        self.document = document
         self.__post_init__()
     return __init__
 
 
 # urdftool.parse.values.ValueReader
-def _init_parse_values_ValueReader(__defaults__, __factories__, __sentinel__, __set__):
+def _init_parse_values_ValueReader(__defaults__, __factories__, __sentinel__, __set__, __slot__):
     def __init__(self, sources, diagnostics=__sentinel__, check_substitutions=__defaults__['check_substitutions'], locate=__defaults__['locate']):
-        __set__(self, 'sources', sources)
-        __set__(self, 'diagnostics', __factories__['diagnostics']() if diagnostics is __sentinel__ else diagnostics)
-        __set__(self, 'check_substitutions', check_substitutions)
-        __set__(self, 'locate', locate)
+        self.sources = sources
+        self.diagnostics = __factories__['diagnostics']() if diagnostics is __sentinel__ else diagnostics
+        self.check_substitutions = check_substitutions
+        self.locate = locate
     return __init__
 
 
 # urdftool.parse.xacro.XacroResult
-def _init_parse_xacro_XacroResult(__defaults__, __factories__, __sentinel__, __set__):
+def _init_parse_xacro_XacroResult(__defaults__, __factories__, __sentinel__, __set__, __slot__):
     def __init__(self, document, diagnostics=__sentinel__, files=__sentinel__, macro_library=__defaults__['macro_library']):
-        __set__(self, 'document', document)
-        __set__(self, 'diagnostics', __factories__['diagnostics']() if diagnostics is __sentinel__ else diagnostics)
-        __set__(self, 'files', __factories__['files']() if files is __sentinel__ else files)
-        __set__(self, 'macro_library', macro_library)
+        self.document = document
+        self.diagnostics = __factories__['diagnostics']() if diagnostics is __sentinel__ else diagnostics
+        self.files = __factories__['files']() if files is __sentinel__ else files
+        self.macro_library = macro_library
     return __init__
 
 
 # urdftool.parse.xacro._Session
-def _init_parse_xacro__Session(__defaults__, __factories__, __sentinel__, __set__):
+def _init_parse_xacro__Session(__defaults__, __factories__, __sentinel__, __set__, __slot__):
     def __init__(self, resolver, top, diagnostics=__sentinel__, files=__sentinel__, found_packages=__sentinel__, syntax_failed=__defaults__['syntax_failed'], macros=__sentinel__, top_builds_robot=__defaults__['top_builds_robot'], top_macros=__sentinel__, arguments=__sentinel__):
-        __set__(self, 'resolver', resolver)
-        __set__(self, 'top', top)
-        __set__(self, 'diagnostics', __factories__['diagnostics']() if diagnostics is __sentinel__ else diagnostics)
-        __set__(self, 'files', __factories__['files']() if files is __sentinel__ else files)
-        __set__(self, 'found_packages', __factories__['found_packages']() if found_packages is __sentinel__ else found_packages)
-        __set__(self, 'syntax_failed', syntax_failed)
-        __set__(self, 'macros', __factories__['macros']() if macros is __sentinel__ else macros)
-        __set__(self, 'top_builds_robot', top_builds_robot)
-        __set__(self, 'top_macros', __factories__['top_macros']() if top_macros is __sentinel__ else top_macros)
-        __set__(self, 'arguments', __factories__['arguments']() if arguments is __sentinel__ else arguments)
+        self.resolver = resolver
+        self.top = top
+        self.diagnostics = __factories__['diagnostics']() if diagnostics is __sentinel__ else diagnostics
+        self.files = __factories__['files']() if files is __sentinel__ else files
+        self.found_packages = __factories__['found_packages']() if found_packages is __sentinel__ else found_packages
+        self.syntax_failed = syntax_failed
+        self.macros = __factories__['macros']() if macros is __sentinel__ else macros
+        self.top_builds_robot = top_builds_robot
+        self.top_macros = __factories__['top_macros']() if top_macros is __sentinel__ else top_macros
+        self.arguments = __factories__['arguments']() if arguments is __sentinel__ else arguments
     return __init__
 
 
 # urdftool.parse.xacro_args.KnownArgument
-def _init_parse_xacro_args_KnownArgument(__defaults__, __factories__, __sentinel__, __set__):
+def _init_parse_xacro_args_KnownArgument(__defaults__, __factories__, __sentinel__, __set__, __slot__):
+    _set_span = __slot__('span')
+    _set_default = __slot__('default')
     def __init__(self, span, default):
-        __set__(self, 'span', span)
-        __set__(self, 'default', default)
+        _set_span(self, span)
+        _set_default(self, default)
     return __init__
 
 
 # urdftool.parse.xmlio.XmlDocument
-def _init_parse_xmlio_XmlDocument(__defaults__, __factories__, __sentinel__, __set__):
+def _init_parse_xmlio_XmlDocument(__defaults__, __factories__, __sentinel__, __set__, __slot__):
     def __init__(self, root, path, table=__defaults__['table'], may_use_xacro=__defaults__['may_use_xacro']):
-        __set__(self, 'root', root)
-        __set__(self, 'path', path)
-        __set__(self, 'table', table)
-        __set__(self, 'may_use_xacro', may_use_xacro)
+        self.root = root
+        self.path = path
+        self.table = table
+        self.may_use_xacro = may_use_xacro
     return __init__
 
 
 COMPILED = {
-    'urdftool.parse.Loaded': ('path,format,robot,diagnostics*,files*,srdf=,controllers=', _init_parse_Loaded),
-    'urdftool.parse.controllers.Controller': ('name,span,type=,params*', _init_parse_controllers_Controller),
-    'urdftool.parse.controllers.ControllerConfig': ('path,controllers*,diagnostics*', _init_parse_controllers_ControllerConfig),
-    'urdftool.parse.controllers.Controllers': ('configs*,missing*,given=', _init_parse_controllers_Controllers),
-    'urdftool.parse.controllers.Value': ('value,span', _init_parse_controllers_Value),
-    'urdftool.parse.locate.PositionTable': ('root,data,path,_found=,_key=', _init_parse_locate_PositionTable),
-    'urdftool.parse.packages.Lookup': ('path,tried*,package=,package_missing=,package_dir=', _init_parse_packages_Lookup),
-    'urdftool.parse.packages.PackageResolver': ('packages*,package_paths*,environ*,_scanned*,_found*,_resolutions*', _init_parse_packages_PackageResolver),
-    'urdftool.parse.sdf_elements.JointDetails': ('type,axis,axis_frame,limit,dynamics,axis_span,axis2=,axis2_frame=,limit2=', _init_parse_sdf_elements_JointDetails),
-    'urdftool.parse.sdf_elements.LinkBodyReader': ('values,resolver,path', _init_parse_sdf_elements_LinkBodyReader),
-    'urdftool.parse.sdf_elements.PlacedElement': ('item,relative_to,pose_span', _init_parse_sdf_elements_PlacedElement),
-    'urdftool.parse.sdf_frames.FrameGraph': ('nodes*,aliases*,diagnostics*,_poses*,_links*,_reported*', _init_parse_sdf_frames_FrameGraph),
-    'urdftool.parse.sdf_frames.FrameNode': ('name,kind,pose,relative_to,attached_to,span=,attached_span=', _init_parse_sdf_frames_FrameNode),
-    'urdftool.parse.sdf_include.IncludedFile': ('uri,path,document,diagnostics*,standard=', _init_parse_sdf_include_IncludedFile),
-    'urdftool.parse.sdf_model.SdfModelReader': ('path,resolver,values*,graph*,files*,links*,joints*,frames*,extensions*,merged_frames*', _init_parse_sdf_model_SdfModelReader),
-    'urdftool.parse.sdf_model._RawFrame': ('name,element', _init_parse_sdf_model__RawFrame),
-    'urdftool.parse.sdf_model._RawJoint': ('name,element,parent,child,scope,version,key=,model_frame=', _init_parse_sdf_model__RawJoint),
-    'urdftool.parse.sdf_model._RawLink': ('name,element,version', _init_parse_sdf_model__RawLink),
-    'urdftool.parse.sdf_semantics.SdfSemantics': ('version,values*,out*', _init_parse_sdf_semantics_SdfSemantics),
-    'urdftool.parse.sdf_semantics._Scope': ('names*,opaque*,canonical*', _init_parse_sdf_semantics__Scope),
-    'urdftool.parse.srdf.Chain': ('base,tip,span=', _init_parse_srdf_Chain),
-    'urdftool.parse.srdf.CollisionPair': ('link1,link2,reason,span=,enable=', _init_parse_srdf_CollisionPair),
-    'urdftool.parse.srdf.EndEffector': ('name,parent_link,group,parent_group=,span=', _init_parse_srdf_EndEffector),
-    'urdftool.parse.srdf.Group': ('name,links=,joints=,chains=,subgroups=,span=', _init_parse_srdf_Group),
-    'urdftool.parse.srdf.GroupState': ('name,group,joints=,span=', _init_parse_srdf_GroupState),
-    'urdftool.parse.srdf.JointValue': ('name,values,span=', _init_parse_srdf_JointValue),
-    'urdftool.parse.srdf.Named': ('name,span=', _init_parse_srdf_Named),
-    'urdftool.parse.srdf.Srdf': ('path,robot_name=,groups*,group_states*,end_effectors*,virtual_joints*,passive_joints*,collisions*,default_disabled*,diagnostics*,span=,files*', _init_parse_srdf_Srdf),
-    'urdftool.parse.srdf.VirtualJoint': ('name,type,parent_frame,child_link,span=', _init_parse_srdf_VirtualJoint),
-    'urdftool.parse.urdf.UrdfReader': ('path,sources,resolver,expanded=,document=,values!,span!|post_init', _init_parse_urdf_UrdfReader),
-    'urdftool.parse.values.ValueReader': ('sources,diagnostics*,check_substitutions=,locate=', _init_parse_values_ValueReader),
-    'urdftool.parse.xacro.XacroResult': ('document,diagnostics*,files*,macro_library=', _init_parse_xacro_XacroResult),
-    'urdftool.parse.xacro._Session': ('resolver,top,diagnostics*,files*,found_packages*,syntax_failed=,macros*,top_builds_robot=,top_macros*,arguments*', _init_parse_xacro__Session),
-    'urdftool.parse.xacro_args.KnownArgument': ('span,default', _init_parse_xacro_args_KnownArgument),
-    'urdftool.parse.xmlio.XmlDocument': ('root,path,table=,may_use_xacro=', _init_parse_xmlio_XmlDocument),
+    'urdftool.parse.Loaded': ('path,format,robot,diagnostics*,files*,srdf=,controllers=|plain', _init_parse_Loaded),
+    'urdftool.parse.controllers.Controller': ('name,span,type=,params*|slots', _init_parse_controllers_Controller),
+    'urdftool.parse.controllers.ControllerConfig': ('path,controllers*,diagnostics*|plain', _init_parse_controllers_ControllerConfig),
+    'urdftool.parse.controllers.Controllers': ('configs*,missing*,given=|plain', _init_parse_controllers_Controllers),
+    'urdftool.parse.controllers.Value': ('value,span|slots', _init_parse_controllers_Value),
+    'urdftool.parse.locate.PositionTable': ('root,data,path,_found=,_key=|plain', _init_parse_locate_PositionTable),
+    'urdftool.parse.packages.Lookup': ('path,tried*,package=,package_missing=,package_dir=|plain', _init_parse_packages_Lookup),
+    'urdftool.parse.packages.PackageResolver': ('packages*,package_paths*,environ*,_scanned*,_found*,_resolutions*|plain', _init_parse_packages_PackageResolver),
+    'urdftool.parse.sdf_elements.JointDetails': ('type,axis,axis_frame,limit,dynamics,axis_span,axis2=,axis2_frame=,limit2=|plain', _init_parse_sdf_elements_JointDetails),
+    'urdftool.parse.sdf_elements.LinkBodyReader': ('values,resolver,path|plain', _init_parse_sdf_elements_LinkBodyReader),
+    'urdftool.parse.sdf_elements.PlacedElement': ('item,relative_to,pose_span|plain', _init_parse_sdf_elements_PlacedElement),
+    'urdftool.parse.sdf_frames.FrameGraph': ('nodes*,aliases*,diagnostics*,_poses*,_links*,_reported*|plain', _init_parse_sdf_frames_FrameGraph),
+    'urdftool.parse.sdf_frames.FrameNode': ('name,kind,pose,relative_to,attached_to,span=,attached_span=|plain', _init_parse_sdf_frames_FrameNode),
+    'urdftool.parse.sdf_include.IncludedFile': ('uri,path,document,diagnostics*,standard=|plain', _init_parse_sdf_include_IncludedFile),
+    'urdftool.parse.sdf_model.SdfModelReader': ('path,resolver,values*,graph*,files*,links*,joints*,frames*,extensions*,merged_frames*|plain', _init_parse_sdf_model_SdfModelReader),
+    'urdftool.parse.sdf_model._RawFrame': ('name,element|plain', _init_parse_sdf_model__RawFrame),
+    'urdftool.parse.sdf_model._RawJoint': ('name,element,parent,child,scope,version,key=,model_frame=|plain', _init_parse_sdf_model__RawJoint),
+    'urdftool.parse.sdf_model._RawLink': ('name,element,version|plain', _init_parse_sdf_model__RawLink),
+    'urdftool.parse.sdf_semantics.SdfSemantics': ('version,values*,out*|plain', _init_parse_sdf_semantics_SdfSemantics),
+    'urdftool.parse.sdf_semantics._Scope': ('names*,opaque*,canonical*|plain', _init_parse_sdf_semantics__Scope),
+    'urdftool.parse.srdf.Chain': ('base,tip,span=|slots', _init_parse_srdf_Chain),
+    'urdftool.parse.srdf.CollisionPair': ('link1,link2,reason,span=,enable=|slots', _init_parse_srdf_CollisionPair),
+    'urdftool.parse.srdf.EndEffector': ('name,parent_link,group,parent_group=,span=|slots', _init_parse_srdf_EndEffector),
+    'urdftool.parse.srdf.Group': ('name,links=,joints=,chains=,subgroups=,span=|slots', _init_parse_srdf_Group),
+    'urdftool.parse.srdf.GroupState': ('name,group,joints=,span=|slots', _init_parse_srdf_GroupState),
+    'urdftool.parse.srdf.JointValue': ('name,values,span=|slots', _init_parse_srdf_JointValue),
+    'urdftool.parse.srdf.Named': ('name,span=|slots', _init_parse_srdf_Named),
+    'urdftool.parse.srdf.Srdf': ('path,robot_name=,groups*,group_states*,end_effectors*,virtual_joints*,passive_joints*,collisions*,default_disabled*,diagnostics*,span=,files*|plain', _init_parse_srdf_Srdf),
+    'urdftool.parse.srdf.VirtualJoint': ('name,type,parent_frame,child_link,span=|slots', _init_parse_srdf_VirtualJoint),
+    'urdftool.parse.urdf.UrdfReader': ('path,sources,resolver,expanded=,document=,values!,span!|post_init|plain', _init_parse_urdf_UrdfReader),
+    'urdftool.parse.values.ValueReader': ('sources,diagnostics*,check_substitutions=,locate=|plain', _init_parse_values_ValueReader),
+    'urdftool.parse.xacro.XacroResult': ('document,diagnostics*,files*,macro_library=|plain', _init_parse_xacro_XacroResult),
+    'urdftool.parse.xacro._Session': ('resolver,top,diagnostics*,files*,found_packages*,syntax_failed=,macros*,top_builds_robot=,top_macros*,arguments*|plain', _init_parse_xacro__Session),
+    'urdftool.parse.xacro_args.KnownArgument': ('span,default|slots', _init_parse_xacro_args_KnownArgument),
+    'urdftool.parse.xmlio.XmlDocument': ('root,path,table=,may_use_xacro=|plain', _init_parse_xmlio_XmlDocument),
 }

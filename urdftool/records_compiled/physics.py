@@ -9,18 +9,23 @@ entry maps a record to the shape of its fields and a function that builds its ``
 
 
 # urdftool.physics.bodies.MassRole
-def _init_physics_bodies_MassRole(__defaults__, __factories__, __sentinel__, __set__):
+def _init_physics_bodies_MassRole(__defaults__, __factories__, __sentinel__, __set__, __slot__):
+    _set_why = __slot__('why')
+    _set_severity = __slot__('severity')
+    _set_joint = __slot__('joint')
+    _set_carrier = __slot__('carrier')
+    _set_carrier_mass = __slot__('carrier_mass')
     def __init__(self, why, severity, joint, carrier, carrier_mass):
-        __set__(self, 'why', why)
-        __set__(self, 'severity', severity)
-        __set__(self, 'joint', joint)
-        __set__(self, 'carrier', carrier)
-        __set__(self, 'carrier_mass', carrier_mass)
+        _set_why(self, why)
+        _set_severity(self, severity)
+        _set_joint(self, joint)
+        _set_carrier(self, carrier)
+        _set_carrier_mass(self, carrier_mass)
     return __init__
 
 
 # urdftool.physics.bodies.RigidBody
-def _init_physics_bodies_RigidBody(__defaults__, __factories__, __sentinel__, __set__):
+def _init_physics_bodies_RigidBody(__defaults__, __factories__, __sentinel__, __set__, __slot__):
     def __init__(self, head, links, joint):
         __set__(self, 'head', head)
         __set__(self, 'links', links)
@@ -29,52 +34,70 @@ def _init_physics_bodies_RigidBody(__defaults__, __factories__, __sentinel__, __
 
 
 # urdftool.physics.inertia.InertiaVerdict
-def _init_physics_inertia_InertiaVerdict(__defaults__, __factories__, __sentinel__, __set__):
+def _init_physics_inertia_InertiaVerdict(__defaults__, __factories__, __sentinel__, __set__, __slot__):
+    _set_moments = __slot__('moments')
+    _set_positive_definite = __slot__('positive_definite')
+    _set_triangle_violation = __slot__('triangle_violation')
     def __init__(self, moments, positive_definite, triangle_violation):
-        __set__(self, 'moments', moments)
-        __set__(self, 'positive_definite', positive_definite)
-        __set__(self, 'triangle_violation', triangle_violation)
+        _set_moments(self, moments)
+        _set_positive_definite(self, positive_definite)
+        _set_triangle_violation(self, triangle_violation)
     return __init__
 
 
 # urdftool.physics.linkmass.InertiaComparison
-def _init_physics_linkmass_InertiaComparison(__defaults__, __factories__, __sentinel__, __set__):
+def _init_physics_linkmass_InertiaComparison(__defaults__, __factories__, __sentinel__, __set__, __slot__):
+    _set_source = __slot__('source')
+    _set_solid = __slot__('solid')
+    _set_computed = __slot__('computed')
+    _set_ratio = __slot__('ratio')
+    _set_worst = __slot__('worst')
     def __init__(self, source, solid, computed, ratio, worst):
-        __set__(self, 'source', source)
-        __set__(self, 'solid', solid)
-        __set__(self, 'computed', computed)
-        __set__(self, 'ratio', ratio)
-        __set__(self, 'worst', worst)
+        _set_source(self, source)
+        _set_solid(self, solid)
+        _set_computed(self, computed)
+        _set_ratio(self, ratio)
+        _set_worst(self, worst)
     return __init__
 
 
 # urdftool.physics.massprops.SolidProperties
-def _init_physics_massprops_SolidProperties(__defaults__, __factories__, __sentinel__, __set__):
+def _init_physics_massprops_SolidProperties(__defaults__, __factories__, __sentinel__, __set__, __slot__):
+    _set_volume = __slot__('volume')
+    _set_center = __slot__('center')
+    _set_inertia = __slot__('inertia')
+    _set_bounds_min = __slot__('bounds_min')
+    _set_bounds_max = __slot__('bounds_max')
+    _set_label = __slot__('label')
+    _set_approximate = __slot__('approximate')
     def __init__(self, volume, center, inertia, bounds_min, bounds_max, label, approximate=__defaults__['approximate']):
-        __set__(self, 'volume', volume)
-        __set__(self, 'center', center)
-        __set__(self, 'inertia', inertia)
-        __set__(self, 'bounds_min', bounds_min)
-        __set__(self, 'bounds_max', bounds_max)
-        __set__(self, 'label', label)
-        __set__(self, 'approximate', approximate)
+        _set_volume(self, volume)
+        _set_center(self, center)
+        _set_inertia(self, inertia)
+        _set_bounds_min(self, bounds_min)
+        _set_bounds_max(self, bounds_max)
+        _set_label(self, label)
+        _set_approximate(self, approximate)
     return __init__
 
 
 # urdftool.physics.mobility.BasePlan
-def _init_physics_mobility_BasePlan(__defaults__, __factories__, __sentinel__, __set__):
+def _init_physics_mobility_BasePlan(__defaults__, __factories__, __sentinel__, __set__, __slot__):
+    _set_kind = __slot__('kind')
+    _set_reason = __slot__('reason')
+    _set_free_joint = __slot__('free_joint')
     def __init__(self, kind, reason, free_joint=__defaults__['free_joint']):
-        __set__(self, 'kind', kind)
-        __set__(self, 'reason', reason)
-        __set__(self, 'free_joint', free_joint)
+        _set_kind(self, kind)
+        _set_reason(self, reason)
+        _set_free_joint(self, free_joint)
     return __init__
 
 
 COMPILED = {
-    'urdftool.physics.bodies.MassRole': ('why,severity,joint,carrier,carrier_mass', _init_physics_bodies_MassRole),
-    'urdftool.physics.bodies.RigidBody': ('head,links,joint', _init_physics_bodies_RigidBody),
-    'urdftool.physics.inertia.InertiaVerdict': ('moments,positive_definite,triangle_violation', _init_physics_inertia_InertiaVerdict),
-    'urdftool.physics.linkmass.InertiaComparison': ('source,solid,computed,ratio,worst', _init_physics_linkmass_InertiaComparison),
-    'urdftool.physics.massprops.SolidProperties': ('volume,center,inertia,bounds_min,bounds_max,label,approximate=', _init_physics_massprops_SolidProperties),
-    'urdftool.physics.mobility.BasePlan': ('kind,reason,free_joint=', _init_physics_mobility_BasePlan),
+    'urdftool.physics.bodies.MassRole': ('why,severity,joint,carrier,carrier_mass|slots', _init_physics_bodies_MassRole),
+    'urdftool.physics.bodies.RigidBody': ('head,links,joint|frozen', _init_physics_bodies_RigidBody),
+    'urdftool.physics.inertia.InertiaVerdict': ('moments,positive_definite,triangle_violation|slots', _init_physics_inertia_InertiaVerdict),
+    'urdftool.physics.linkmass.InertiaComparison': ('source,solid,computed,ratio,worst|slots', _init_physics_linkmass_InertiaComparison),
+    'urdftool.physics.massprops.SolidProperties': ('volume,center,inertia,bounds_min,bounds_max,label,approximate=|slots', _init_physics_massprops_SolidProperties),
+    'urdftool.physics.mobility.BasePlan': ('kind,reason,free_joint=|slots', _init_physics_mobility_BasePlan),
 }

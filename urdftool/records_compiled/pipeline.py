@@ -9,218 +9,288 @@ entry maps a record to the shape of its fields and a function that builds its ``
 
 
 # urdftool.pipeline.baseline.BaselineResult
-def _init_pipeline_baseline_BaselineResult(__defaults__, __factories__, __sentinel__, __set__):
+def _init_pipeline_baseline_BaselineResult(__defaults__, __factories__, __sentinel__, __set__, __slot__):
+    _set_report = __slot__('report')
+    _set_known = __slot__('known')
+    _set_fixed = __slot__('fixed')
     def __init__(self, report, known, fixed):
-        __set__(self, 'report', report)
-        __set__(self, 'known', known)
-        __set__(self, 'fixed', fixed)
+        _set_report(self, report)
+        _set_known(self, known)
+        _set_fixed(self, fixed)
     return __init__
 
 
 # urdftool.pipeline.check.CheckOptions
-def _init_pipeline_check_CheckOptions(__defaults__, __factories__, __sentinel__, __set__):
+def _init_pipeline_check_CheckOptions(__defaults__, __factories__, __sentinel__, __set__, __slot__):
+    _set_select = __slot__('select')
+    _set_ignore = __slot__('ignore')
+    _set_xacro_args = __slot__('xacro_args')
+    _set_packages = __slot__('packages')
+    _set_package_paths = __slot__('package_paths')
+    _set_rule_options = __slot__('rule_options')
+    _set_file_limits = __slot__('file_limits')
+    _set_suppressions = __slot__('suppressions')
+    _set_severity = __slot__('severity')
+    _set_srdf = __slot__('srdf')
+    _set_discover_srdf = __slot__('discover_srdf')
+    _set_controllers = __slot__('controllers')
     def __init__(self, select=__defaults__['select'], ignore=__defaults__['ignore'], xacro_args=__sentinel__, packages=__sentinel__, package_paths=__defaults__['package_paths'], rule_options=__sentinel__, file_limits=__sentinel__, suppressions=__defaults__['suppressions'], severity=__sentinel__, srdf=__defaults__['srdf'], discover_srdf=__defaults__['discover_srdf'], controllers=__defaults__['controllers']):
-        __set__(self, 'select', select)
-        __set__(self, 'ignore', ignore)
-        __set__(self, 'xacro_args', __factories__['xacro_args']() if xacro_args is __sentinel__ else xacro_args)
-        __set__(self, 'packages', __factories__['packages']() if packages is __sentinel__ else packages)
-        __set__(self, 'package_paths', package_paths)
-        __set__(self, 'rule_options', __factories__['rule_options']() if rule_options is __sentinel__ else rule_options)
-        __set__(self, 'file_limits', __factories__['file_limits']() if file_limits is __sentinel__ else file_limits)
-        __set__(self, 'suppressions', suppressions)
-        __set__(self, 'severity', __factories__['severity']() if severity is __sentinel__ else severity)
-        __set__(self, 'srdf', srdf)
-        __set__(self, 'discover_srdf', discover_srdf)
-        __set__(self, 'controllers', controllers)
+        _set_select(self, select)
+        _set_ignore(self, ignore)
+        _set_xacro_args(self, __factories__['xacro_args']() if xacro_args is __sentinel__ else xacro_args)
+        _set_packages(self, __factories__['packages']() if packages is __sentinel__ else packages)
+        _set_package_paths(self, package_paths)
+        _set_rule_options(self, __factories__['rule_options']() if rule_options is __sentinel__ else rule_options)
+        _set_file_limits(self, __factories__['file_limits']() if file_limits is __sentinel__ else file_limits)
+        _set_suppressions(self, suppressions)
+        _set_severity(self, __factories__['severity']() if severity is __sentinel__ else severity)
+        _set_srdf(self, srdf)
+        _set_discover_srdf(self, discover_srdf)
+        _set_controllers(self, controllers)
     return __init__
 
 
 # urdftool.pipeline.collision.CollisionOptions
-def _init_pipeline_collision_CollisionOptions(__defaults__, __factories__, __sentinel__, __set__):
+def _init_pipeline_collision_CollisionOptions(__defaults__, __factories__, __sentinel__, __set__, __slot__):
+    _set_mode = __slot__('mode')
+    _set_threshold = __slot__('threshold')
+    _set_max_parts = __slot__('max_parts')
+    _set_tolerance = __slot__('tolerance')
     def __init__(self, mode=__defaults__['mode'], threshold=__defaults__['threshold'], max_parts=__defaults__['max_parts'], tolerance=__defaults__['tolerance']):
-        __set__(self, 'mode', mode)
-        __set__(self, 'threshold', threshold)
-        __set__(self, 'max_parts', max_parts)
-        __set__(self, 'tolerance', tolerance)
+        _set_mode(self, mode)
+        _set_threshold(self, threshold)
+        _set_max_parts(self, max_parts)
+        _set_tolerance(self, tolerance)
     return __init__
 
 
 # urdftool.pipeline.collision.Simplification
-def _init_pipeline_collision_Simplification(__defaults__, __factories__, __sentinel__, __set__):
+def _init_pipeline_collision_Simplification(__defaults__, __factories__, __sentinel__, __set__, __slot__):
     def __init__(self, robot, diagnostics=__sentinel__, files=__sentinel__):
-        __set__(self, 'robot', robot)
-        __set__(self, 'diagnostics', __factories__['diagnostics']() if diagnostics is __sentinel__ else diagnostics)
-        __set__(self, 'files', __factories__['files']() if files is __sentinel__ else files)
+        self.robot = robot
+        self.diagnostics = __factories__['diagnostics']() if diagnostics is __sentinel__ else diagnostics
+        self.files = __factories__['files']() if files is __sentinel__ else files
     return __init__
 
 
 # urdftool.pipeline.convert.Conversion
-def _init_pipeline_convert_Conversion(__defaults__, __factories__, __sentinel__, __set__):
+def _init_pipeline_convert_Conversion(__defaults__, __factories__, __sentinel__, __set__, __slot__):
     def __init__(self, robot, target, out, files=__sentinel__, diagnostics=__sentinel__, refused=__defaults__['refused'], inputs=__sentinel__):
-        __set__(self, 'robot', robot)
-        __set__(self, 'target', target)
-        __set__(self, 'out', out)
-        __set__(self, 'files', __factories__['files']() if files is __sentinel__ else files)
-        __set__(self, 'diagnostics', __factories__['diagnostics']() if diagnostics is __sentinel__ else diagnostics)
-        __set__(self, 'refused', refused)
-        __set__(self, 'inputs', __factories__['inputs']() if inputs is __sentinel__ else inputs)
+        self.robot = robot
+        self.target = target
+        self.out = out
+        self.files = __factories__['files']() if files is __sentinel__ else files
+        self.diagnostics = __factories__['diagnostics']() if diagnostics is __sentinel__ else diagnostics
+        self.refused = refused
+        self.inputs = __factories__['inputs']() if inputs is __sentinel__ else inputs
     return __init__
 
 
 # urdftool.pipeline.diff.Change
-def _init_pipeline_diff_Change(__defaults__, __factories__, __sentinel__, __set__):
+def _init_pipeline_diff_Change(__defaults__, __factories__, __sentinel__, __set__, __slot__):
+    _set_kind = __slot__('kind')
+    _set_subject = __slot__('subject')
+    _set_field = __slot__('field')
+    _set_old = __slot__('old')
+    _set_new = __slot__('new')
+    _set_size = __slot__('size')
+    _set_unit = __slot__('unit')
+    _set_severity = __slot__('severity')
     def __init__(self, kind, subject, field=__defaults__['field'], old=__defaults__['old'], new=__defaults__['new'], size=__defaults__['size'], unit=__defaults__['unit'], severity=__defaults__['severity']):
-        __set__(self, 'kind', kind)
-        __set__(self, 'subject', subject)
-        __set__(self, 'field', field)
-        __set__(self, 'old', old)
-        __set__(self, 'new', new)
-        __set__(self, 'size', size)
-        __set__(self, 'unit', unit)
-        __set__(self, 'severity', severity)
+        _set_kind(self, kind)
+        _set_subject(self, subject)
+        _set_field(self, field)
+        _set_old(self, old)
+        _set_new(self, new)
+        _set_size(self, size)
+        _set_unit(self, unit)
+        _set_severity(self, severity)
     return __init__
 
 
 # urdftool.pipeline.diff.RobotDiff
-def _init_pipeline_diff_RobotDiff(__defaults__, __factories__, __sentinel__, __set__):
+def _init_pipeline_diff_RobotDiff(__defaults__, __factories__, __sentinel__, __set__, __slot__):
+    _set_old = __slot__('old')
+    _set_new = __slot__('new')
+    _set_changes = __slot__('changes')
+    _set_link_renames = __slot__('link_renames')
+    _set_joint_renames = __slot__('joint_renames')
     def __init__(self, old, new, changes, link_renames=__sentinel__, joint_renames=__sentinel__):
-        __set__(self, 'old', old)
-        __set__(self, 'new', new)
-        __set__(self, 'changes', changes)
-        __set__(self, 'link_renames', __factories__['link_renames']() if link_renames is __sentinel__ else link_renames)
-        __set__(self, 'joint_renames', __factories__['joint_renames']() if joint_renames is __sentinel__ else joint_renames)
+        _set_old(self, old)
+        _set_new(self, new)
+        _set_changes(self, changes)
+        _set_link_renames(self, __factories__['link_renames']() if link_renames is __sentinel__ else link_renames)
+        _set_joint_renames(self, __factories__['joint_renames']() if joint_renames is __sentinel__ else joint_renames)
     return __init__
 
 
 # urdftool.pipeline.fix.FileChange
-def _init_pipeline_fix_FileChange(__defaults__, __factories__, __sentinel__, __set__):
+def _init_pipeline_fix_FileChange(__defaults__, __factories__, __sentinel__, __set__, __slot__):
     def __init__(self, path, before, after, fixed=__sentinel__):
-        __set__(self, 'path', path)
-        __set__(self, 'before', before)
-        __set__(self, 'after', after)
-        __set__(self, 'fixed', __factories__['fixed']() if fixed is __sentinel__ else fixed)
+        self.path = path
+        self.before = before
+        self.after = after
+        self.fixed = __factories__['fixed']() if fixed is __sentinel__ else fixed
     return __init__
 
 
 # urdftool.pipeline.fix.FixResult
-def _init_pipeline_fix_FixResult(__defaults__, __factories__, __sentinel__, __set__):
+def _init_pipeline_fix_FixResult(__defaults__, __factories__, __sentinel__, __set__, __slot__):
     def __init__(self, changes, refused, report, rounds):
-        __set__(self, 'changes', changes)
-        __set__(self, 'refused', refused)
-        __set__(self, 'report', report)
-        __set__(self, 'rounds', rounds)
+        self.changes = changes
+        self.refused = refused
+        self.report = report
+        self.rounds = rounds
     return __init__
 
 
 # urdftool.pipeline.fixtext.Attribute
-def _init_pipeline_fixtext_Attribute(__defaults__, __factories__, __sentinel__, __set__):
+def _init_pipeline_fixtext_Attribute(__defaults__, __factories__, __sentinel__, __set__, __slot__):
+    _set_name = __slot__('name')
+    _set_name_start = __slot__('name_start')
+    _set_name_end = __slot__('name_end')
+    _set_value_start = __slot__('value_start')
+    _set_value_end = __slot__('value_end')
+    _set_quote = __slot__('quote')
+    _set_raw = __slot__('raw')
     def __init__(self, name, name_start, name_end, value_start, value_end, quote, raw):
-        __set__(self, 'name', name)
-        __set__(self, 'name_start', name_start)
-        __set__(self, 'name_end', name_end)
-        __set__(self, 'value_start', value_start)
-        __set__(self, 'value_end', value_end)
-        __set__(self, 'quote', quote)
-        __set__(self, 'raw', raw)
+        _set_name(self, name)
+        _set_name_start(self, name_start)
+        _set_name_end(self, name_end)
+        _set_value_start(self, value_start)
+        _set_value_end(self, value_end)
+        _set_quote(self, quote)
+        _set_raw(self, raw)
     return __init__
 
 
 # urdftool.pipeline.fixtext.SourceText
-def _init_pipeline_fixtext_SourceText(__defaults__, __factories__, __sentinel__, __set__):
+def _init_pipeline_fixtext_SourceText(__defaults__, __factories__, __sentinel__, __set__, __slot__):
     def __init__(self, path, data, _starts=__sentinel__):
-        __set__(self, 'path', path)
-        __set__(self, 'data', data)
-        __set__(self, '_starts', __factories__['_starts']() if _starts is __sentinel__ else _starts)
+        self.path = path
+        self.data = data
+        self._starts = __factories__['_starts']() if _starts is __sentinel__ else _starts
     return __init__
 
 
 # urdftool.pipeline.fixtext.Tag
-def _init_pipeline_fixtext_Tag(__defaults__, __factories__, __sentinel__, __set__):
+def _init_pipeline_fixtext_Tag(__defaults__, __factories__, __sentinel__, __set__, __slot__):
+    _set_name = __slot__('name')
+    _set_start = __slot__('start')
+    _set_name_end = __slot__('name_end')
+    _set_end = __slot__('end')
+    _set_self_closing = __slot__('self_closing')
+    _set_attributes = __slot__('attributes')
     def __init__(self, name, start, name_end, end, self_closing, attributes):
-        __set__(self, 'name', name)
-        __set__(self, 'start', start)
-        __set__(self, 'name_end', name_end)
-        __set__(self, 'end', end)
-        __set__(self, 'self_closing', self_closing)
-        __set__(self, 'attributes', attributes)
+        _set_name(self, name)
+        _set_start(self, start)
+        _set_name_end(self, name_end)
+        _set_end(self, end)
+        _set_self_closing(self, self_closing)
+        _set_attributes(self, attributes)
     return __init__
 
 
 # urdftool.pipeline.home.HomeState
-def _init_pipeline_home_HomeState(__defaults__, __factories__, __sentinel__, __set__):
+def _init_pipeline_home_HomeState(__defaults__, __factories__, __sentinel__, __set__, __slot__):
+    _set_name = __slot__('name')
+    _set_values = __slot__('values')
     def __init__(self, name, values):
-        __set__(self, 'name', name)
-        __set__(self, 'values', values)
+        _set_name(self, name)
+        _set_values(self, values)
     return __init__
 
 
 # urdftool.pipeline.settings.ConfigFile
-def _init_pipeline_settings_ConfigFile(__defaults__, __factories__, __sentinel__, __set__):
+def _init_pipeline_settings_ConfigFile(__defaults__, __factories__, __sentinel__, __set__, __slot__):
+    _set_path = __slot__('path')
+    _set_table = __slot__('table')
     def __init__(self, path, table):
-        __set__(self, 'path', path)
-        __set__(self, 'table', table)
+        _set_path(self, path)
+        _set_table(self, table)
     return __init__
 
 
 # urdftool.pipeline.settings.Overrides
-def _init_pipeline_settings_Overrides(__defaults__, __factories__, __sentinel__, __set__):
+def _init_pipeline_settings_Overrides(__defaults__, __factories__, __sentinel__, __set__, __slot__):
+    _set_select = __slot__('select')
+    _set_ignore = __slot__('ignore')
+    _set_extend_select = __slot__('extend_select')
+    _set_strict = __slot__('strict')
+    _set_package_paths = __slot__('package_paths')
+    _set_packages = __slot__('packages')
+    _set_xacro_args = __slot__('xacro_args')
+    _set_format = __slot__('format')
+    _set_isolated = __slot__('isolated')
     def __init__(self, select=__defaults__['select'], ignore=__defaults__['ignore'], extend_select=__defaults__['extend_select'], strict=__defaults__['strict'], package_paths=__defaults__['package_paths'], packages=__sentinel__, xacro_args=__sentinel__, format=__defaults__['format'], isolated=__defaults__['isolated']):
-        __set__(self, 'select', select)
-        __set__(self, 'ignore', ignore)
-        __set__(self, 'extend_select', extend_select)
-        __set__(self, 'strict', strict)
-        __set__(self, 'package_paths', package_paths)
-        __set__(self, 'packages', __factories__['packages']() if packages is __sentinel__ else packages)
-        __set__(self, 'xacro_args', __factories__['xacro_args']() if xacro_args is __sentinel__ else xacro_args)
-        __set__(self, 'format', format)
-        __set__(self, 'isolated', isolated)
+        _set_select(self, select)
+        _set_ignore(self, ignore)
+        _set_extend_select(self, extend_select)
+        _set_strict(self, strict)
+        _set_package_paths(self, package_paths)
+        _set_packages(self, __factories__['packages']() if packages is __sentinel__ else packages)
+        _set_xacro_args(self, __factories__['xacro_args']() if xacro_args is __sentinel__ else xacro_args)
+        _set_format(self, format)
+        _set_isolated(self, isolated)
     return __init__
 
 
 # urdftool.pipeline.settings.Settings
-def _init_pipeline_settings_Settings(__defaults__, __factories__, __sentinel__, __set__):
+def _init_pipeline_settings_Settings(__defaults__, __factories__, __sentinel__, __set__, __slot__):
+    _set_select = __slot__('select')
+    _set_ignore = __slot__('ignore')
+    _set_severity = __slot__('severity')
+    _set_strict = __slot__('strict')
+    _set_package_paths = __slot__('package_paths')
+    _set_packages = __slot__('packages')
+    _set_xacro_args = __slot__('xacro_args')
+    _set_target = __slot__('target')
+    _set_budgets = __slot__('budgets')
+    _set_format = __slot__('format')
+    _set_config = __slot__('config')
+    _set_sources = __slot__('sources')
     def __init__(self, select=__defaults__['select'], ignore=__defaults__['ignore'], severity=__sentinel__, strict=__defaults__['strict'], package_paths=__defaults__['package_paths'], packages=__sentinel__, xacro_args=__sentinel__, target=__defaults__['target'], budgets=__sentinel__, format=__defaults__['format'], config=__defaults__['config'], sources=__sentinel__):
-        __set__(self, 'select', select)
-        __set__(self, 'ignore', ignore)
-        __set__(self, 'severity', __factories__['severity']() if severity is __sentinel__ else severity)
-        __set__(self, 'strict', strict)
-        __set__(self, 'package_paths', package_paths)
-        __set__(self, 'packages', __factories__['packages']() if packages is __sentinel__ else packages)
-        __set__(self, 'xacro_args', __factories__['xacro_args']() if xacro_args is __sentinel__ else xacro_args)
-        __set__(self, 'target', target)
-        __set__(self, 'budgets', __factories__['budgets']() if budgets is __sentinel__ else budgets)
-        __set__(self, 'format', format)
-        __set__(self, 'config', config)
-        __set__(self, 'sources', __factories__['sources']() if sources is __sentinel__ else sources)
+        _set_select(self, select)
+        _set_ignore(self, ignore)
+        _set_severity(self, __factories__['severity']() if severity is __sentinel__ else severity)
+        _set_strict(self, strict)
+        _set_package_paths(self, package_paths)
+        _set_packages(self, __factories__['packages']() if packages is __sentinel__ else packages)
+        _set_xacro_args(self, __factories__['xacro_args']() if xacro_args is __sentinel__ else xacro_args)
+        _set_target(self, target)
+        _set_budgets(self, __factories__['budgets']() if budgets is __sentinel__ else budgets)
+        _set_format(self, format)
+        _set_config(self, config)
+        _set_sources(self, __factories__['sources']() if sources is __sentinel__ else sources)
     return __init__
 
 
 # urdftool.pipeline.suppress.Suppression
-def _init_pipeline_suppress_Suppression(__defaults__, __factories__, __sentinel__, __set__):
+def _init_pipeline_suppress_Suppression(__defaults__, __factories__, __sentinel__, __set__, __slot__):
     def __init__(self, span, whole_file, selectors, used=__sentinel__):
-        __set__(self, 'span', span)
-        __set__(self, 'whole_file', whole_file)
-        __set__(self, 'selectors', selectors)
-        __set__(self, 'used', __factories__['used']() if used is __sentinel__ else used)
+        self.span = span
+        self.whole_file = whole_file
+        self.selectors = selectors
+        self.used = __factories__['used']() if used is __sentinel__ else used
     return __init__
 
 
 COMPILED = {
-    'urdftool.pipeline.baseline.BaselineResult': ('report,known,fixed', _init_pipeline_baseline_BaselineResult),
-    'urdftool.pipeline.check.CheckOptions': ('select=,ignore=,xacro_args*,packages*,package_paths=,rule_options*,file_limits*,suppressions=,severity*,srdf=,discover_srdf=,controllers=', _init_pipeline_check_CheckOptions),
-    'urdftool.pipeline.collision.CollisionOptions': ('mode=,threshold=,max_parts=,tolerance=', _init_pipeline_collision_CollisionOptions),
-    'urdftool.pipeline.collision.Simplification': ('robot,diagnostics*,files*', _init_pipeline_collision_Simplification),
-    'urdftool.pipeline.convert.Conversion': ('robot,target,out,files*,diagnostics*,refused=,inputs*', _init_pipeline_convert_Conversion),
-    'urdftool.pipeline.diff.Change': ('kind,subject,field=,old=,new=,size=,unit=,severity=', _init_pipeline_diff_Change),
-    'urdftool.pipeline.diff.RobotDiff': ('old,new,changes,link_renames*,joint_renames*', _init_pipeline_diff_RobotDiff),
-    'urdftool.pipeline.fix.FileChange': ('path,before,after,fixed*', _init_pipeline_fix_FileChange),
-    'urdftool.pipeline.fix.FixResult': ('changes,refused,report,rounds', _init_pipeline_fix_FixResult),
-    'urdftool.pipeline.fixtext.Attribute': ('name,name_start,name_end,value_start,value_end,quote,raw', _init_pipeline_fixtext_Attribute),
-    'urdftool.pipeline.fixtext.SourceText': ('path,data,_starts*', _init_pipeline_fixtext_SourceText),
-    'urdftool.pipeline.fixtext.Tag': ('name,start,name_end,end,self_closing,attributes', _init_pipeline_fixtext_Tag),
-    'urdftool.pipeline.home.HomeState': ('name,values', _init_pipeline_home_HomeState),
-    'urdftool.pipeline.settings.ConfigFile': ('path,table', _init_pipeline_settings_ConfigFile),
-    'urdftool.pipeline.settings.Overrides': ('select=,ignore=,extend_select=,strict=,package_paths=,packages*,xacro_args*,format=,isolated=', _init_pipeline_settings_Overrides),
-    'urdftool.pipeline.settings.Settings': ('select=,ignore=,severity*,strict=,package_paths=,packages*,xacro_args*,target=,budgets*,format=,config=,sources*', _init_pipeline_settings_Settings),
-    'urdftool.pipeline.suppress.Suppression': ('span,whole_file,selectors,used*', _init_pipeline_suppress_Suppression),
+    'urdftool.pipeline.baseline.BaselineResult': ('report,known,fixed|slots', _init_pipeline_baseline_BaselineResult),
+    'urdftool.pipeline.check.CheckOptions': ('select=,ignore=,xacro_args*,packages*,package_paths=,rule_options*,file_limits*,suppressions=,severity*,srdf=,discover_srdf=,controllers=|slots', _init_pipeline_check_CheckOptions),
+    'urdftool.pipeline.collision.CollisionOptions': ('mode=,threshold=,max_parts=,tolerance=|slots', _init_pipeline_collision_CollisionOptions),
+    'urdftool.pipeline.collision.Simplification': ('robot,diagnostics*,files*|plain', _init_pipeline_collision_Simplification),
+    'urdftool.pipeline.convert.Conversion': ('robot,target,out,files*,diagnostics*,refused=,inputs*|plain', _init_pipeline_convert_Conversion),
+    'urdftool.pipeline.diff.Change': ('kind,subject,field=,old=,new=,size=,unit=,severity=|slots', _init_pipeline_diff_Change),
+    'urdftool.pipeline.diff.RobotDiff': ('old,new,changes,link_renames*,joint_renames*|slots', _init_pipeline_diff_RobotDiff),
+    'urdftool.pipeline.fix.FileChange': ('path,before,after,fixed*|plain', _init_pipeline_fix_FileChange),
+    'urdftool.pipeline.fix.FixResult': ('changes,refused,report,rounds|plain', _init_pipeline_fix_FixResult),
+    'urdftool.pipeline.fixtext.Attribute': ('name,name_start,name_end,value_start,value_end,quote,raw|slots', _init_pipeline_fixtext_Attribute),
+    'urdftool.pipeline.fixtext.SourceText': ('path,data,_starts*|plain', _init_pipeline_fixtext_SourceText),
+    'urdftool.pipeline.fixtext.Tag': ('name,start,name_end,end,self_closing,attributes|slots', _init_pipeline_fixtext_Tag),
+    'urdftool.pipeline.home.HomeState': ('name,values|slots', _init_pipeline_home_HomeState),
+    'urdftool.pipeline.settings.ConfigFile': ('path,table|slots', _init_pipeline_settings_ConfigFile),
+    'urdftool.pipeline.settings.Overrides': ('select=,ignore=,extend_select=,strict=,package_paths=,packages*,xacro_args*,format=,isolated=|slots', _init_pipeline_settings_Overrides),
+    'urdftool.pipeline.settings.Settings': ('select=,ignore=,severity*,strict=,package_paths=,packages*,xacro_args*,target=,budgets*,format=,config=,sources*|slots', _init_pipeline_settings_Settings),
+    'urdftool.pipeline.suppress.Suppression': ('span,whole_file,selectors,used*|plain', _init_pipeline_suppress_Suppression),
 }

@@ -9,16 +9,21 @@ entry maps a record to the shape of its fields and a function that builds its ``
 
 
 # urdftool.render.rule_meta.RuleMeta
-def _init_render_rule_meta_RuleMeta(__defaults__, __factories__, __sentinel__, __set__):
+def _init_render_rule_meta_RuleMeta(__defaults__, __factories__, __sentinel__, __set__, __slot__):
+    _set_code = __slot__('code')
+    _set_name = __slot__('name')
+    _set_summary = __slot__('summary')
+    _set_severity = __slot__('severity')
+    _set_help_uri = __slot__('help_uri')
     def __init__(self, code, name, summary, severity, help_uri):
-        __set__(self, 'code', code)
-        __set__(self, 'name', name)
-        __set__(self, 'summary', summary)
-        __set__(self, 'severity', severity)
-        __set__(self, 'help_uri', help_uri)
+        _set_code(self, code)
+        _set_name(self, name)
+        _set_summary(self, summary)
+        _set_severity(self, severity)
+        _set_help_uri(self, help_uri)
     return __init__
 
 
 COMPILED = {
-    'urdftool.render.rule_meta.RuleMeta': ('code,name,summary,severity,help_uri', _init_render_rule_meta_RuleMeta),
+    'urdftool.render.rule_meta.RuleMeta': ('code,name,summary,severity,help_uri|slots', _init_render_rule_meta_RuleMeta),
 }

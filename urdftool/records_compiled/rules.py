@@ -9,85 +9,112 @@ entry maps a record to the shape of its fields and a function that builds its ``
 
 
 # urdftool.rules.gazebo_drive.Wheel
-def _init_rules_gazebo_drive_Wheel(__defaults__, __factories__, __sentinel__, __set__):
+def _init_rules_gazebo_drive_Wheel(__defaults__, __factories__, __sentinel__, __set__, __slot__):
+    _set_joint = __slot__('joint')
+    _set_centre = __slot__('centre')
+    _set_axle = __slot__('axle')
+    _set_diameter = __slot__('diameter')
     def __init__(self, joint, centre, axle, diameter):
-        __set__(self, 'joint', joint)
-        __set__(self, 'centre', centre)
-        __set__(self, 'axle', axle)
-        __set__(self, 'diameter', diameter)
+        _set_joint(self, joint)
+        _set_centre(self, centre)
+        _set_axle(self, axle)
+        _set_diameter(self, diameter)
     return __init__
 
 
 # urdftool.rules.gazebo_plugins.DrivePlugin
-def _init_rules_gazebo_plugins_DrivePlugin(__defaults__, __factories__, __sentinel__, __set__):
+def _init_rules_gazebo_plugins_DrivePlugin(__defaults__, __factories__, __sentinel__, __set__, __slot__):
     def __init__(self, element, kind, pairs=__sentinel__, separations=__sentinel__, diameter=__defaults__['diameter']):
-        __set__(self, 'element', element)
-        __set__(self, 'kind', kind)
-        __set__(self, 'pairs', __factories__['pairs']() if pairs is __sentinel__ else pairs)
-        __set__(self, 'separations', __factories__['separations']() if separations is __sentinel__ else separations)
-        __set__(self, 'diameter', diameter)
+        self.element = element
+        self.kind = kind
+        self.pairs = __factories__['pairs']() if pairs is __sentinel__ else pairs
+        self.separations = __factories__['separations']() if separations is __sentinel__ else separations
+        self.diameter = diameter
     return __init__
 
 
 # urdftool.rules.gazebo_plugins.JointRef
-def _init_rules_gazebo_plugins_JointRef(__defaults__, __factories__, __sentinel__, __set__):
+def _init_rules_gazebo_plugins_JointRef(__defaults__, __factories__, __sentinel__, __set__, __slot__):
+    _set_name = __slot__('name')
+    _set_element = __slot__('element')
+    _set_owner = __slot__('owner')
     def __init__(self, name, element, owner):
-        __set__(self, 'name', name)
-        __set__(self, 'element', element)
-        __set__(self, 'owner', owner)
+        _set_name(self, name)
+        _set_element(self, element)
+        _set_owner(self, owner)
     return __init__
 
 
 # urdftool.rules.gz_systems_known.Params
-def _init_rules_gz_systems_known_Params(__defaults__, __factories__, __sentinel__, __set__):
+def _init_rules_gz_systems_known_Params(__defaults__, __factories__, __sentinel__, __set__, __slot__):
+    _set_links = __slot__('links')
+    _set_link_attributes = __slot__('link_attributes')
+    _set_numbers = __slot__('numbers')
+    _set_integers = __slot__('integers')
+    _set_flags = __slot__('flags')
+    _set_positive = __slot__('positive')
     def __init__(self, links=__defaults__['links'], link_attributes=__defaults__['link_attributes'], numbers=__defaults__['numbers'], integers=__defaults__['integers'], flags=__defaults__['flags'], positive=__defaults__['positive']):
-        __set__(self, 'links', links)
-        __set__(self, 'link_attributes', link_attributes)
-        __set__(self, 'numbers', numbers)
-        __set__(self, 'integers', integers)
-        __set__(self, 'flags', flags)
-        __set__(self, 'positive', positive)
+        _set_links(self, links)
+        _set_link_attributes(self, link_attributes)
+        _set_numbers(self, numbers)
+        _set_integers(self, integers)
+        _set_flags(self, flags)
+        _set_positive(self, positive)
     return __init__
 
 
 # urdftool.rules.gz_systems_known.System
-def _init_rules_gz_systems_known_System(__defaults__, __factories__, __sentinel__, __set__):
+def _init_rules_gz_systems_known_System(__defaults__, __factories__, __sentinel__, __set__, __slot__):
+    _set_element = __slot__('element')
+    _set_filename = __slot__('filename')
+    _set_name = __slot__('name')
+    _set_stem = __slot__('stem')
+    _set_cls = __slot__('cls')
     def __init__(self, element, filename, name, stem, cls):
-        __set__(self, 'element', element)
-        __set__(self, 'filename', filename)
-        __set__(self, 'name', name)
-        __set__(self, 'stem', stem)
-        __set__(self, 'cls', cls)
+        _set_element(self, element)
+        _set_filename(self, filename)
+        _set_name(self, name)
+        _set_stem(self, stem)
+        _set_cls(self, cls)
     return __init__
 
 
 # urdftool.rules.intent_sweep.Passing
-def _init_rules_intent_sweep_Passing(__defaults__, __factories__, __sentinel__, __set__):
+def _init_rules_intent_sweep_Passing(__defaults__, __factories__, __sentinel__, __set__, __slot__):
+    _set_side = __slot__('side')
+    _set_limit = __slot__('limit')
+    _set_start = __slot__('start')
+    _set_fullest = __slot__('fullest')
+    _set_depth = __slot__('depth')
+    _set_share = __slot__('share')
+    _set_home_share = __slot__('home_share')
     def __init__(self, side, limit, start, fullest, depth, share, home_share):
-        __set__(self, 'side', side)
-        __set__(self, 'limit', limit)
-        __set__(self, 'start', start)
-        __set__(self, 'fullest', fullest)
-        __set__(self, 'depth', depth)
-        __set__(self, 'share', share)
-        __set__(self, 'home_share', home_share)
+        _set_side(self, side)
+        _set_limit(self, limit)
+        _set_start(self, start)
+        _set_fullest(self, fullest)
+        _set_depth(self, depth)
+        _set_share(self, share)
+        _set_home_share(self, home_share)
     return __init__
 
 
 # urdftool.rules.selection.Selection
-def _init_rules_selection_Selection(__defaults__, __factories__, __sentinel__, __set__):
+def _init_rules_selection_Selection(__defaults__, __factories__, __sentinel__, __set__, __slot__):
+    _set_select = __slot__('select')
+    _set_ignore = __slot__('ignore')
     def __init__(self, select=__defaults__['select'], ignore=__defaults__['ignore']):
-        __set__(self, 'select', select)
-        __set__(self, 'ignore', ignore)
+        _set_select(self, select)
+        _set_ignore(self, ignore)
     return __init__
 
 
 COMPILED = {
-    'urdftool.rules.gazebo_drive.Wheel': ('joint,centre,axle,diameter', _init_rules_gazebo_drive_Wheel),
-    'urdftool.rules.gazebo_plugins.DrivePlugin': ('element,kind,pairs*,separations*,diameter=', _init_rules_gazebo_plugins_DrivePlugin),
-    'urdftool.rules.gazebo_plugins.JointRef': ('name,element,owner', _init_rules_gazebo_plugins_JointRef),
-    'urdftool.rules.gz_systems_known.Params': ('links=,link_attributes=,numbers=,integers=,flags=,positive=', _init_rules_gz_systems_known_Params),
-    'urdftool.rules.gz_systems_known.System': ('element,filename,name,stem,cls', _init_rules_gz_systems_known_System),
-    'urdftool.rules.intent_sweep.Passing': ('side,limit,start,fullest,depth,share,home_share', _init_rules_intent_sweep_Passing),
-    'urdftool.rules.selection.Selection': ('select=,ignore=', _init_rules_selection_Selection),
+    'urdftool.rules.gazebo_drive.Wheel': ('joint,centre,axle,diameter|slots', _init_rules_gazebo_drive_Wheel),
+    'urdftool.rules.gazebo_plugins.DrivePlugin': ('element,kind,pairs*,separations*,diameter=|plain', _init_rules_gazebo_plugins_DrivePlugin),
+    'urdftool.rules.gazebo_plugins.JointRef': ('name,element,owner|slots', _init_rules_gazebo_plugins_JointRef),
+    'urdftool.rules.gz_systems_known.Params': ('links=,link_attributes=,numbers=,integers=,flags=,positive=|slots', _init_rules_gz_systems_known_Params),
+    'urdftool.rules.gz_systems_known.System': ('element,filename,name,stem,cls|slots', _init_rules_gz_systems_known_System),
+    'urdftool.rules.intent_sweep.Passing': ('side,limit,start,fullest,depth,share,home_share|slots', _init_rules_intent_sweep_Passing),
+    'urdftool.rules.selection.Selection': ('select=,ignore=|slots', _init_rules_selection_Selection),
 }

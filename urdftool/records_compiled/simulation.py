@@ -9,14 +9,14 @@ entry maps a record to the shape of its fields and a function that builds its ``
 
 
 # urdftool.simulation.run.Exported
-def _init_simulation_run_Exported(__defaults__, __factories__, __sentinel__, __set__):
+def _init_simulation_run_Exported(__defaults__, __factories__, __sentinel__, __set__, __slot__):
     def __init__(self, command, path=__defaults__['path'], refused=__sentinel__):
-        __set__(self, 'command', command)
-        __set__(self, 'path', path)
-        __set__(self, 'refused', __factories__['refused']() if refused is __sentinel__ else refused)
+        self.command = command
+        self.path = path
+        self.refused = __factories__['refused']() if refused is __sentinel__ else refused
     return __init__
 
 
 COMPILED = {
-    'urdftool.simulation.run.Exported': ('command,path=,refused*', _init_simulation_run_Exported),
+    'urdftool.simulation.run.Exported': ('command,path=,refused*|plain', _init_simulation_run_Exported),
 }

@@ -9,27 +9,34 @@ entry maps a record to the shape of its fields and a function that builds its ``
 
 
 # urdftool.source.SourceIndex
-def _init_source_SourceIndex(__defaults__, __factories__, __sentinel__, __set__):
+def _init_source_SourceIndex(__defaults__, __factories__, __sentinel__, __set__, __slot__):
     def __init__(self, files=__sentinel__, _lines=__sentinel__):
-        __set__(self, 'files', __factories__['files']() if files is __sentinel__ else files)
-        __set__(self, '_lines', __factories__['_lines']() if _lines is __sentinel__ else _lines)
+        self.files = __factories__['files']() if files is __sentinel__ else files
+        self._lines = __factories__['_lines']() if _lines is __sentinel__ else _lines
     return __init__
 
 
 # urdftool.source.Span
-def _init_source_Span(__defaults__, __factories__, __sentinel__, __set__):
+def _init_source_Span(__defaults__, __factories__, __sentinel__, __set__, __slot__):
+    _set_path = __slot__('path')
+    _set_line = __slot__('line')
+    _set_column = __slot__('column')
+    _set_end_line = __slot__('end_line')
+    _set_end_column = __slot__('end_column')
+    _set_offset = __slot__('offset')
+    _set_end_offset = __slot__('end_offset')
     def __init__(self, path, line=__defaults__['line'], column=__defaults__['column'], end_line=__defaults__['end_line'], end_column=__defaults__['end_column'], offset=__defaults__['offset'], end_offset=__defaults__['end_offset']):
-        __set__(self, 'path', path)
-        __set__(self, 'line', line)
-        __set__(self, 'column', column)
-        __set__(self, 'end_line', end_line)
-        __set__(self, 'end_column', end_column)
-        __set__(self, 'offset', offset)
-        __set__(self, 'end_offset', end_offset)
+        _set_path(self, path)
+        _set_line(self, line)
+        _set_column(self, column)
+        _set_end_line(self, end_line)
+        _set_end_column(self, end_column)
+        _set_offset(self, offset)
+        _set_end_offset(self, end_offset)
     return __init__
 
 
 COMPILED = {
-    'urdftool.source.SourceIndex': ('files*,_lines*', _init_source_SourceIndex),
-    'urdftool.source.Span': ('path,line=,column=,end_line=,end_column=,offset=,end_offset=', _init_source_Span),
+    'urdftool.source.SourceIndex': ('files*,_lines*|plain', _init_source_SourceIndex),
+    'urdftool.source.Span': ('path,line=,column=,end_line=,end_column=,offset=,end_offset=|slots', _init_source_Span),
 }

@@ -9,30 +9,49 @@ entry maps a record to the shape of its fields and a function that builds its ``
 
 
 # urdftool.targets.Target
-def _init_targets_Target(__defaults__, __factories__, __sentinel__, __set__):
+def _init_targets_Target(__defaults__, __factories__, __sentinel__, __set__, __slot__):
+    _set_name = __slot__('name')
+    _set_label = __slot__('label')
+    _set_verified = __slot__('verified')
+    _set_engine_tested = __slot__('engine_tested')
+    _set_missing_inertial = __slot__('missing_inertial')
+    _set_massless_stops = __slot__('massless_stops')
+    _set_floating_root = __slot__('floating_root')
+    _set_fixed_joints = __slot__('fixed_joints')
+    _set_hulls_collision_meshes = __slot__('hulls_collision_meshes')
+    _set_mimic = __slot__('mimic')
+    _set_joint_types = __slot__('joint_types')
+    _set_collision_formats = __slot__('collision_formats')
+    _set_unread_format_fails = __slot__('unread_format_fails')
+    _set_face_budget = __slot__('face_budget')
+    _set_hull_vertex_limit = __slot__('hull_vertex_limit')
+    _set_root_inertia_ignored = __slot__('root_inertia_ignored')
+    _set_inertia_from_collision = __slot__('inertia_from_collision')
+    _set_needs_srdf = __slot__('needs_srdf')
+    _set_keep_fixed = __slot__('keep_fixed')
     def __init__(self, name, label, verified, engine_tested=__defaults__['engine_tested'], missing_inertial=__defaults__['missing_inertial'], massless_stops=__defaults__['massless_stops'], floating_root=__defaults__['floating_root'], fixed_joints=__defaults__['fixed_joints'], hulls_collision_meshes=__defaults__['hulls_collision_meshes'], mimic=__defaults__['mimic'], joint_types=__sentinel__, collision_formats=__defaults__['collision_formats'], unread_format_fails=__defaults__['unread_format_fails'], face_budget=__defaults__['face_budget'], hull_vertex_limit=__defaults__['hull_vertex_limit'], root_inertia_ignored=__defaults__['root_inertia_ignored'], inertia_from_collision=__defaults__['inertia_from_collision'], needs_srdf=__defaults__['needs_srdf'], keep_fixed=__defaults__['keep_fixed']):
-        __set__(self, 'name', name)
-        __set__(self, 'label', label)
-        __set__(self, 'verified', verified)
-        __set__(self, 'engine_tested', engine_tested)
-        __set__(self, 'missing_inertial', missing_inertial)
-        __set__(self, 'massless_stops', massless_stops)
-        __set__(self, 'floating_root', floating_root)
-        __set__(self, 'fixed_joints', fixed_joints)
-        __set__(self, 'hulls_collision_meshes', hulls_collision_meshes)
-        __set__(self, 'mimic', mimic)
-        __set__(self, 'joint_types', __factories__['joint_types']() if joint_types is __sentinel__ else joint_types)
-        __set__(self, 'collision_formats', collision_formats)
-        __set__(self, 'unread_format_fails', unread_format_fails)
-        __set__(self, 'face_budget', face_budget)
-        __set__(self, 'hull_vertex_limit', hull_vertex_limit)
-        __set__(self, 'root_inertia_ignored', root_inertia_ignored)
-        __set__(self, 'inertia_from_collision', inertia_from_collision)
-        __set__(self, 'needs_srdf', needs_srdf)
-        __set__(self, 'keep_fixed', keep_fixed)
+        _set_name(self, name)
+        _set_label(self, label)
+        _set_verified(self, verified)
+        _set_engine_tested(self, engine_tested)
+        _set_missing_inertial(self, missing_inertial)
+        _set_massless_stops(self, massless_stops)
+        _set_floating_root(self, floating_root)
+        _set_fixed_joints(self, fixed_joints)
+        _set_hulls_collision_meshes(self, hulls_collision_meshes)
+        _set_mimic(self, mimic)
+        _set_joint_types(self, __factories__['joint_types']() if joint_types is __sentinel__ else joint_types)
+        _set_collision_formats(self, collision_formats)
+        _set_unread_format_fails(self, unread_format_fails)
+        _set_face_budget(self, face_budget)
+        _set_hull_vertex_limit(self, hull_vertex_limit)
+        _set_root_inertia_ignored(self, root_inertia_ignored)
+        _set_inertia_from_collision(self, inertia_from_collision)
+        _set_needs_srdf(self, needs_srdf)
+        _set_keep_fixed(self, keep_fixed)
     return __init__
 
 
 COMPILED = {
-    'urdftool.targets.Target': ('name,label,verified,engine_tested=,missing_inertial=,massless_stops=,floating_root=,fixed_joints=,hulls_collision_meshes=,mimic=,joint_types*,collision_formats=,unread_format_fails=,face_budget=,hull_vertex_limit=,root_inertia_ignored=,inertia_from_collision=,needs_srdf=,keep_fixed=', _init_targets_Target),
+    'urdftool.targets.Target': ('name,label,verified,engine_tested=,missing_inertial=,massless_stops=,floating_root=,fixed_joints=,hulls_collision_meshes=,mimic=,joint_types*,collision_formats=,unread_format_fails=,face_budget=,hull_vertex_limit=,root_inertia_ignored=,inertia_from_collision=,needs_srdf=,keep_fixed=|slots', _init_targets_Target),
 }
