@@ -6,7 +6,7 @@ Usage: python3 scripts/findings_snapshot.py OUT.json [--quick]
 A change meant to make urdftool faster, or to restructure it, must not change what it reports.
 Run this on the commit before and after the change and compare the two files (``diff`` or
 ``cmp``): every finding of the structural check (``--select S,X``) and of the default check
-without the dynamics pass, with its code, severity, location and message, over
+without the dynamics pass, with its code, severity, location, message, help and ``data``, over
 example-robot-data, pybullet_data, the vendored seeds, every rule fixture and, when it is on
 disk, the real-world corpus (docs/realworld.md). ``--quick`` leaves out the real-world corpus.
 
@@ -71,8 +71,18 @@ def _findings(path: str, options: CheckOptions) -> list[str]:
         reports = check_file(path, options)
     except InputError as error:
         return [f"InputError {error}"]
-    return [f"{d.code} {d.severity.value} {_relative(str(d.location)) if d.location else '-'} "
-            f"{d.element} {d.message}" for report in reports for d in report.diagnostics]
+    # data as --format json writes it: a change that moves the last digit of a number there
+    # changes what users' scripts read. Paths in any text are made relative.
+    return [_relative_text(f"{d.code} {d.severity.value} {_relative(str(d.location)) if d.location else '-'} "
+                           f"{d.element} {d.message} | help: {d.help} | "
+                           f"data: {json.dumps(d.data, sort_keys=True, default=str)}")
+            for report in reports for d in report.diagnostics]
+
+
+def _relative_text(text: str) -> str:
+    for base in (str(ROOT) + os.sep, str(CORPUS.resolve()) + os.sep):
+        text = text.replace(base, "")
+    return text
 
 
 def main() -> int:
