@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import collections
 import glob
+import pickle
 import shutil
 from pathlib import Path
 
@@ -145,3 +146,26 @@ def test_xacro_srdf_is_expanded_and_located(tmp_path: Path) -> None:
     reports = check_file(str(tmp_path / "arm.urdf"), OPTIONS)
     found = [d for r in reports for d in r.diagnostics if d.code == "P002"]
     assert [(Path(d.location.path).name, d.location.line) for d in found] == [("arm.srdf.xacro", 4)]
+
+
+def test_collision_pairs_are_built_when_first_read_and_pickle_built(tmp_path: Path) -> None:
+    """SRDFs list hundreds to thousands of pairs and a structural check reads none: the reader
+    reports an entry that does not name both links where it stands, and builds the pairs on the
+    first read of ``collisions``, in document order, with their spans."""
+    path = tmp_path / "arm.srdf"
+    path.write_text(
+        '<robot name="arm">\n'
+        '  <disable_collisions link1="base" link2="upper" reason="Adjacent"/>\n'
+        '  <disable_collisions link1="  " link2="upper"/>\n'
+        '  <enable_collisions link1="upper" link2="lower"/>\n'
+        "</robot>\n"
+    )
+    srdf = read_srdf(str(path))
+    assert [(d.name, d.location.line if d.location else None) for d in srdf.diagnostics] == [
+        ("missing-attribute", 3)]
+    assert "collisions" not in vars(srdf)  # not built yet
+    pairs = [(p.link1.name, p.link2.name, p.reason, p.enable, p.span.line if p.span else None)
+             for p in srdf.collisions]
+    assert pairs == [("base", "upper", "Adjacent", False, 2), ("upper", "lower", None, True, 4)]
+    copied = pickle.loads(pickle.dumps(read_srdf(str(path))))
+    assert copied.collisions == srdf.collisions and copied.collision_pairs is None

@@ -15,6 +15,7 @@ cannot be read becomes a diagnostic of a reader rule (``xml-syntax``,
 
 from __future__ import annotations
 
+import functools
 import os
 from collections.abc import Callable
 from dataclasses import field
@@ -131,16 +132,31 @@ class Srdf:
     end_effectors: list[EndEffector] = field(default_factory=list)
     virtual_joints: list[VirtualJoint] = field(default_factory=list)
     passive_joints: list[Named] = field(default_factory=list)
-    collisions: list[CollisionPair] = field(default_factory=list)
     #: every ``<disable_default_collisions link>``
     default_disabled: list[Named] = field(default_factory=list)
     diagnostics: list[Diagnostic] = field(default_factory=list)
     span: Span | None = None
     #: every file read (the xacro includes), the SRDF first
     files: list[str] = field(default_factory=list)
+    #: builds :attr:`collisions` when they are first read (``None``: there are none)
+    collision_pairs: Callable[[], list[CollisionPair]] | None = field(default=None, repr=False, compare=False)
+
+    @functools.cached_property
+    def collisions(self) -> list[CollisionPair]:
+        """Every ``<disable_collisions>`` and ``<enable_collisions>`` pair that names both links,
+        in document order. MoveIt Setup Assistant writes hundreds to thousands of them and a
+        structural check reads none, so they are built when first read; the reader has already
+        reported the entries it skips."""
+        return self.collision_pairs() if self.collision_pairs is not None else []
 
     def group(self, name: str) -> Group | None:
         return next((g for g in self.groups if g.name == name), None)
+
+    def __getstate__(self) -> dict[str, object]:
+        """Pickled with its pairs built, and without the reader that builds them."""
+        state = dict(self.__dict__)
+        state.update(collisions=self.collisions, collision_pairs=None)
+        return state
 
 
 def is_srdf_xacro(path: str) -> bool:
@@ -214,6 +230,7 @@ class _Reader:
             return srdf
         srdf.robot_name = root.get("name")
         where = f"robot[{srdf.robot_name or ''}]"
+        pairs: list[etree._Element] = []
         for element in root:
             if not isinstance(element.tag, str):
                 continue
@@ -239,9 +256,8 @@ class _Reader:
                 if passive is not None:
                     srdf.passive_joints.append(passive)
             elif tag in ("disable_collisions", "enable_collisions"):
-                pair = self.collision_pair(element)
-                if pair is not None:
-                    srdf.collisions.append(pair)
+                if self.names_both_links(element):
+                    pairs.append(element)
             elif tag == "disable_default_collisions":
                 link = self.named(element, "link", where)
                 if link is not None:
@@ -250,6 +266,8 @@ class _Reader:
                 continue
             else:
                 self.unknown(element, where, SRDF_ELEMENTS)
+        if pairs:
+            srdf.collision_pairs = functools.partial(self.collision_pairs, pairs)
         srdf.diagnostics = self.diagnostics
         return srdf
 
@@ -341,20 +359,25 @@ class _Reader:
             return None
         return VirtualJoint(name, kind, parent, child, self.span(element))
 
-    def collision_pair(self, element: etree._Element) -> CollisionPair | None:
-        span = self.span(element)  # one span for the pair and both its links: SRDFs list thousands
-        link1_name = (element.get("link1") or "").strip()
-        link2_name = (element.get("link2") or "").strip()
-        if link1_name and link2_name:  # the common case, without a call per attribute
-            return CollisionPair(Named(link1_name, span), Named(link2_name, span), element.get("reason"),
-                                 span, enable=element.tag == "enable_collisions")
+    def names_both_links(self, element: etree._Element) -> bool:
+        """Whether a collision entry names both its links; reports each one it does not."""
+        if (element.get("link1") or "").strip() and (element.get("link2") or "").strip():
+            return True
         where = str(element.tag)
-        link1 = self.named(element, "link1", where, span)
-        link2 = self.named(element, "link2", where, span)
-        if link1 is None or link2 is None:
-            return None
-        return CollisionPair(link1, link2, element.get("reason"), span,
-                             enable=element.tag == "enable_collisions")
+        span = self.span(element)
+        named = [self.named(element, name, where, span) for name in ("link1", "link2")]
+        return None not in named
+
+    def collision_pairs(self, elements: list[etree._Element]) -> list[CollisionPair]:
+        """The pairs of *elements*, each of which names both links (:meth:`names_both_links`)."""
+        pairs = []
+        for element in elements:
+            span = self.span(element)  # one span for the pair and both its links
+            pairs.append(CollisionPair(Named((element.get("link1") or "").strip(), span),
+                                       Named((element.get("link2") or "").strip(), span),
+                                       element.get("reason"), span,
+                                       enable=element.tag == "enable_collisions"))
+        return pairs
 
 
 __all__ = [

@@ -331,7 +331,7 @@ def _init_parse_srdf_Named(__defaults__, __factories__, __sentinel__, __set__, _
 
 # urdftool.parse.srdf.Srdf
 def _init_parse_srdf_Srdf(__defaults__, __factories__, __sentinel__, __set__, __slot__):
-    def __init__(self, path, robot_name=__defaults__['robot_name'], groups=__sentinel__, group_states=__sentinel__, end_effectors=__sentinel__, virtual_joints=__sentinel__, passive_joints=__sentinel__, collisions=__sentinel__, default_disabled=__sentinel__, diagnostics=__sentinel__, span=__defaults__['span'], files=__sentinel__):
+    def __init__(self, path, robot_name=__defaults__['robot_name'], groups=__sentinel__, group_states=__sentinel__, end_effectors=__sentinel__, virtual_joints=__sentinel__, passive_joints=__sentinel__, default_disabled=__sentinel__, diagnostics=__sentinel__, span=__defaults__['span'], files=__sentinel__, collision_pairs=__defaults__['collision_pairs']):
         self.path = path
         self.robot_name = robot_name
         self.groups = __factories__['groups']() if groups is __sentinel__ else groups
@@ -339,11 +339,11 @@ def _init_parse_srdf_Srdf(__defaults__, __factories__, __sentinel__, __set__, __
         self.end_effectors = __factories__['end_effectors']() if end_effectors is __sentinel__ else end_effectors
         self.virtual_joints = __factories__['virtual_joints']() if virtual_joints is __sentinel__ else virtual_joints
         self.passive_joints = __factories__['passive_joints']() if passive_joints is __sentinel__ else passive_joints
-        self.collisions = __factories__['collisions']() if collisions is __sentinel__ else collisions
         self.default_disabled = __factories__['default_disabled']() if default_disabled is __sentinel__ else default_disabled
         self.diagnostics = __factories__['diagnostics']() if diagnostics is __sentinel__ else diagnostics
         self.span = span
         self.files = __factories__['files']() if files is __sentinel__ else files
+        self.collision_pairs = collision_pairs
     return __init__
 
 
@@ -459,7 +459,7 @@ COMPILED = {
     'urdftool.parse.srdf.GroupState': ('name,group,joints=,span=|slots', _init_parse_srdf_GroupState),
     'urdftool.parse.srdf.JointValue': ('name,values,span=|slots', _init_parse_srdf_JointValue),
     'urdftool.parse.srdf.Named': ('name,span=|slots', _init_parse_srdf_Named),
-    'urdftool.parse.srdf.Srdf': ('path,robot_name=,groups*,group_states*,end_effectors*,virtual_joints*,passive_joints*,collisions*,default_disabled*,diagnostics*,span=,files*|plain', _init_parse_srdf_Srdf),
+    'urdftool.parse.srdf.Srdf': ('path,robot_name=,groups*,group_states*,end_effectors*,virtual_joints*,passive_joints*,default_disabled*,diagnostics*,span=,files*,collision_pairs=|plain', _init_parse_srdf_Srdf),
     'urdftool.parse.srdf.VirtualJoint': ('name,type,parent_frame,child_link,span=|slots', _init_parse_srdf_VirtualJoint),
     'urdftool.parse.urdf.UrdfReader': ('path,sources,resolver,expanded=,document=,values!,span!|post_init|plain', _init_parse_urdf_UrdfReader),
     'urdftool.parse.values.ValueReader': ('sources,diagnostics*,check_substitutions=,locate=|plain', _init_parse_values_ValueReader),
