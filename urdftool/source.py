@@ -193,6 +193,25 @@ def element_starts(data: bytes) -> list[tuple[int, int]]:
     return starts
 
 
+def start_tag_offsets(data: bytes) -> list[int] | None:
+    """The byte offset of every element start tag's ``<``, in document order, or ``None`` when
+    :func:`element_starts` would hand the document to expat (a DOCTYPE, a lone carriage return).
+    The cheap part of the scan: turning an offset into a position is left to
+    :func:`position_at`, for the few elements whose position is read."""
+    if b"<!DOCTYPE" in data or (b"\r" in data and data.count(b"\r") != data.count(b"\r\n")):
+        return None
+    return [match.start() for match in _MARKUP.finditer(data) if match.lastindex is not None]
+
+
+def position_at(data: bytes, offset: int) -> tuple[int, int]:
+    """The 1-based (line, character column) of byte *offset* in *data*, as :func:`element_starts`
+    counts them. Costs a count of the line breaks before *offset*, done in C."""
+    line_start = data.rfind(b"\n", 0, offset) + 1
+    prefix = data[line_start:offset]
+    column = len(prefix) if prefix.isascii() else len(prefix.decode("utf-8", "replace"))
+    return data.count(b"\n", 0, line_start) + 1, column + 1
+
+
 def expat_element_starts(data: bytes) -> list[tuple[int, int]]:
     """:func:`element_starts` by expat's own position pass (a Python call per element)."""
     positions: list[tuple[int, int]] = []

@@ -24,7 +24,15 @@ import weakref
 from lxml import etree
 
 from urdftool.records import record
-from urdftool.source import SRC_ATTRIBUTE, Span, deferred_span, element_starts, expat_element_starts
+from urdftool.source import (
+    SRC_ATTRIBUTE,
+    Span,
+    deferred_span,
+    element_starts,
+    expat_element_starts,
+    position_at,
+    start_tag_offsets,
+)
 
 #: Position tables that marked elements refer to, by key; a table lives as long as a span or a
 #: document that uses it.
@@ -32,14 +40,34 @@ _TABLES: weakref.WeakValueDictionary[str, PositionTable] = weakref.WeakValueDict
 _KEYS = itertools.count(1)
 
 
+#: An element's index in document order: the elements before it that are not its ancestors,
+#: and its ancestors (counted in C, without a Python object per element).
+_DOCUMENT_INDEX = etree.XPath("count(preceding::*) + count(ancestor::*)")
+#: Elements located by their index before the table keeps a dict of every element: counting
+#: the elements before one is cheap, but not a hundred times over.
+_COUNTED_LOOKUPS = 4
+
+
 @record(frozen=False, eq=False)  # one document's positions, equal only to itself
 class PositionTable:
-    """Every element's start tag in *data*, the bytes *root* was parsed from, looked up
-    on the first request (:meth:`locate`) and kept from then on."""
+    """Where the start tag of each element of *root* stands in *data*, the bytes it was parsed
+    from, looked up on request (:meth:`locate`).
+
+    The i-th start tag in the bytes is the i-th element in document order. The first lookup
+    finds every start tag's offset (one regular expression over the bytes); each lookup then
+    turns one offset into a line and column, in C. A file with a finding or two pays for that
+    and no more; one with many gets a dict from element to index after a few lookups.
+    A document the scan does not serve (a DOCTYPE, a lone carriage return) or where it
+    disagrees with lxml takes the full table of :func:`position_table`.
+    """
 
     root: etree._Element
     data: bytes
     path: str
+    _offsets: list[int] | None = None
+    _index: dict[etree._Element, int] | None = None
+    _lookups: int = 0
+    #: every element's position, when the offsets cannot serve
     _found: dict[etree._Element, tuple[int, int]] | None = None
     _key: str | None = None
 
@@ -49,17 +77,51 @@ class PositionTable:
 
     def locate(self, element: etree._Element) -> Span | None:
         """The span of *element*, or of its nearest ancestor in the table."""
-        found = self._found
-        if found is None:
-            found = self._found = position_table(self.root, self.data)
-            self.data = b""  # read once; the table holds what was needed
-        node: etree._Element | None = element
-        while node is not None:
-            position = found.get(node)
+        if self._found is None:
+            position = self._position(element)
             if position is not None:
                 return Span(self.path, position[0], position[1])
+            if self._found is None:
+                self._found = position_table(self.root, self.data)
+        node: etree._Element | None = element
+        while node is not None:
+            found = self._found.get(node)
+            if found is not None:
+                return Span(self.path, found[0], found[1])
             node = node.getparent()
         return None
+
+    def _position(self, element: etree._Element) -> tuple[int, int] | None:
+        """*element*'s position from the start-tag offsets, or ``None`` to take the full table."""
+        if self._offsets is None:
+            self._offsets = start_tag_offsets(self.data)
+            if self._offsets is None:
+                return None
+        offsets = self._offsets
+        if self._index is not None:
+            index = self._index.get(element)
+        elif element.getroottree().getroot() is not self.root:
+            return None  # not an element of this document (a copy of one, say)
+        else:
+            self._lookups += 1
+            if self._lookups > _COUNTED_LOOKUPS:
+                self._index = {node: i for i, node in enumerate(self.root.iter(etree.Element))}
+                if len(self._index) != len(offsets):  # the scan disagrees with lxml
+                    return None
+                index = self._index.get(element)
+            else:
+                index = int(_DOCUMENT_INDEX(element))
+        if index is None or index >= len(offsets):
+            return None
+        offset = offsets[index]
+        # The start tag found must be this element's, or the scan and lxml disagree.
+        name = element.tag if element.prefix is None else f"{element.prefix}:{etree.QName(element).localname}"
+        if not isinstance(name, str):
+            return None
+        end = offset + 1 + len(name.encode("utf-8"))
+        if self.data[offset + 1:end] != name.encode("utf-8") or self.data[end:end + 1] not in _AFTER_NAME:
+            return None
+        return position_at(self.data, offset)
 
     def mark(self, element: etree._Element) -> None:
         """Mark *element* (kept by the model) so that :func:`span_of` finds it and its
@@ -69,6 +131,10 @@ class PositionTable:
             _TABLES[self._key] = self
         if element.get(SRC_ATTRIBUTE) is None:
             element.set(SRC_ATTRIBUTE, self._key)
+
+
+#: What may follow an element's name in its start tag.
+_AFTER_NAME = frozenset({b" ", b"\t", b"\r", b"\n", b"/", b">"})
 
 
 def encode_src(path: str, line: int, column: int) -> str:
