@@ -7,6 +7,7 @@ from pathlib import Path
 import pytest
 
 from urdftool.diagnostics import Report, Severity
+from urdftool.parse import read
 from urdftool.pipeline.baseline import apply_baseline, read_baseline, write_baseline
 from urdftool.pipeline.check import CheckOptions, check_file
 from urdftool.pipeline.settings import Overrides, SettingsError, find_config, resolve
@@ -230,3 +231,15 @@ def test_a_project_naming_urdftool_only_as_a_dependency_is_passed_over(tmp_path:
         "[project.scripts]\nurdftool-arm = 'arm.cli:main'\n[tool.ruff]\nline-length = 100\n")
     config = find_config(project / "robot.urdf")
     assert config is not None and config.path == tmp_path / "urdftool.toml"
+
+
+def test_a_file_without_a_suppression_comment_is_read_once(tmp_path: Path) -> None:
+    """The reader notes whether the text names ``urdftool:`` at all; the suppression pass reads
+    again only the files that do (the URDF as read, and the SRDF beside it)."""
+    [plain] = read(str(robot(tmp_path)))
+    assert plain.without_suppressions == (plain.path,)
+    commented = robot(tmp_path, name="commented.urdf",
+                      comment_link="<!-- urdftool: ignore[zero-mass] -->\n  ")
+    [loaded] = read(str(commented))
+    assert loaded.without_suppressions == ()
+    assert "I002" not in codes(commented) and "I002" in codes(robot(tmp_path, name="plain.urdf"))

@@ -47,6 +47,9 @@ class Loaded:
     srdf: Srdf | None = None
     #: the controllers YAML read for it (``check --controllers``, or named by a ros2_control plugin)
     controllers: Controllers | None = None
+    #: files of :attr:`files` whose text was seen to hold no ``urdftool:`` comment, so no inline
+    #: suppression: the suppression pass does not read them again
+    without_suppressions: tuple[str, ...] = ()
 
 
 def detect_format(path: str) -> str | None:
@@ -129,7 +132,10 @@ def _read_urdf(path: str, resolver: PackageResolver, args: Mapping[str, str]) ->
         return _finish(path, "xacro", loaded.robot, found, loaded.files)
     reader = UrdfReader(path, SourceIndex(), resolver, document=document)
     robot = reader.read(document.root)
-    return _finish(path, "urdf", robot, problems + reader.diagnostics, [path])
+    loaded = _finish(path, "urdf", robot, problems + reader.diagnostics, [path])
+    if not document.may_hold_suppressions:
+        loaded = dataclasses.replace(loaded, without_suppressions=(path,))
+    return loaded
 
 
 def _read_xacro(path: str, args: Mapping[str, str], resolver: PackageResolver) -> Loaded:

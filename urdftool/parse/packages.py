@@ -170,10 +170,11 @@ class PackageResolver:
             tried.append(f"packages under {root}")
         prefixes = _env_paths("AMENT_PREFIX_PATH", self.environ) + _cmeel_prefixes()
         for prefix in prefixes:
-            marker = prefix / "share" / "ament_index" / "resource_index" / "packages" / name
-            share = prefix / "share" / name
-            if marker.exists() and share.is_dir():
-                return Lookup(str(share), tried, name)
+            # os.path, not pathlib: every file checked looks up its packages afresh
+            share = os.path.join(prefix, "share")
+            marker = os.path.join(share, "ament_index", "resource_index", "packages", name)
+            if os.path.exists(marker) and os.path.isdir(os.path.join(share, name)):
+                return Lookup(os.path.join(share, name), tried, name)
             tried.append(f"ament prefix {prefix}")
         if near is not None:
             hit = self._find_near(name, Path(near).resolve(), tried)

@@ -153,6 +153,9 @@ class XmlDocument:
     #: the text could put an element in xacro's namespace: it names ``wiki/xacro`` or holds a
     #: character reference (which could spell it); when false, :func:`xacro_in_urdf` has nothing to find
     may_use_xacro: bool = True
+    #: the text names ``urdftool:``, as an inline suppression comment does; when false, the
+    #: suppression pass need not read the file again
+    may_hold_suppressions: bool = True
 
     def span(self, element: etree._Element) -> Span | None:
         """Where *element*'s start tag was written: from the table, else from the stamps."""
@@ -230,12 +233,14 @@ def parse_bytes(
     if root is None:
         return None, [XmlSyntax.diagnostic("document has no root element", Span(path, 1, 1))]
     may_use_xacro = b"wiki/xacro" in data or b"&#" in data
+    may_hold_suppressions = b"urdftool:" in data
     if stamp and table:
         path = sys.intern(path)
-        return XmlDocument(root, path, PositionTable(root, data, path), may_use_xacro), warnings
+        return XmlDocument(root, path, PositionTable(root, data, path), may_use_xacro,
+                           may_hold_suppressions), warnings
     if stamp:
         stamp_positions(root, data, path)
-    return XmlDocument(root, path, may_use_xacro=may_use_xacro), warnings
+    return XmlDocument(root, path, None, may_use_xacro, may_hold_suppressions), warnings
 
 
 _DECLARED_VERSION = re.compile(rb"^(\s*<\?xml[^>]*?version\s*=\s*[\"'])([^\"']*)([\"'])")

@@ -149,7 +149,7 @@ def _check_models(path: str, options: CheckOptions) -> list[FileReport]:
     reports = [report_for(m, selection, rule_options) for m in models]
     found = [list(r.diagnostics) for r in reports]
     if options.suppressions:
-        files = [f for m in models for f in (m.files or [m.path])]
+        files = [f for m in models for f in (m.files or [m.path]) if f not in m.without_suppressions]
         found = suppress.apply_to_models(found, files, selection)
     return [_settled(r, diagnostics, options) for r, diagnostics in zip(reports, found, strict=True)]
 

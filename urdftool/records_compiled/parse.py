@@ -10,7 +10,7 @@ entry maps a record to the shape of its fields and a function that builds its ``
 
 # urdftool.parse.Loaded
 def _init_parse_Loaded(__defaults__, __factories__, __sentinel__, __set__, __slot__):
-    def __init__(self, path, format, robot, diagnostics=__sentinel__, files=__sentinel__, srdf=__defaults__['srdf'], controllers=__defaults__['controllers']):
+    def __init__(self, path, format, robot, diagnostics=__sentinel__, files=__sentinel__, srdf=__defaults__['srdf'], controllers=__defaults__['controllers'], without_suppressions=__defaults__['without_suppressions']):
         self.path = path
         self.format = format
         self.robot = robot
@@ -18,6 +18,7 @@ def _init_parse_Loaded(__defaults__, __factories__, __sentinel__, __set__, __slo
         self.files = __factories__['files']() if files is __sentinel__ else files
         self.srdf = srdf
         self.controllers = controllers
+        self.without_suppressions = without_suppressions
     return __init__
 
 
@@ -65,10 +66,13 @@ def _init_parse_controllers_Value(__defaults__, __factories__, __sentinel__, __s
 
 # urdftool.parse.locate.PositionTable
 def _init_parse_locate_PositionTable(__defaults__, __factories__, __sentinel__, __set__, __slot__):
-    def __init__(self, root, data, path, _found=__defaults__['_found'], _key=__defaults__['_key']):
+    def __init__(self, root, data, path, _offsets=__defaults__['_offsets'], _index=__defaults__['_index'], _lookups=__defaults__['_lookups'], _found=__defaults__['_found'], _key=__defaults__['_key']):
         self.root = root
         self.data = data
         self.path = path
+        self._offsets = _offsets
+        self._index = _index
+        self._lookups = _lookups
         self._found = _found
         self._key = _key
     return __init__
@@ -423,21 +427,22 @@ def _init_parse_xacro_args_KnownArgument(__defaults__, __factories__, __sentinel
 
 # urdftool.parse.xmlio.XmlDocument
 def _init_parse_xmlio_XmlDocument(__defaults__, __factories__, __sentinel__, __set__, __slot__):
-    def __init__(self, root, path, table=__defaults__['table'], may_use_xacro=__defaults__['may_use_xacro']):
+    def __init__(self, root, path, table=__defaults__['table'], may_use_xacro=__defaults__['may_use_xacro'], may_hold_suppressions=__defaults__['may_hold_suppressions']):
         self.root = root
         self.path = path
         self.table = table
         self.may_use_xacro = may_use_xacro
+        self.may_hold_suppressions = may_hold_suppressions
     return __init__
 
 
 COMPILED = {
-    'urdftool.parse.Loaded': ('path,format,robot,diagnostics*,files*,srdf=,controllers=|plain', _init_parse_Loaded),
+    'urdftool.parse.Loaded': ('path,format,robot,diagnostics*,files*,srdf=,controllers=,without_suppressions=|plain', _init_parse_Loaded),
     'urdftool.parse.controllers.Controller': ('name,span,type=,params*|slots', _init_parse_controllers_Controller),
     'urdftool.parse.controllers.ControllerConfig': ('path,controllers*,diagnostics*|plain', _init_parse_controllers_ControllerConfig),
     'urdftool.parse.controllers.Controllers': ('configs*,missing*,given=|plain', _init_parse_controllers_Controllers),
     'urdftool.parse.controllers.Value': ('value,span|slots', _init_parse_controllers_Value),
-    'urdftool.parse.locate.PositionTable': ('root,data,path,_found=,_key=|plain', _init_parse_locate_PositionTable),
+    'urdftool.parse.locate.PositionTable': ('root,data,path,_offsets=,_index=,_lookups=,_found=,_key=|plain', _init_parse_locate_PositionTable),
     'urdftool.parse.packages.Lookup': ('path,tried*,package=,package_missing=,package_dir=|plain', _init_parse_packages_Lookup),
     'urdftool.parse.packages.PackageResolver': ('packages*,package_paths*,environ*,_scanned*,_found*,_resolutions*|plain', _init_parse_packages_PackageResolver),
     'urdftool.parse.sdf_elements.JointDetails': ('type,axis,axis_frame,limit,dynamics,axis_span,axis2=,axis2_frame=,limit2=|plain', _init_parse_sdf_elements_JointDetails),
@@ -466,5 +471,5 @@ COMPILED = {
     'urdftool.parse.xacro.XacroResult': ('document,diagnostics*,files*,macro_library=|plain', _init_parse_xacro_XacroResult),
     'urdftool.parse.xacro._Session': ('resolver,top,diagnostics*,files*,found_packages*,syntax_failed=,macros*,top_builds_robot=,top_macros*,arguments*|plain', _init_parse_xacro__Session),
     'urdftool.parse.xacro_args.KnownArgument': ('span,default|slots', _init_parse_xacro_args_KnownArgument),
-    'urdftool.parse.xmlio.XmlDocument': ('root,path,table=,may_use_xacro=|plain', _init_parse_xmlio_XmlDocument),
+    'urdftool.parse.xmlio.XmlDocument': ('root,path,table=,may_use_xacro=,may_hold_suppressions=|plain', _init_parse_xmlio_XmlDocument),
 }
