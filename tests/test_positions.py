@@ -168,17 +168,33 @@ def test_kept_elements_are_located_after_the_document_is_gone(tmp_path: object) 
     assert gazebo.span == Span(loaded.robot.path, *_at("<gazebo"))
 
 
-@pytest.mark.parametrize("uri", ["http://www.ros.org/wiki/xacro", "http://www.ros.org/wiki/&#120;acro"])
-def test_xacro_in_urdf_is_found_however_its_namespace_is_written(tmp_path: object, uri: str) -> None:
-    """The reader skips the xacro search when the text cannot name xacro's namespace; a
-    character reference could spell it, so it does not skip then."""
+@pytest.mark.parametrize(("uri", "declared"), [
+    ("http://www.ros.org/wiki/xacro", 'xmlns:xacro="{uri}"'),
+    ("http://www.ros.org/wiki/&#120;acro", 'xmlns:xacro="{uri}"'),
+    ("http://www.ros.org/wiki/xacro", "xmlns:x = '{uri}'"),  # another prefix, other quotes
+])
+def test_xacro_in_urdf_is_found_however_its_namespace_is_written(tmp_path: object, uri: str,
+                                                                   declared: str) -> None:
+    """The reader skips the xacro search when no tag can be in xacro's namespace (files xacro
+    wrote declare it and use it nowhere); a character reference could spell it, so it does not
+    skip then."""
+    prefix = declared.split(":")[1].split("=")[0].strip()
     path = f"{tmp_path}/arm.urdf"
     with open(path, "w", encoding="utf-8") as handle:
-        handle.write(f'<robot name="r" xmlns:xacro="{uri}">\n  <xacro:property name="l" value="1"/>\n'
-                     '  <link name="a"/>\n</robot>\n')
+        handle.write(f'<robot name="r" {declared.format(uri=uri)}>\n'
+                     f'  <{prefix}:property name="l" value="1"/>\n  <link name="a"/>\n</robot>\n')
     [loaded] = read(path)
     found = [d for d in loaded.diagnostics if d.name == "xacro-in-urdf"]
     assert [(d.location.line, d.location.column) for d in found if d.location] == [(2, 3)]
+
+
+def test_a_declared_but_unused_xacro_namespace_is_plain_urdf(tmp_path: object) -> None:
+    path = f"{tmp_path}/arm.urdf"
+    with open(path, "w", encoding="utf-8") as handle:
+        handle.write('<robot name="r" xmlns:xacro="http://www.ros.org/wiki/xacro">\n'
+                     '  <link name="a"/>\n</robot>\n')
+    [loaded] = read(path)
+    assert loaded.format == "urdf" and not loaded.diagnostics
 
 
 #: what the scan of the bytes must step over or count as expat does: markup-like text in a

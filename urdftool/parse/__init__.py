@@ -108,10 +108,10 @@ def read(
 
 
 def _finish(path: str, fmt: str, robot: Robot | None, diagnostics: list[Diagnostic],
-            files: list[str]) -> Loaded:
+            files: list[str], without_suppressions: tuple[str, ...] = ()) -> Loaded:
     if robot is not None:
         robot = dataclasses.replace(robot, diagnostics=tuple(diagnostics), format=fmt, path=path)
-    return Loaded(path, fmt, robot, diagnostics, files)
+    return Loaded(path, fmt, robot, diagnostics, files, without_suppressions=without_suppressions)
 
 
 def _read_urdf(path: str, resolver: PackageResolver, args: Mapping[str, str]) -> Loaded:
@@ -132,10 +132,8 @@ def _read_urdf(path: str, resolver: PackageResolver, args: Mapping[str, str]) ->
         return _finish(path, "xacro", loaded.robot, found, loaded.files)
     reader = UrdfReader(path, SourceIndex(), resolver, document=document)
     robot = reader.read(document.root)
-    loaded = _finish(path, "urdf", robot, problems + reader.diagnostics, [path])
-    if not document.may_hold_suppressions:
-        loaded = dataclasses.replace(loaded, without_suppressions=(path,))
-    return loaded
+    return _finish(path, "urdf", robot, problems + reader.diagnostics, [path],
+                   () if document.may_hold_suppressions else (path,))
 
 
 def _read_xacro(path: str, args: Mapping[str, str], resolver: PackageResolver) -> Loaded:

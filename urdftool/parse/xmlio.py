@@ -20,6 +20,7 @@ from __future__ import annotations
 import functools
 import re
 import sys
+import threading
 from collections.abc import Callable
 
 from lxml import etree
@@ -29,7 +30,7 @@ from urdftool.catalogue.xacro import XacroInUrdf
 from urdftool.diagnostics import Diagnostic, Severity
 from urdftool.parse.locate import PositionTable, span_of, stamp_positions
 from urdftool.records import record
-from urdftool.safe_files import DEFAULT_LIMITS, human, limit, open_regular
+from urdftool.safe_files import DEFAULT_LIMITS, human, limit, open_regular, read_capped
 from urdftool.source import Span, deferred_span
 
 #: Larger inputs are refused by default (the largest corpus URDF is about 1 MB);
@@ -122,17 +123,25 @@ _ENTITY_DECL = re.compile(rb"<!ENTITY", re.IGNORECASE)
 _DOCTYPE = re.compile(rb"<!DOCTYPE", re.IGNORECASE)
 
 
+#: One parser per thread, used again for every file: lxml parsers may be reused one document
+#: at a time, not shared between threads (``check_many`` may run files in threads).
+_PARSERS = threading.local()
+
+
 def _parser() -> etree.XMLParser:
-    return etree.XMLParser(
-        resolve_entities=False,
-        no_network=True,
-        load_dtd=False,
-        dtd_validation=False,
-        huge_tree=False,
-        remove_blank_text=False,
-        remove_comments=True,
-        remove_pis=True,
-    )
+    parser: etree.XMLParser | None = getattr(_PARSERS, "parser", None)
+    if parser is None:
+        parser = _PARSERS.parser = etree.XMLParser(
+            resolve_entities=False,
+            no_network=True,
+            load_dtd=False,
+            dtd_validation=False,
+            huge_tree=False,
+            remove_blank_text=False,
+            remove_comments=True,
+            remove_pis=True,
+        )
+    return parser
 
 
 @record(frozen=False, eq=False)  # one run's state, equal only to itself
@@ -232,7 +241,7 @@ def parse_bytes(
         return None, [XmlSyntax.diagnostic(str(exc), Span(path, 1, 1))]
     if root is None:
         return None, [XmlSyntax.diagnostic("document has no root element", Span(path, 1, 1))]
-    may_use_xacro = b"wiki/xacro" in data or b"&#" in data
+    may_use_xacro = b"&#" in data or (b"wiki/xacro" in data and _may_name_xacro_elements(data))
     may_hold_suppressions = b"urdftool:" in data
     if stamp and table:
         path = sys.intern(path)
@@ -241,6 +250,20 @@ def parse_bytes(
     if stamp:
         stamp_positions(root, data, path)
     return XmlDocument(root, path, None, may_use_xacro, may_hold_suppressions), warnings
+
+
+#: a prefix bound to xacro's namespace, and xacro's namespace made the default one
+_XACRO_PREFIX = re.compile(rb"""xmlns:([^\s=/>]+)\s*=\s*["'][^"']*wiki/xacro""")
+_XACRO_DEFAULT = re.compile(rb"""xmlns\s*=\s*["'][^"']*wiki/xacro""")
+
+
+def _may_name_xacro_elements(data: bytes) -> bool:
+    """Whether an element of *data* can be in xacro's namespace: a tag starts with a prefix bound
+    to it, or it is made the default namespace. Files that xacro wrote declare the namespace on
+    ``<robot>`` and use it nowhere; the search of every element for it is then skipped."""
+    if _XACRO_DEFAULT.search(data):
+        return True
+    return any(b"<" + prefix + b":" in data for prefix in _XACRO_PREFIX.findall(data))
 
 
 _DECLARED_VERSION = re.compile(rb"^(\s*<\?xml[^>]*?version\s*=\s*[\"'])([^\"']*)([\"'])")
@@ -452,7 +475,7 @@ def read_up_to_cap(path: str, kind: str) -> bytes:
     """The bytes of a regular file, at most one more than *kind*'s cap (so the caller
     can report an oversized file as a finding). Raises ``OSError``."""
     with open_regular(path, kind, check_size=False) as handle:
-        return handle.read(limit(kind) + 1)
+        return read_capped(handle, limit(kind))
 
 
 def xacro_in_urdf(
