@@ -330,15 +330,6 @@ def _scoped_tags(data: bytes, path: str, warnings: list[Diagnostic]) -> bytes:
     return _SCOPED_TAG.sub(lambda m: m.group(1) + b"__", data)
 
 
-def _only_comment_hyphens(data: bytes) -> bool:
-    """Whether every ``--`` in *data* opens or closes a comment, told by counting (no copy of the
-    text). Without ``---`` every ``--`` stands alone, and without ``<!-->`` none of them both opens
-    and closes one; then as many ``--`` as ``<!--`` and ``-->`` together leaves none over. A
-    false answer only means the exact test runs."""
-    return (b"---" not in data and b"<!-->" not in data
-            and data.count(b"--") == data.count(b"<!--") + data.count(b"-->"))
-
-
 def _hyphens_in_comments(data: bytes, path: str, warnings: list[Diagnostic]) -> bytes:
     """Comments holding ``--`` (XML forbids it): the hyphens read as ``~``, byte for byte.
 
@@ -347,7 +338,7 @@ def _hyphens_in_comments(data: bytes, path: str, warnings: list[Diagnostic]) -> 
     expat (xacro, urdf_parser_py) refuse them. Only comment text changes, so no
     position moves.
     """
-    if _only_comment_hyphens(data) or b"--" not in data.replace(b"<!--", b"").replace(b"-->", b""):
+    if b"--" not in data.replace(b"<!--", b"").replace(b"-->", b""):
         return data
     first: int | None = None
 
