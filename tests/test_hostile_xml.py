@@ -37,6 +37,17 @@ EXTERNAL_ENTITY = b"""<?xml version="1.0"?>
 <robot name="arm"><link name="&secret;"/></robot>
 """
 
+#: markup in a comment before the DOCTYPE: the guard once took the comment's "<link" for the root
+#: element and looked for entity declarations only before it
+HIDDEN_BY_COMMENT = b"""<?xml version="1.0"?>
+<!-- generated from <link> templates -->
+<!DOCTYPE robot [<!ENTITY lol "lol"><!ENTITY lol2 "&lol;&lol;&lol;&lol;&lol;&lol;&lol;&lol;">]>
+<robot name="&lol2;"><link name="base"/></robot>
+"""
+
+#: a byte order mark before the DOCTYPE
+AFTER_BOM = b"\xef\xbb\xbf" + BILLION_LAUGHS.split(b"\n", 1)[1]
+
 
 def _oversized() -> bytes:
     body = b'<robot name="big">\n' + b'  <link name="l"/>\n' * (MAX_BYTES // 18 + 1) + b"</robot>\n"
@@ -48,6 +59,8 @@ def _oversized() -> bytes:
 CASES: dict[str, tuple[Callable[[], bytes], int, str]] = {
     "billion-laughs": (lambda: BILLION_LAUGHS, 3, "entity"),
     "external-entity": (lambda: EXTERNAL_ENTITY, 3, "entity"),
+    "entity-behind-a-comment": (lambda: HIDDEN_BY_COMMENT, 3, "entity"),
+    "entity-after-a-bom": (lambda: AFTER_BOM, 2, "entity"),
     "deep-nesting": (
         lambda: b'<robot name="deep">\n' + b"<a>" * 300 + b"</a>" * 300 + b"\n</robot>\n",
         2,
@@ -117,7 +130,8 @@ def test_hostile_input_is_a_located_xml_syntax_error(tmp_path: Path, case: str, 
     assert word.lower() in finding["message"].lower()
 
 
-@pytest.mark.parametrize("case", ["billion-laughs", "external-entity"])
+@pytest.mark.parametrize("case", ["billion-laughs", "external-entity", "entity-behind-a-comment",
+                                  "entity-after-a-bom"])
 def test_entities_are_never_expanded(tmp_path: Path, case: str) -> None:
     checked, _ = _write(tmp_path, case, "urdf")
     code, output = _check(str(checked))
