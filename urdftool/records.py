@@ -91,7 +91,8 @@ def init_source(cls: type, function_name: str = "make_init") -> str:
     """Source of a function that returns *cls*'s ``__init__``, as ``dataclasses`` writes it.
 
     The outer function takes the class's defaults and factories by field name, the
-    factory sentinel and ``object.__setattr__``; defaults are bound when it runs, at import.
+    factory sentinel, ``object.__setattr__`` and a function that gives a slot's setter
+    (see :func:`_storage`); defaults and setters are bound when it runs, at import.
     A field with ``init=False`` is set from its default or factory, if it has one.
     """
     storage = _storage(cls)
