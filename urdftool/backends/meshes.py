@@ -32,7 +32,7 @@ else:  # NumPy loads when a mesh is first read: a structural check never pays fo
     from urdftool.lazy import numpy as np
 
 from urdftool.backends import collada, mesh_cache, mesh_files
-from urdftool.model.pose import Matrix, Vec3
+from urdftool.model.pose import Matrix, Vec3, vector_norm
 from urdftool.records import record
 from urdftool.safe_files import check_regular, open_regular, read_head, read_regular
 
@@ -122,7 +122,7 @@ class MeshInfo:
 
 def box_diagonal(lo: Vec3, hi: Vec3) -> float:
     """Length (m) of the diagonal of the box from corner *lo* to corner *hi*."""
-    return float(np.linalg.norm((hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2])))
+    return vector_norm((hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]))
 
 
 # -- per-process memory ----------------------------------------------------------

@@ -12,12 +12,24 @@ facts once per file and scale however many links use it.
 from __future__ import annotations
 
 from collections.abc import Iterator
-from typing import Any
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:
+    import numpy as np
+else:
+    # NumPy is imported on first use: a structural check must not pay for it.
+    from urdftool.lazy import numpy as np
 
 from urdftool.facts.context import CheckContext
 from urdftool.model import Geometry, Inertial, Link, Mesh
 from urdftool.physics import linkmass
-from urdftool.physics.inertia import RELATIVE_TOLERANCE, InertiaVerdict, judge_moments, principal_moments
+from urdftool.physics.inertia import (
+    RELATIVE_TOLERANCE,
+    InertiaVerdict,
+    judge_moments,
+    principal_moments,
+    principal_moments_many,
+)
 from urdftool.physics.linkmass import InertiaComparison, Moments
 from urdftool.physics.massprops import SolidProperties, geometry_properties
 
@@ -33,13 +45,31 @@ def declared_verdict(ctx: CheckContext, inertial: Inertial, abs_tol: float = 0.0
 
 
 def declared_moments(ctx: CheckContext, inertial: Inertial) -> Moments:
-    """Principal moments (kg·m², ascending) of the tensor as written, once per distinct tensor."""
-    moments: dict[Any, Moments] = ctx.cache.setdefault("declared-moments", {})
+    """Principal moments (kg·m², ascending) of the tensor as written, once per distinct tensor.
+
+    The first call decomposes every link's tensor at once
+    (:func:`~urdftool.physics.inertia.principal_moments_many`): the validity rules judge each
+    of them anyway.
+    """
+    moments: dict[Any, Moments] | None = ctx.cache.get("declared-moments")
+    if moments is None:
+        moments = ctx.cache["declared-moments"] = _all_declared_moments(ctx)
     found = moments.get(inertial.inertia)
     if found is None:
         values, _ = principal_moments(inertial.inertia_matrix)
         found = moments[inertial.inertia] = (float(values[0]), float(values[1]), float(values[2]))
     return found
+
+
+def _all_declared_moments(ctx: CheckContext) -> dict[Any, Moments]:
+    inertials = (link.inertial for link in ctx.robot.links if link.inertial is not None)
+    tensors = list(dict.fromkeys(inertial.inertia for inertial in inertials))
+    try:
+        return dict(zip(tensors, principal_moments_many(tensors), strict=True))
+    except np.linalg.LinAlgError:
+        # One tensor that LAPACK cannot decompose fails the whole stack; decomposed one at a
+        # time, it fails only the rule that asks for it, as it always did.
+        return {}
 
 
 def geometry_sources(ctx: CheckContext, link: Link) -> Iterator[tuple[str, SolidProperties]]:

@@ -40,6 +40,25 @@ def finite3(values: Vec3) -> Vec3:
     return (finite(values[0]), finite(values[1]), finite(values[2]))
 
 
+def vector_norm(values: Vec3 | Matrix) -> float:
+    """``float(numpy.linalg.norm(values))``, the same number, for the hot paths.
+
+    NumPy's norm of a vector (or the Frobenius norm of a matrix) is the square root of the
+    array's dot product with itself; this computes exactly that, without the function's
+    dispatch, which costs more than the arithmetic on a 3-vector (tens of thousands of calls a
+    check: shapes' sizes, joint axes, centres of mass).
+    """
+    import numpy as np
+
+    if type(values) is np.ndarray and values.ndim == 1 and values.dtype == np.float64:
+        return math.sqrt(values.dot(values))  # the common case, without a conversion
+    array = np.asarray(values)
+    if not issubclass(array.dtype.type, (np.inexact, np.object_)):
+        array = array.astype(float)
+    array = array.ravel(order="K")
+    return math.sqrt(array.dot(array))
+
+
 def rpy_to_matrix(rpy: Vec3) -> Matrix:
     """3×3 rotation matrix for fixed-axis roll, pitch, yaw (radians); non-finite angles count as 0."""
     import numpy as np
@@ -61,16 +80,19 @@ def matrix_to_rpy(rotation: Matrix) -> Vec3:
     """Fixed-axis roll, pitch, yaw (radians) of a 3×3 rotation matrix."""
     import numpy as np
 
-    r = np.asarray(rotation, dtype=float)
-    if not np.all(np.isfinite(r)):
+    # On Python floats: the same doubles as NumPy's scalars (so the same angles), without a
+    # NumPy scalar per element read; a robot's poses are composed thousands of times a check.
+    rows = np.asarray(rotation, dtype=float).tolist()
+    if not all(map(math.isfinite, (*rows[0], *rows[1], *rows[2]))):
         return ZERO3
-    pitch = math.atan2(-r[2, 0], math.hypot(r[0, 0], r[1, 0]))
+    (r00, r01, _), (r10, r11, _), (r20, r21, r22) = rows
+    pitch = math.atan2(-r20, math.hypot(r00, r10))
     if abs(abs(pitch) - math.pi / 2) < 1e-9:
         # Gimbal lock: only roll - yaw (or roll + yaw) is defined; put it all in yaw.
-        yaw = math.atan2(-r[0, 1], r[1, 1])
+        yaw = math.atan2(-r01, r11)
         return (0.0, pitch, yaw)
-    roll = math.atan2(r[2, 1], r[2, 2])
-    yaw = math.atan2(r[1, 0], r[0, 0])
+    roll = math.atan2(r21, r22)
+    yaw = math.atan2(r10, r00)
     return (roll, pitch, yaw)
 
 
@@ -124,7 +146,7 @@ def axis_angle_matrix(axis: Vec3, angle: float) -> Matrix:
     import numpy as np
 
     a = np.asarray(finite3(axis), dtype=float)
-    n = float(np.linalg.norm(a))
+    n = vector_norm(a)
     if not (n > 0.0 and math.isfinite(n)):
         return np.eye(3)
     x, y, z = a / n

@@ -12,7 +12,7 @@ from collections.abc import Iterator, Mapping, Sequence
 from dataclasses import field
 from functools import cached_property
 
-from urdftool.model.pose import Matrix, axis_angle_matrix, homogeneous, quaternion_to_matrix
+from urdftool.model.pose import Matrix, axis_angle_matrix, homogeneous, quaternion_to_matrix, vector_norm
 from urdftool.model.robot import Joint, JointType, Link, Robot
 from urdftool.records import record
 
@@ -247,7 +247,7 @@ def joint_motion(joint: Joint, q: Mapping[str, float | Sequence[float]], robot: 
     else:
         value = q.get(joint.name, 0.0)
     axis = np.asarray(joint.axis, dtype=float)
-    norm = float(np.linalg.norm(axis))
+    norm = vector_norm(axis)
     unit = axis / norm if norm > 0 else np.array([1.0, 0.0, 0.0])
     if joint.type in (JointType.REVOLUTE, JointType.CONTINUOUS):
         return homogeneous(axis_angle_matrix(tuple(unit), float(value)), (0.0, 0.0, 0.0))  # type: ignore[arg-type]
@@ -257,7 +257,7 @@ def joint_motion(joint: Joint, q: Mapping[str, float | Sequence[float]], robot: 
         pair = isinstance(value, Sequence) and len(value) == 2
         first, second = (value[0], value[1]) if pair else (0.0, 0.0)  # type: ignore[index]
         axis2 = np.asarray(joint.axis2, dtype=float)
-        axis2 = axis2 / (float(np.linalg.norm(axis2)) or 1.0)
+        axis2 = axis2 / (vector_norm(axis2) or 1.0)
         turn_first = axis_angle_matrix(tuple(unit), float(first))
         rotation = turn_first @ axis_angle_matrix(tuple(axis2), float(second))
         return homogeneous(rotation, (0.0, 0.0, 0.0))

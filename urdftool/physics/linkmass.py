@@ -21,7 +21,7 @@ else:
     from urdftool.lazy import numpy as np
 
 from urdftool.model import Collision, Geometry, Link, Visual
-from urdftool.model.pose import Matrix
+from urdftool.model.pose import Matrix, vector_norm
 from urdftool.physics.inertia import principal_moments
 from urdftool.physics.massprops import (
     SolidProperties,
@@ -176,7 +176,7 @@ def distance_outside(point: Matrix, solid: SolidProperties) -> float:
     """How far (m) *point* lies outside the solid's bounds, link frame (0 inside)."""
     below = np.maximum(solid.bounds_min - point, 0.0)
     above = np.maximum(point - solid.bounds_max, 0.0)
-    return float(np.linalg.norm(np.maximum(below, above)))
+    return vector_norm(np.maximum(below, above))
 
 
 def _moments(tensor: Matrix) -> Moments:
@@ -186,4 +186,4 @@ def _moments(tensor: Matrix) -> Moments:
 
 def bounds_diagonal(solid: SolidProperties) -> float:
     """Length (m) of the diagonal of the solid's bounds: the size of the part."""
-    return float(np.linalg.norm(solid.bounds_max - solid.bounds_min))
+    return vector_norm(solid.bounds_max - solid.bounds_min)

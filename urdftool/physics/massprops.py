@@ -153,10 +153,13 @@ def geometry_properties(geometry: Geometry | None) -> SolidProperties | None:
 
 def place(solid: SolidProperties, origin: Pose) -> SolidProperties:
     """*solid* moved by *origin* (the shape frame in the link frame)."""
+    if _unrotated(solid, origin):
+        return _shifted(solid, origin.xyz)
     rotation = origin.rotation
-    center = rotation @ solid.center + np.asarray(origin.xyz, dtype=float)
+    xyz = np.asarray(origin.xyz, dtype=float)
+    center = rotation @ solid.center + xyz
     inertia = rotation @ solid.inertia @ rotation.T
-    corners = _corners(solid.bounds_min, solid.bounds_max) @ rotation.T + np.asarray(origin.xyz)
+    corners = _corners(solid.bounds_min, solid.bounds_max) @ rotation.T + xyz
     return SolidProperties(
         solid.volume,
         center,
@@ -169,8 +172,46 @@ def place(solid: SolidProperties, origin: Pose) -> SolidProperties:
 
 
 def _corners(lo: Matrix, hi: Matrix) -> Matrix:
-    return np.array(
-        [[x, y, z] for x in (lo[0], hi[0]) for y in (lo[1], hi[1]) for z in (lo[2], hi[2])]
+    (x0, y0, z0), (x1, y1, z1) = lo.tolist(), hi.tolist()
+    return np.array([[x, y, z] for x in (x0, x1) for y in (y0, y1) for z in (z0, z1)])
+
+
+def _unrotated(solid: SolidProperties, origin: Pose) -> bool:
+    """Whether :func:`place` may skip its products with the rotation: they would give back the
+    same numbers, sign of zero included.
+
+    Most shapes sit at ``rpy="0 0 0"``, whose rotation holds only ones and zeros; a product with
+    it is exact, except that a sum of zeros is +0 unless every term is -0, and that 0 × ∞ is NaN.
+    So: the angles are +0 (``rpy_to_matrix`` of -0 differs in signs of zeros), no -0 in the
+    offset (each product is added to it, and ±0 + +0 is +0 in both ways of computing it), nor in
+    the inertia (its products are not added to anything), and every number finite.
+    """
+    roll, pitch, yaw = origin.rpy
+    if roll != 0.0 or pitch != 0.0 or yaw != 0.0:
+        return False
+    if math.copysign(1.0, roll) + math.copysign(1.0, pitch) + math.copysign(1.0, yaw) != 3.0:
+        return False
+    (i0, i1, i2), (i3, i4, i5), (i6, i7, i8) = solid.inertia.tolist()
+    values = (*origin.xyz, i0, i1, i2, i3, i4, i5, i6, i7, i8)
+    if any(v == 0.0 and math.copysign(1.0, v) < 0.0 for v in values):
+        return False
+    return all(map(math.isfinite, (*values, *solid.center.tolist(), *solid.bounds_min.tolist(),
+                                   *solid.bounds_max.tolist())))
+
+
+def _shifted(solid: SolidProperties, xyz: tuple[float, float, float]) -> SolidProperties:
+    """:func:`place` without rotation (see :func:`_unrotated`): the same numbers, three products
+    fewer. The bounds' corners are not enumerated: adding an offset keeps the order of numbers."""
+    offset = np.asarray(xyz, dtype=float)
+    lo, hi = solid.bounds_min, solid.bounds_max
+    return SolidProperties(
+        solid.volume,
+        solid.center + offset,
+        solid.inertia.copy(),
+        np.minimum(lo, hi) + offset,
+        np.maximum(lo, hi) + offset,
+        solid.label,
+        solid.approximate,
     )
 
 

@@ -21,7 +21,7 @@ from urdftool.facts import home
 from urdftool.facts.context import CheckContext
 from urdftool.model import Collision, Joint, Link, Visual
 from urdftool.model.geometry import Box, Capsule, Cylinder, Ellipsoid, Geometry, Sphere
-from urdftool.model.pose import Matrix
+from urdftool.model.pose import Matrix, vector_norm
 
 #: Defaults of every intent threshold, by option name (docs/intent.md explains each).
 DEFAULTS: dict[str, float] = {
@@ -136,7 +136,7 @@ def robot_extent(ctx: CheckContext) -> float:
 
 def angle_between(a: Matrix, b: Matrix) -> float:
     """Angle (rad) between two directions, ignoring sign (parallel and anti-parallel are 0)."""
-    na, nb = float(np.linalg.norm(a)), float(np.linalg.norm(b))
+    na, nb = vector_norm(a), vector_norm(b)
     if na == 0 or nb == 0:
         return 0.0
     cos = abs(float(np.dot(a, b))) / (na * nb)

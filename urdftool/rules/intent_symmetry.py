@@ -34,6 +34,7 @@ from urdftool.diagnostics import Diagnostic, Related, Severity
 from urdftool.facts.context import CheckContext
 from urdftool.model import Joint, JointType, Link
 from urdftool.model.geometry import Mesh
+from urdftool.model.pose import vector_norm
 from urdftool.physics.describe import fmt
 from urdftool.rules.intent_common import (
     IntentRule,
@@ -63,15 +64,27 @@ _LETTERS = {"l": "r", "r": "l", "L": "R", "R": "L"}
 _SIDE_LETTERS = frozenset(_LETTERS)
 
 
-def mirror_names(name: str) -> list[str]:
-    """Names that *name* would have on the other side: every side marker swapped, then one at a time."""
+def mirror_names(name: str, swaps: dict[str, list[str]] | None = None) -> list[str]:
+    """Names that *name* would have on the other side: every side marker swapped, then one at a time.
+
+    *swaps*: each token's :func:`_swap_token`, kept across the names of one robot (their
+    tokens repeat: ``joint``, ``link``, ``left``).
+    """
     parts = _TOKENS.split(name)
+    memo = {} if swaps is None else swaps
+    tokens: list[list[str]] = []
+    for i in range(0, len(parts), 2):
+        part = parts[i]
+        found = memo.get(part)
+        if found is None:
+            found = memo[part] = _swap_token(part)
+        tokens.append(found)
     out: list[str] = []
-    every = [(_swap_token(p) or [p])[0] if i % 2 == 0 else p for i, p in enumerate(parts)]
+    every = [(tokens[i // 2] or [p])[0] if i % 2 == 0 else p for i, p in enumerate(parts)]
     if every != parts:
         out.append("".join(every))
     for i in range(0, len(parts), 2):
-        for swapped in _swap_token(parts[i]):
+        for swapped in tokens[i // 2]:
             out.append("".join((*parts[:i], swapped, *parts[i + 1 :])))
     return out
 
@@ -110,8 +123,9 @@ def pairs(names: Sequence[str]) -> list[tuple[str, str]]:
     known = set(names)
     seen: set[frozenset[str]] = set()
     out: list[tuple[str, str]] = []
+    swaps: dict[str, list[str]] = {}
     for name in names:
-        for other in mirror_names(name):
+        for other in mirror_names(name, swaps):
             key = frozenset((name, other))
             if other in known and other != name and key not in seen:
                 seen.add(key)
@@ -370,7 +384,7 @@ class MirroredJointMismatch(IntentRule):
 
 def _unit(axis: Sequence[float]) -> np.ndarray:
     v = np.asarray(axis, dtype=float)
-    n = float(np.linalg.norm(v))
+    n = vector_norm(v)
     return v / n if n > 0 else v
 
 

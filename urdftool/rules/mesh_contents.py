@@ -20,6 +20,7 @@ from urdftool.diagnostics import Diagnostic, Severity
 from urdftool.facts import meshes as survey
 from urdftool.facts.context import CheckContext
 from urdftool.facts.meshes import MeshError, MeshFacts
+from urdftool.model.pose import vector_norm
 from urdftool.rules.mesh_geometry import (
     FACE_BUDGET,
     UNITS_TOO_LARGE,
@@ -77,7 +78,9 @@ class MeshUnitsSuspect(_Meshes):
         if reference is None:
             return
         size, basis = reference
-        spans = link_spans(ctx)
+        # Measured when the first mesh could be evidence: below LINK_RATIO_MIN times the
+        # smallest span that counts, no link's span can judge it.
+        spans: dict[str, float] | None = None
         reported: set[tuple[str, tuple[float, float, float]]] = set()
         for use, path in survey.existing_files(ctx):
             facts = contents.get(path) if path else None
@@ -88,6 +91,10 @@ class MeshUnitsSuspect(_Meshes):
             diagonal = survey.scaled_diagonal(ctx, path, facts, use.mesh.scale)
             ratio = diagonal / size
             if UNITS_TOO_SMALL <= ratio <= UNITS_TOO_LARGE:
+                if diagonal < LINK_RATIO_MIN * LINK_SPAN_MIN:
+                    continue
+                if spans is None:
+                    spans = link_spans(ctx)
                 unit = _link_evidence(diagonal, spans.get(use.link))
                 if unit is not None:
                     reported.add((path, use.mesh.scale))
@@ -164,7 +171,7 @@ def link_spans(ctx: CheckContext) -> dict[str, float]:
     children's origins; its own origin is its parent joint)."""
     spans: dict[str, float] = {}
     for joint in ctx.robot.joints:
-        distance = float(np.linalg.norm(joint.origin.xyz))
+        distance = vector_norm(joint.origin.xyz)
         spans[joint.parent] = max(spans.get(joint.parent, 0.0), distance)
     return {name: span for name, span in spans.items() if span >= LINK_SPAN_MIN}
 
