@@ -12,6 +12,7 @@ import dataclasses
 import difflib
 import itertools
 import random
+from collections.abc import Iterator
 
 import numpy as np
 import pytest
@@ -98,3 +99,54 @@ def test_geometry_sources_stay_lazy() -> None:
     assert first[0] == "collision"
     assert len(ctx.cache["link-solids"]["l"].measured) == 1
     assert [s for s, _ in link_mass.geometry_sources(ctx, link)] == ["collision", "visual"]
+
+
+@pytest.mark.skipif(ERD is None, reason="example-robot-data is not installed")
+def test_comparisons_in_one_batch_are_the_comparisons_one_at_a_time() -> None:
+    """The geometry's moments of every link in one eigh give the comparisons bit for bit."""
+    resolver = PackageResolver.create()
+    for path in erd_urdfs():
+        for model in read(path, {}, resolver):
+            robot = model.robot
+            if robot is None:
+                continue
+            batch = CheckContext(robot, KinematicTree.of(robot))
+            alone = CheckContext(robot, KinematicTree.of(robot))
+            found = list(link_mass.comparisons(batch, robot.links))
+            assert [link for link, _ in found] == list(robot.links)
+            for link, got in found:
+                expected = link_mass.comparison(alone, link)
+                assert (got is None) == (expected is None), (path, link.name)
+                if got is not None and expected is not None:
+                    assert (got.source, got.ratio) == (expected.source, expected.ratio)
+                    assert got.worst == expected.worst
+                    assert got.computed.tobytes() == expected.computed.tobytes()
+
+
+def test_comparisons_raise_where_one_at_a_time_would() -> None:
+    """An error while listing the links comes after the comparisons of the links before it."""
+    links = [Link(f"l{k}", collisions=(Collision(Box((0.5, 0.5, 0.5))),)) for k in range(3)]
+    robot = Robot("r", links=tuple(links))
+    ctx = CheckContext(robot, KinematicTree.of(robot))
+
+    def listed() -> Iterator[Link]:
+        yield links[0]
+        yield links[1]
+        raise RuntimeError("listing failed")
+
+    found = link_mass.comparisons(ctx, listed())
+    assert [link.name for link, _ in itertools.islice(found, 2)] == ["l0", "l1"]
+    with pytest.raises(RuntimeError, match="listing failed"):
+        next(found)
+
+
+@pytest.mark.skipif(ERD is None, reason="example-robot-data is not installed")
+def test_declared_moments_of_the_whole_robot_are_each_tensors() -> None:
+    """One stacked eigh of every declared tensor gives each tensor's own eigenvalues."""
+    for robot in _robots():
+        ctx = CheckContext(robot, KinematicTree.of(robot))
+        for link in robot.links:
+            if link.inertial is not None:
+                tensor = link.inertial.inertia_matrix
+                values, _ = np.linalg.eigh(0.5 * (tensor + tensor.T))
+                assert link_mass.declared_moments(ctx, link.inertial) == tuple(values.tolist()), link.name

@@ -11,7 +11,7 @@ facts once per file and scale however many links use it.
 
 from __future__ import annotations
 
-from collections.abc import Iterator
+from collections.abc import Iterable, Iterator
 from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:
@@ -30,7 +30,7 @@ from urdftool.physics.inertia import (
     principal_moments,
     principal_moments_many,
 )
-from urdftool.physics.linkmass import InertiaComparison, Moments
+from urdftool.physics.linkmass import InertiaComparison, Moments, Prepared
 from urdftool.physics.massprops import SolidProperties, geometry_properties
 
 
@@ -89,6 +89,39 @@ def comparison(ctx: CheckContext, link: Link) -> InertiaComparison | None:
     """:func:`urdftool.physics.linkmass.compare_with_geometry` of *link*, from the measured solids."""
     moments = declared_moments(ctx, link.inertial) if link.inertial is not None else None
     return linkmass.compare_with_geometry(link, geometry_sources(ctx, link), moments)
+
+
+def comparisons(ctx: CheckContext, links: Iterable[Link]) -> Iterator[tuple[Link, InertiaComparison | None]]:
+    """Each of *links* with its :func:`comparison`, in order: the same comparisons, with the
+    geometry's principal moments of all of them decomposed in one call
+    (:func:`~urdftool.physics.inertia.principal_moments_many`) instead of one per link.
+
+    An error (from *links* itself or from measuring a link's geometry) is raised after the
+    links before it are yielded, where a loop calling :func:`comparison` would meet it.
+    """
+    prepared: list[tuple[Link, Prepared | None]] = []
+    failure: Exception | None = None
+    remaining = iter(links)
+    try:
+        for link in remaining:
+            prepared.append((link, linkmass.prepare_comparison(link, geometry_sources(ctx, link))))
+    except Exception as exc:  # raised in its turn below
+        failure = exc
+    try:
+        batch: Iterator[Moments] | None = iter(
+            principal_moments_many([found[2] for _, found in prepared if found is not None])
+        )
+    except np.linalg.LinAlgError:  # one at a time, so that only that link's comparison raises
+        batch = None
+    for link, found in prepared:
+        if found is None:
+            yield link, None
+            continue
+        declared = declared_moments(ctx, link.inertial) if link.inertial is not None else None
+        moments = next(batch) if batch is not None else linkmass.moments_of(found[2])
+        yield link, linkmass.finish_comparison(link, found, declared, moments)
+    if failure is not None:
+        raise failure
 
 
 class _Sources:

@@ -8,6 +8,7 @@ to points expressed in the child frame to express them in the parent frame.
 from __future__ import annotations
 
 import math
+from collections.abc import Iterable
 from typing import TYPE_CHECKING, Any
 
 from urdftool.records import record
@@ -57,6 +58,42 @@ def vector_norm(values: Vec3 | Matrix) -> float:
         array = array.astype(float)
     array = array.ravel(order="K")
     return math.sqrt(array.dot(array))
+
+
+def unrotated(rpy: Vec3) -> bool:
+    """Whether ``rpy_to_matrix(rpy)`` holds only ones and zeros: every angle +0.
+
+    Its products with a vector or a tensor give back the same numbers, with two exceptions: a
+    sum of zeros is +0 unless every term is -0 (an entry that is -0 may come back +0), and
+    0 × ∞ is NaN. :func:`identity_exact` tells when neither can happen; then the products can
+    be skipped, and the numbers are the same to the bit. (-0 angles give a matrix with other
+    signs of zero, so they do not count.)
+    """
+    roll, pitch, yaw = rpy
+    return (
+        roll == 0.0 and pitch == 0.0 and yaw == 0.0
+        and math.copysign(1.0, roll) + math.copysign(1.0, pitch) + math.copysign(1.0, yaw) == 3.0
+    )
+
+
+def identity_exact(values: Iterable[float]) -> bool:
+    """Whether every number is finite and none is -0 (see :func:`unrotated`)."""
+    return all(math.isfinite(v) and (v != 0.0 or math.copysign(1.0, v) > 0.0) for v in values)
+
+
+def rotate_tensor(tensor: Matrix, rpy: Vec3, inverse: bool = False) -> Matrix:
+    """``R @ tensor @ R.T`` (``R.T @ tensor @ R`` when *inverse*), R = ``rpy_to_matrix(rpy)``:
+    a tensor (kg·m²) written in a frame at *rpy*, expressed in its parent frame (or back).
+
+    A frame at ``rpy="0 0 0"`` (most inertial frames) returns a copy without the products,
+    when :func:`unrotated` says that gives the same numbers.
+    """
+    if unrotated(rpy) and identity_exact(tensor.ravel().tolist()):
+        copied: Matrix = tensor.copy()
+        return copied
+    rotation = rpy_to_matrix(rpy)
+    rotated: Matrix = rotation.T @ tensor @ rotation if inverse else rotation @ tensor @ rotation.T
+    return rotated
 
 
 def rpy_to_matrix(rpy: Vec3) -> Matrix:
@@ -149,7 +186,7 @@ def axis_angle_matrix(axis: Vec3, angle: float) -> Matrix:
     n = vector_norm(a)
     if not (n > 0.0 and math.isfinite(n)):
         return np.eye(3)
-    x, y, z = a / n
+    x, y, z = (a / n).tolist()  # Python floats: the same doubles, cheaper arithmetic
     angle = finite(angle)
     c, s = math.cos(angle), math.sin(angle)
     t = 1.0 - c

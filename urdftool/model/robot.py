@@ -15,7 +15,7 @@ from dataclasses import field
 from typing import TYPE_CHECKING, Any
 
 from urdftool.model.geometry import Geometry
-from urdftool.model.pose import IDENTITY, Matrix, Pose, Vec3
+from urdftool.model.pose import IDENTITY, Matrix, Pose, Vec3, rotate_tensor
 from urdftool.records import record
 from urdftool.source import Span
 
@@ -91,9 +91,7 @@ class Inertial:
     @property
     def inertia_in_link_frame(self) -> Matrix:
         """The tensor about the centre of mass, rotated into the link frame."""
-        rot = self.origin.rotation
-        rotated: Matrix = rot @ self.inertia_matrix @ rot.T
-        return rotated
+        return rotate_tensor(self.inertia_matrix, self.origin.rpy)
 
     @staticmethod
     def tensor(ixx: float, ixy: float, ixz: float, iyy: float, iyz: float, izz: float) -> Inertia3:

@@ -250,7 +250,7 @@ def joint_motion(joint: Joint, q: Mapping[str, float | Sequence[float]], robot: 
     norm = vector_norm(axis)
     unit = axis / norm if norm > 0 else np.array([1.0, 0.0, 0.0])
     if joint.type in (JointType.REVOLUTE, JointType.CONTINUOUS):
-        return homogeneous(axis_angle_matrix(tuple(unit), float(value)), (0.0, 0.0, 0.0))  # type: ignore[arg-type]
+        return homogeneous(axis_angle_matrix(tuple(unit.tolist()), float(value)), (0.0, 0.0, 0.0))  # type: ignore[arg-type]
     if joint.type is JointType.PRISMATIC:
         return homogeneous(np.eye(3), unit * float(value))  # type: ignore[arg-type]
     if joint.type in (JointType.UNIVERSAL, JointType.REVOLUTE2) and joint.axis2 is not None:

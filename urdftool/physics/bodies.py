@@ -20,7 +20,7 @@ else:
     from urdftool.lazy import numpy as np
 
 from urdftool.model import KinematicTree, Link, Robot
-from urdftool.model.pose import Matrix, Pose
+from urdftool.model.pose import Matrix, Pose, Vec3, identity_exact, rotate_tensor, unrotated
 from urdftool.physics.inertia import shift_to_point
 from urdftool.records import record
 
@@ -69,16 +69,26 @@ class RigidBody:
         for link, pose in self.links:
             if link.inertial is None or link.inertial.mass <= 0:
                 continue
-            rotation = pose.rotation
-            com = rotation @ np.asarray(link.inertial.origin.xyz) + np.asarray(pose.xyz)
+            com = _moved(link.inertial.origin.xyz, pose)
             own = (replaced or {}).get(link.name, link.inertial.inertia_in_link_frame)
-            tensor = rotation @ own @ rotation.T
+            tensor = rotate_tensor(own, pose.rpy)
             parts.append((link.inertial.mass, com, tensor))
         total = sum(m for m, _, _ in parts)
         if total <= 0:
             return np.zeros((3, 3))
         center = sum((m * c for m, c, _ in parts), np.zeros(3)) / total
         return sum((shift_to_point(t, m, c - center) for m, c, t in parts), np.zeros((3, 3)))
+
+
+def _moved(point: Vec3, pose: Pose) -> Matrix:
+    """*point* (m, link frame) in the head's frame; without the rotation's product when it
+    gives back the same numbers (the head itself, links welded without a turn; see
+    :func:`~urdftool.model.pose.unrotated`)."""
+    if unrotated(pose.rpy) and identity_exact((*point, *pose.xyz)):
+        moved: Matrix = np.asarray(point, dtype=float) + np.asarray(pose.xyz)
+        return moved
+    rotated: Matrix = pose.rotation @ np.asarray(point) + np.asarray(pose.xyz)
+    return rotated
 
 
 def rigid_bodies(tree: KinematicTree) -> list[RigidBody]:

@@ -38,7 +38,7 @@ def principal_moments(tensor: Matrix) -> tuple[Matrix, Matrix]:
     return values, vectors
 
 
-def principal_moments_many(tensors: Sequence[Inertia3]) -> list[tuple[float, float, float]]:
+def principal_moments_many(tensors: Sequence[Inertia3 | Matrix]) -> list[tuple[float, float, float]]:
     """:func:`principal_moments`' eigenvalues (ascending, kg·m²) of each tensor, in one call.
 
     The same numbers as one call per tensor: NumPy's ``eigh`` of a stack runs the same

@@ -119,25 +119,44 @@ def compare_inertia(
 
     *declared_moments*: the declared tensor's principal moments (ascending), when already known.
     """
+    prepared = _prepare(link, source, solid)
+    if prepared is None:
+        return None
+    return finish_comparison(link, prepared, declared_moments, moments_of(prepared[2]))
+
+
+#: A comparison before its principal moments: (source, solid, computed tensor, trace ratio), what
+#: decides whether there is one.
+Prepared = tuple[str, SolidProperties, Matrix, float]
+
+
+def _prepare(link: Link, source: str, solid: SolidProperties) -> Prepared | None:
     computed = geometry_tensor(link, solid)
     if computed is None or link.inertial is None:
         return None
-    inertial = link.inertial
-    declared = inertial.inertia_matrix
-    computed_trace = float(np.trace(computed))
-    declared_trace = float(np.trace(declared))
+    computed_trace = float(computed.trace())
+    declared_trace = float(link.inertial.inertia_matrix.trace())
     if computed_trace <= 0 or declared_trace <= 0:
         return None
+    return (source, solid, computed, declared_trace / computed_trace)
+
+
+def finish_comparison(
+    link: Link, prepared: Prepared, declared_moments: Moments | None, computed_moments: Moments
+) -> InertiaComparison:
+    """The comparison *prepared* leads to, given both tensors' principal moments (kg·m²,
+    ascending; the declared ones computed here when ``None``)."""
     if declared_moments is None:
-        declared_moments = _moments(declared)
-    computed_moments = _moments(computed)
+        assert link.inertial is not None
+        declared_moments = moments_of(link.inertial.inertia_matrix)
     worst = 1.0
     for d, c in zip(declared_moments, computed_moments, strict=True):
         if d <= 0 or c <= 0:
             worst = math.inf
             break
         worst = max(worst, d / c, c / d)
-    return InertiaComparison(source, solid, computed, declared_trace / computed_trace, worst)
+    source, solid, computed, ratio = prepared
+    return InertiaComparison(source, solid, computed, ratio, worst)
 
 
 #: Diagonal (m) of a shape's bounds below which it stands in for a part instead of shaping it.
@@ -156,12 +175,22 @@ def compare_with_geometry(
     A shape under MARKER_SIZE across is a marker, not the part (Baxter's 0.55 kg
     head collides as a 1 mm sphere): the next source is used.
     """
-    for source, solid in (geometry_sources(link) if sources is None else sources):
+    prepared = prepare_comparison(link, geometry_sources(link) if sources is None else sources)
+    if prepared is None:
+        return None
+    return finish_comparison(link, prepared, declared_moments, moments_of(prepared[2]))
+
+
+def prepare_comparison(link: Link, sources: Sources) -> Prepared | None:
+    """:func:`compare_with_geometry` up to the geometry's principal moments: the source it
+    compares with and what it found (sources read lazily, as far as it reads them). A check
+    prepares every link, then decomposes all their tensors at once (:mod:`urdftool.facts.link_mass`)."""
+    for source, solid in sources:
         if bounds_diagonal(solid) < MARKER_SIZE:
             continue
-        comparison = compare_inertia(link, source, solid, declared_moments)
-        if comparison is not None:
-            return comparison
+        prepared = _prepare(link, source, solid)
+        if prepared is not None:
+            return prepared
     return None
 
 
@@ -179,7 +208,8 @@ def distance_outside(point: Matrix, solid: SolidProperties) -> float:
     return vector_norm(np.maximum(below, above))
 
 
-def _moments(tensor: Matrix) -> Moments:
+def moments_of(tensor: Matrix) -> Moments:
+    """Principal moments (kg·m², ascending) of *tensor*, as floats."""
     values, _ = principal_moments(tensor)
     return (float(values[0]), float(values[1]), float(values[2]))
 

@@ -26,7 +26,7 @@ else:
 
 from urdftool.backends.meshes import MeshError, mesh_info
 from urdftool.model.geometry import Box, Capsule, Cylinder, Ellipsoid, Geometry, Mesh, Sphere
-from urdftool.model.pose import Matrix, Pose
+from urdftool.model.pose import Matrix, Pose, identity_exact, rotate_tensor, unrotated
 from urdftool.physics.inertia import (
     box_inertia,
     capsule_inertia,
@@ -178,25 +178,15 @@ def _corners(lo: Matrix, hi: Matrix) -> Matrix:
 
 def _unrotated(solid: SolidProperties, origin: Pose) -> bool:
     """Whether :func:`place` may skip its products with the rotation: they would give back the
-    same numbers, sign of zero included.
-
-    Most shapes sit at ``rpy="0 0 0"``, whose rotation holds only ones and zeros; a product with
-    it is exact, except that a sum of zeros is +0 unless every term is -0, and that 0 × ∞ is NaN.
-    So: the angles are +0 (``rpy_to_matrix`` of -0 differs in signs of zeros), no -0 in the
-    offset (each product is added to it, and ±0 + +0 is +0 in both ways of computing it), nor in
-    the inertia (its products are not added to anything), and every number finite.
-    """
-    roll, pitch, yaw = origin.rpy
-    if roll != 0.0 or pitch != 0.0 or yaw != 0.0:
+    same numbers, sign of zero included (:func:`~urdftool.model.pose.unrotated`). The offset is
+    added to each product (±0 + +0 is +0 both ways) and the inertia's products to nothing, so
+    neither may hold a -0."""
+    if not unrotated(origin.rpy):
         return False
-    if math.copysign(1.0, roll) + math.copysign(1.0, pitch) + math.copysign(1.0, yaw) != 3.0:
-        return False
-    (i0, i1, i2), (i3, i4, i5), (i6, i7, i8) = solid.inertia.tolist()
-    values = (*origin.xyz, i0, i1, i2, i3, i4, i5, i6, i7, i8)
-    if any(v == 0.0 and math.copysign(1.0, v) < 0.0 for v in values):
-        return False
-    return all(map(math.isfinite, (*values, *solid.center.tolist(), *solid.bounds_min.tolist(),
-                                   *solid.bounds_max.tolist())))
+    return identity_exact(
+        (*origin.xyz, *solid.inertia.ravel().tolist(), *solid.center.tolist(),
+         *solid.bounds_min.tolist(), *solid.bounds_max.tolist())
+    )
 
 
 def _shifted(solid: SolidProperties, xyz: tuple[float, float, float]) -> SolidProperties:
@@ -243,6 +233,4 @@ def combine(solids: Iterable[SolidProperties]) -> SolidProperties | None:
 
 def rotate_into(tensor: Matrix, frame: Pose) -> Matrix:
     """A tensor written in the link frame, expressed in *frame* (given in the link frame)."""
-    rotation = frame.rotation
-    rotated: Matrix = rotation.T @ tensor @ rotation
-    return rotated
+    return rotate_tensor(tensor, frame.rpy, inverse=True)

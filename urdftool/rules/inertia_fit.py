@@ -24,6 +24,7 @@ from urdftool.diagnostics import Diagnostic, Related, Severity
 from urdftool.facts import link_mass
 from urdftool.facts.context import CheckContext
 from urdftool.model import Link
+from urdftool.model.pose import rotate_tensor
 from urdftool.physics.bodies import MIN_VALUE
 from urdftool.physics.describe import (
     fmt,
@@ -112,15 +113,14 @@ class InertiaGeometryMismatch(_Inertia):
     severity = Severity.WARNING
 
     def check(self, ctx: CheckContext) -> Iterator[Diagnostic]:
-        for link in ctx.robot.links:
-            inertial = link.inertial
-            if (
-                inertial is None
-                or inertial.mass <= MIN_VALUE
-                or not link_mass.declared_verdict(ctx, inertial).valid
-            ):
-                continue
-            comparison = link_mass.comparison(ctx, link)
+        judged = (
+            link
+            for link in ctx.robot.links
+            if link.inertial is not None
+            and not link.inertial.mass <= MIN_VALUE  # as written: a NaN mass is judged
+            and link_mass.declared_verdict(ctx, link.inertial).valid
+        )
+        for link, comparison in link_mass.comparisons(ctx, judged):
             if comparison is None:
                 continue
             if comparison.factor >= INERTIA_FACTOR:
@@ -211,11 +211,9 @@ def _lost_in_body(ctx: CheckContext, link: Link, comparison: InertiaComparison) 
     body = body_of_link(ctx, link.name)
     if body is None or body.head == link.name or link.inertial is None:
         return False
-    rotation = link.inertial.origin.rotation
     declared = float(np.trace(body.declared_inertia))
-    fitted = float(
-        np.trace(body.composite_inertia({link.name: rotation @ comparison.computed @ rotation.T}))
-    )
+    own = rotate_tensor(comparison.computed, link.inertial.origin.rpy)
+    fitted = float(np.trace(body.composite_inertia({link.name: own})))
     if declared <= 0 or fitted <= 0:
         return False
     return max(declared / fitted, fitted / declared) < INERTIA_FACTOR
