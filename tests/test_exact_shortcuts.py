@@ -17,6 +17,7 @@ from urdftool.model.pose import (
     axis_angle_matrix,
     finite,
     finite3,
+    homogeneous,
     matrix_to_rpy,
     rotate_tensor,
     rpy_to_matrix,
@@ -129,3 +130,14 @@ def test_axis_angle_matrix_on_floats_is_on_numpy_scalars() -> None:
                                  [t * x * y + s * z, t * y * y + c, t * y * z - s * x],
                                  [t * x * z - s * y, t * y * z + s * x, t * z * z + c]])
         assert _same(axis_angle_matrix(axis, angle), expected)
+
+
+def test_homogeneous_is_an_identity_filled_in() -> None:
+    rng = random.Random(5)
+    for _ in range(2_000):
+        rotation = np.array([[_number(rng, False) for _ in range(3)] for _ in range(3)])
+        translation = tuple(_number(rng, False) for _ in range(3))
+        expected = np.eye(4)
+        expected[:3, :3] = rotation
+        expected[:3, 3] = translation
+        assert _same(homogeneous(rotation, translation), expected)

@@ -78,7 +78,10 @@ def unrotated(rpy: Vec3) -> bool:
 
 def identity_exact(values: Iterable[float]) -> bool:
     """Whether every number is finite and none is -0 (see :func:`unrotated`)."""
-    return all(math.isfinite(v) and (v != 0.0 or math.copysign(1.0, v) > 0.0) for v in values)
+    values = tuple(values)
+    if not all(map(math.isfinite, values)):
+        return False
+    return 0.0 not in values or all([math.copysign(1.0, v) > 0.0 for v in values if v == 0.0])
 
 
 def rotate_tensor(tensor: Matrix, rpy: Vec3, inverse: bool = False) -> Matrix:
@@ -203,9 +206,10 @@ def homogeneous(rotation: Matrix, translation: Vec3 | Matrix) -> Matrix:
     """4×4 homogeneous transform from a rotation and a translation."""
     import numpy as np
 
-    out = np.eye(4)
+    out = np.empty((4, 4))  # every entry written below: the numbers of an identity filled in
     out[:3, :3] = rotation
     out[:3, 3] = translation
+    out[3] = (0.0, 0.0, 0.0, 1.0)
     return out
 
 

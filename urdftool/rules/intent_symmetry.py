@@ -70,6 +70,8 @@ def mirror_names(name: str, swaps: dict[str, list[str]] | None = None) -> list[s
     *swaps*: each token's :func:`_swap_token`, kept across the names of one robot (their
     tokens repeat: ``joint``, ``link``, ``left``).
     """
+    if _SIDE_LETTERS.isdisjoint(name):  # no token of it has a side marker
+        return []
     parts = _TOKENS.split(name)
     memo = {} if swaps is None else swaps
     tokens: list[list[str]] = []
