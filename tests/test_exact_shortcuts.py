@@ -12,6 +12,7 @@ import random
 
 import numpy as np
 
+from urdftool.backends.meshes import MeshFacts, scaled_info
 from urdftool.model.pose import (
     Pose,
     axis_angle_matrix,
@@ -141,3 +142,16 @@ def test_homogeneous_is_an_identity_filled_in() -> None:
         expected[:3, :3] = rotation
         expected[:3, 3] = translation
         assert _same(homogeneous(rotation, translation), expected)
+
+
+def test_unscaled_mesh_facts_are_the_scaled_formula_at_scale_one() -> None:
+    second_moment = ((1.0, -0.0, 0.2), (-0.0, 2.0, 0.0), (0.2, 0.0, 3.0))
+    facts = MeshFacts(8, 12, True, 0.5, (0.1, -0.0, 2.0), second_moment, (-1.0, -0.0, 0.0), (1.0, 0.5, 2.0))
+    s = np.ones(3)
+    second = 1.0 * (s[:, None] * np.asarray(facts.second_moment, dtype=float) * s[None, :])
+    ends = np.array([np.asarray(facts.bounds_min) * s, np.asarray(facts.bounds_max) * s])
+    info = scaled_info("m.stl", facts, (1.0, 1.0, 1.0))
+    assert _same(info.inertia_unit_density, np.trace(second) * np.eye(3) - second)
+    assert _same(info.center_mass, np.asarray(facts.center_mass) * s)
+    assert _same((info.bounds_min, info.bounds_max), (ends.min(axis=0), ends.max(axis=0)))
+    assert info.volume == facts.volume * 1.0

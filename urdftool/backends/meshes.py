@@ -559,9 +559,17 @@ def scaled_info(path: str, facts: MeshFacts, scale: Vec3 = (1.0, 1.0, 1.0)) -> M
     Volume scales by |det S|, the centre by S, the second moment C by
     |det S|·S·C·S, and the unit-density inertia is tr(C)·E − C.
     """
-    s = np.asarray(scale, dtype=float)
-    det = float(abs(np.prod(s)))
-    second = det * (s[:, None] * np.asarray(facts.second_moment, dtype=float) * s[None, :])
+    second = np.asarray(facts.second_moment, dtype=float)
+    if tuple(scale) == _UNIT:
+        # Most meshes are not scaled; a product with 1.0 gives back every number, so the
+        # unscaled facts are the same numbers without the products.
+        det = 1.0
+        center = _vec3(facts.center_mass)
+    else:
+        s = np.asarray(scale, dtype=float)
+        det = float(abs(np.prod(s)))
+        second = det * (s[:, None] * second * s[None, :])
+        center = _vec3(np.asarray(facts.center_mass) * s)
     inertia = np.trace(second) * np.eye(3) - second
     bounds_min, bounds_max = scaled_bounds(facts, scale)
     return MeshInfo(
@@ -570,7 +578,7 @@ def scaled_info(path: str, facts: MeshFacts, scale: Vec3 = (1.0, 1.0, 1.0)) -> M
         faces=facts.faces,
         watertight=facts.watertight,
         volume=facts.volume * det,
-        center_mass=_vec3(np.asarray(facts.center_mass) * s),
+        center_mass=center,
         inertia_unit_density=inertia,
         bounds_min=bounds_min,
         bounds_max=bounds_max,
@@ -580,9 +588,15 @@ def scaled_info(path: str, facts: MeshFacts, scale: Vec3 = (1.0, 1.0, 1.0)) -> M
 
 def scaled_bounds(facts: MeshFacts, scale: Vec3 = (1.0, 1.0, 1.0)) -> tuple[Vec3, Vec3]:
     """The bounds (m) of :func:`scaled_info`, alone: what a size check needs, without the inertia."""
-    s = np.asarray(scale, dtype=float)
-    ends = np.array([np.asarray(facts.bounds_min) * s, np.asarray(facts.bounds_max) * s])
+    if tuple(scale) == _UNIT:
+        ends = np.array([facts.bounds_min, facts.bounds_max], dtype=float)  # see scaled_info
+    else:
+        s = np.asarray(scale, dtype=float)
+        ends = np.array([np.asarray(facts.bounds_min) * s, np.asarray(facts.bounds_max) * s])
     return _vec3(ends.min(axis=0)), _vec3(ends.max(axis=0))
+
+
+_UNIT = (1.0, 1.0, 1.0)
 
 
 def mesh_info(path: str, scale: Vec3 = (1.0, 1.0, 1.0)) -> MeshInfo:
