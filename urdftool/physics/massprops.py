@@ -128,7 +128,7 @@ def mesh_properties(mesh: Mesh) -> SolidProperties | None:
         info = mesh_info(mesh.resolved, mesh.scale)
     except MeshError:
         return None
-    if not info.volume > 0 or not np.all(np.isfinite(info.inertia_unit_density)):
+    if not info.volume > 0 or not all(map(math.isfinite, np.ravel(info.inertia_unit_density).tolist())):
         return None
     name = mesh.filename.rsplit("/", 1)[-1]
     return SolidProperties(

@@ -62,6 +62,8 @@ class IntentRule(Rule):
 def option(ctx: CheckContext, name: str) -> float:
     """The threshold *name*: ``rule_options["intent"][name]`` when given, else the default."""
     given: Any = ctx.options.get("intent")
+    if given is None:  # the usual run, without the isinstance check (thousands of calls a check)
+        return DEFAULTS[name]
     if isinstance(given, Mapping) and name in given:
         return float(given[name])
     return DEFAULTS[name]
