@@ -559,31 +559,17 @@ def scaled_info(path: str, facts: MeshFacts, scale: Vec3 = (1.0, 1.0, 1.0)) -> M
     Volume scales by |det S|, the centre by S, the second moment C by
     |det S|·S·C·S, and the unit-density inertia is tr(C)·E − C.
     """
-    second = np.asarray(facts.second_moment, dtype=float)
-    if tuple(scale) == _UNIT:
-        # Most meshes are not scaled; a product with 1.0 gives back every number, so the
-        # unscaled facts are the same numbers without the products.
-        det = 1.0
-        center = _vec3(facts.center_mass)
-    else:
+    second, det, center = np.asarray(facts.second_moment, dtype=float), 1.0, _vec3(facts.center_mass)
+    if tuple(scale) != _UNIT:  # most meshes are not scaled: x × 1.0 is x, the products are skipped
         s = np.asarray(scale, dtype=float)
         det = float(abs(np.prod(s)))
         second = det * (s[:, None] * second * s[None, :])
         center = _vec3(np.asarray(facts.center_mass) * s)
-    inertia = np.trace(second) * np.eye(3) - second
     bounds_min, bounds_max = scaled_bounds(facts, scale)
-    return MeshInfo(
-        path=path,
-        vertices=facts.vertices,
-        faces=facts.faces,
-        watertight=facts.watertight,
-        volume=facts.volume * det,
-        center_mass=center,
-        inertia_unit_density=inertia,
-        bounds_min=bounds_min,
-        bounds_max=bounds_max,
-        unit=facts.unit,
-    )
+    return MeshInfo(path=path, vertices=facts.vertices, faces=facts.faces, watertight=facts.watertight,
+                    volume=facts.volume * det, center_mass=center,
+                    inertia_unit_density=np.trace(second) * np.eye(3) - second,
+                    bounds_min=bounds_min, bounds_max=bounds_max, unit=facts.unit)
 
 
 def scaled_bounds(facts: MeshFacts, scale: Vec3 = (1.0, 1.0, 1.0)) -> tuple[Vec3, Vec3]:
