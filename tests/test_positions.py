@@ -25,7 +25,7 @@ from urdftool.parse import read
 from urdftool.parse.locate import PositionTable, span_of
 from urdftool.parse.xmlio import parse_bytes
 from urdftool.pipeline.check import CheckOptions, check_file
-from urdftool.source import SRC_ATTRIBUTE, Span, element_starts, expat_element_starts
+from urdftool.source import SRC_ATTRIBUTE, LinePositions, Span, element_starts, expat_element_starts
 
 #: start tags over several lines, several on one line, non-ASCII text before a tag, a comment
 #: holding '<', CDATA, and a <gazebo> block kept on the model
@@ -244,3 +244,17 @@ def test_scan_of_a_long_line_of_many_elements_is_linear_and_exact() -> None:
     starts = element_starts(data)
     assert len(starts) == 100_001 and starts[-1] == (1, 17 + 16 * 99_999)
     assert starts == expat_element_starts(data)
+
+
+def test_line_positions_asked_in_any_order_are_counted_as_from_the_start() -> None:
+    """Lookups count line breaks from the nearest offset asked before: whatever the order, each
+    position is the one a count from the start of the file gives."""
+    links = "".join(f"  <link name=\"l{i}\"/>{' ' * (i % 5)}\n" for i in range(300))
+    data = f"<robot name=\"b\u00e4se\">\n{links}</robot>\n".encode()
+    starts = [i for i in range(len(data)) if data[i:i + 1] == b"<"]
+    lines = LinePositions(data)
+    order = starts[::-1][::2] + starts[::2]
+    for offset in order:
+        line_start = data.rfind(b"\n", 0, offset) + 1
+        expected = (data.count(b"\n", 0, line_start) + 1, len(data[line_start:offset].decode("utf-8")) + 1)
+        assert lines.position(offset) == expected

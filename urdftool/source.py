@@ -15,6 +15,7 @@ on its first read.
 
 from __future__ import annotations
 
+import bisect
 import dataclasses
 import functools
 import os
@@ -203,13 +204,29 @@ def start_tag_offsets(data: bytes) -> list[int] | None:
     return [match.start() for match in _MARKUP.finditer(data) if match.lastindex is not None]
 
 
-def position_at(data: bytes, offset: int) -> tuple[int, int]:
-    """The 1-based (line, character column) of byte *offset* in *data*, as :func:`element_starts`
-    counts them. Costs a count of the line breaks before *offset*, done in C."""
-    line_start = data.rfind(b"\n", 0, offset) + 1
-    prefix = data[line_start:offset]
-    column = len(prefix) if prefix.isascii() else len(prefix.decode("utf-8", "replace"))
-    return data.count(b"\n", 0, line_start) + 1, column + 1
+@record(frozen=False, eq=False)  # one document's counts, equal only to itself
+class LinePositions:
+    """The 1-based (line, character column) of byte offsets in *data*, as :func:`element_starts`
+    counts them, for offsets asked one at a time in any order. The line breaks before an offset
+    are counted (in C) from the nearest offset asked before it, so many lookups in one file
+    cost about one pass over it, not one pass each."""
+
+    data: bytes
+    #: offsets asked so far, sorted, and the line breaks before each
+    _offsets: list[int] = field(default_factory=lambda: [0])
+    _breaks: list[int] = field(default_factory=lambda: [0])
+
+    def position(self, offset: int) -> tuple[int, int]:
+        data = self.data
+        line_start = data.rfind(b"\n", 0, offset) + 1
+        prefix = data[line_start:offset]
+        column = len(prefix) if prefix.isascii() else len(prefix.decode("utf-8", "replace"))
+        known = bisect.bisect_right(self._offsets, line_start) - 1
+        breaks = self._breaks[known] + data.count(b"\n", self._offsets[known], line_start)
+        if self._offsets[known] != line_start:
+            self._offsets.insert(known + 1, line_start)
+            self._breaks.insert(known + 1, breaks)
+        return breaks + 1, column + 1
 
 
 def expat_element_starts(data: bytes) -> list[tuple[int, int]]:

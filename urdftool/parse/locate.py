@@ -26,11 +26,11 @@ from lxml import etree
 from urdftool.records import record
 from urdftool.source import (
     SRC_ATTRIBUTE,
+    LinePositions,
     Span,
     deferred_span,
     element_starts,
     expat_element_starts,
-    position_at,
     start_tag_offsets,
 )
 
@@ -65,6 +65,7 @@ class PositionTable:
     data: bytes
     path: str
     _offsets: list[int] | None = None
+    _lines: LinePositions | None = None
     _index: dict[etree._Element, int] | None = None
     _lookups: int = 0
     #: every element's position, when the offsets cannot serve
@@ -121,7 +122,9 @@ class PositionTable:
         end = offset + 1 + len(name.encode("utf-8"))
         if self.data[offset + 1:end] != name.encode("utf-8") or self.data[end:end + 1] not in _AFTER_NAME:
             return None
-        return position_at(self.data, offset)
+        if self._lines is None:
+            self._lines = LinePositions(self.data)
+        return self._lines.position(offset)
 
     def mark(self, element: etree._Element) -> None:
         """Mark *element* (kept by the model) so that :func:`span_of` finds it and its

@@ -8,6 +8,15 @@ entry maps a record to the shape of its fields and a function that builds its ``
 # mypy: ignore-errors
 
 
+# urdftool.source.LinePositions
+def _init_source_LinePositions(__defaults__, __factories__, __sentinel__, __set__, __slot__):
+    def __init__(self, data, _offsets=__sentinel__, _breaks=__sentinel__):
+        self.data = data
+        self._offsets = __factories__['_offsets']() if _offsets is __sentinel__ else _offsets
+        self._breaks = __factories__['_breaks']() if _breaks is __sentinel__ else _breaks
+    return __init__
+
+
 # urdftool.source.SourceIndex
 def _init_source_SourceIndex(__defaults__, __factories__, __sentinel__, __set__, __slot__):
     def __init__(self, files=__sentinel__, _lines=__sentinel__):
@@ -37,6 +46,7 @@ def _init_source_Span(__defaults__, __factories__, __sentinel__, __set__, __slot
 
 
 COMPILED = {
+    'urdftool.source.LinePositions': ('data,_offsets*,_breaks*|plain', _init_source_LinePositions),
     'urdftool.source.SourceIndex': ('files*,_lines*|plain', _init_source_SourceIndex),
     'urdftool.source.Span': ('path,line=,column=,end_line=,end_column=,offset=,end_offset=|slots', _init_source_Span),
 }
