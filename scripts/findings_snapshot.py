@@ -11,8 +11,8 @@ example-robot-data, pybullet_data, the vendored seeds, every rule fixture and, w
 disk, the real-world corpus (docs/realworld.md). ``--quick`` leaves out the real-world corpus.
 
 Runs in one process through the Python API, so it takes a few minutes, not the corpus review's
-twenty. Paths are written relative to the checkout, so two checkouts in different folders give
-identical files.
+twenty. Paths are written relative to the installed packages, the real-world corpus or the
+checkout, so two checkouts in different folders, sharing one environment, give identical files.
 """
 
 from __future__ import annotations
@@ -21,6 +21,7 @@ import glob
 import json
 import os
 import sys
+import sysconfig
 import warnings
 from pathlib import Path
 from typing import Any
@@ -59,8 +60,19 @@ def _files() -> list[tuple[str, dict[str, Any]]]:
     return files
 
 
+def _bases() -> tuple[str, ...]:
+    """Folders whose paths are written relative: the installed packages first (the corpora from
+    PyPI, wherever the environment is), then the real-world corpus and the checkout."""
+    folders = (sysconfig.get_paths()["purelib"], str(CORPUS.resolve()), str(ROOT))
+    return tuple(os.path.realpath(folder) + os.sep for folder in folders)
+
+
+BASES = _bases()
+
+
 def _relative(path: str) -> str:
-    for base in (str(ROOT) + os.sep, str(CORPUS.resolve()) + os.sep):
+    path = os.path.realpath(path)
+    for base in BASES:
         if path.startswith(base):
             return path[len(base):]
     return os.path.basename(path)
@@ -80,7 +92,7 @@ def _findings(path: str, options: CheckOptions) -> list[str]:
 
 
 def _relative_text(text: str) -> str:
-    for base in (str(ROOT) + os.sep, str(CORPUS.resolve()) + os.sep):
+    for base in BASES:
         text = text.replace(base, "")
     return text
 
