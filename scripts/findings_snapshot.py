@@ -12,7 +12,8 @@ disk, the real-world corpus (docs/realworld.md). ``--quick`` leaves out the real
 
 Runs in one process through the Python API, so it takes a few minutes, not the corpus review's
 twenty. Paths are written relative to the installed packages, the real-world corpus or the
-checkout, so two checkouts in different folders, sharing one environment, give identical files.
+checkout, so two checkouts sharing one environment can be compared; compare runs of one
+checkout to be exact, since findings from several files sort by their absolute paths.
 """
 
 from __future__ import annotations
