@@ -129,3 +129,21 @@ def test_fix_only_reports_what_it_fixed(tmp_path: Path) -> None:
     assert "S009 [unknown-attribute] rename attribute 'xzy' to 'xyz'" in result.stdout
     again = CliRunner().invoke(main, ["check", str(path), "--fix", "--no-dynamics"])
     assert "fixed 0 finding(s)" in again.stderr
+
+
+def test_several_findings_on_one_tag_each_get_their_own_fix(tmp_path: Path) -> None:
+    """A CAD export misspells the same attributes on every joint: the tag is read once for all
+    the findings on it, and each finding's fix still renames its own attribute."""
+    path = tmp_path / "arm.urdf"
+    joints = "".join(
+        f'  <joint name="j{i}" type="revolute"><parent link="l{i}"/><child link="l{i + 1}"/>\n'
+        f'    <limit lowr="-1" uper="1" effort="1" velocity="1"/></joint>\n' for i in range(3))
+    links = "".join(f'  <link name="l{i}"/>\n' for i in range(4))
+    path.write_text(f'<?xml version="1.0"?>\n<!-- provenance: hand-written for urdftool -->\n'
+                    f'<robot name="arm">\n{links}{joints}</robot>\n')
+    [report] = check_files([str(path)], CheckOptions(select=("S009",))).files
+    fixes = {(d.location.line, d.fix.edits[0].content) for d in report.diagnostics
+             if d.location and d.fix}
+    assert fixes == {(line, name) for line in (9, 11, 13) for name in ("lower", "upper")}
+    fix_files([str(path)], CheckOptions(select=("S009",)))
+    assert path.read_text().count('<limit lower="-1" upper="1"') == 3

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import functools
 from collections.abc import Iterable
 from typing import TYPE_CHECKING
 
@@ -16,6 +17,24 @@ else:  # imported when a name is misspelt, not by every reader that might sugges
 def closest(word: str, candidates: Iterable[str], cutoff: float = 0.6) -> str | None:
     """The candidate closest to *word*, or ``None`` when nothing is within *cutoff* (difflib's
     similarity ratio, 0 to 1)."""
+    if isinstance(candidates, frozenset) and len(candidates) <= _VOCABULARY:
+        # A fixed vocabulary (an element's attributes, its children): the same misspelling on
+        # every joint of a CAD export is looked up once.
+        return _closest_in_vocabulary(word, candidates, cutoff)
+    return _closest(word, candidates, cutoff)
+
+
+#: Largest set of names taken for a fixed vocabulary, whose answers are kept (a robot's own
+#: names can run to thousands, and are not kept).
+_VOCABULARY = 64
+
+
+@functools.lru_cache(maxsize=1024)
+def _closest_in_vocabulary(word: str, candidates: frozenset[str], cutoff: float) -> str | None:
+    return _closest(word, candidates, cutoff)
+
+
+def _closest(word: str, candidates: Iterable[str], cutoff: float) -> str | None:
     # difflib.get_close_matches(word, sorted(set(candidates)), n=1, cutoff=cutoff), the same
     # answer (the highest ratio, ties to the later name) without its exact ratio for every name:
     # quick_ratio bounds the exact ratio from above, so the names are tried best bound first and

@@ -83,6 +83,9 @@ class SourceText:
     path: str
     data: bytes
     _starts: list[int] = field(default_factory=list)
+    #: start tags lexed so far, by offset: a CAD export misspells the same attributes on every
+    #: joint, and each finding on a tag asks for it again
+    _tags: dict[int, Tag | None] = field(default_factory=dict)
 
     @classmethod
     def read(cls, path: str) -> SourceText | None:
@@ -156,7 +159,7 @@ class SourceText:
         start = self.data.rfind(b"<", 0, offset + 1)
         if start < 0:
             return None
-        tag = self.lex(start)
+        tag = self._tags[start] if start in self._tags else self._tags.setdefault(start, self.lex(start))
         if tag is None or offset >= tag.end or (name is not None and local(tag.name) != name):
             return None
         return tag
