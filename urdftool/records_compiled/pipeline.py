@@ -166,10 +166,11 @@ def _init_pipeline_fixtext_Attribute(__defaults__, __factories__, __sentinel__, 
 
 # urdftool.pipeline.fixtext.SourceText
 def _init_pipeline_fixtext_SourceText(__defaults__, __factories__, __sentinel__, __set__, __slot__):
-    def __init__(self, path, data, _starts=__sentinel__):
+    def __init__(self, path, data, _starts=__sentinel__, _tags=__sentinel__):
         self.path = path
         self.data = data
         self._starts = __factories__['_starts']() if _starts is __sentinel__ else _starts
+        self._tags = __factories__['_tags']() if _tags is __sentinel__ else _tags
     return __init__
 
 
@@ -286,7 +287,7 @@ COMPILED = {
     'urdftool.pipeline.fix.FileChange': ('path,before,after,fixed*|plain', _init_pipeline_fix_FileChange),
     'urdftool.pipeline.fix.FixResult': ('changes,refused,report,rounds|plain', _init_pipeline_fix_FixResult),
     'urdftool.pipeline.fixtext.Attribute': ('name,name_start,name_end,value_start,value_end,quote,raw|slots', _init_pipeline_fixtext_Attribute),
-    'urdftool.pipeline.fixtext.SourceText': ('path,data,_starts*|plain', _init_pipeline_fixtext_SourceText),
+    'urdftool.pipeline.fixtext.SourceText': ('path,data,_starts*,_tags*|plain', _init_pipeline_fixtext_SourceText),
     'urdftool.pipeline.fixtext.Tag': ('name,start,name_end,end,self_closing,attributes|slots', _init_pipeline_fixtext_Tag),
     'urdftool.pipeline.home.HomeState': ('name,values|slots', _init_pipeline_home_HomeState),
     'urdftool.pipeline.settings.ConfigFile': ('path,table|slots', _init_pipeline_settings_ConfigFile),
