@@ -10,8 +10,7 @@ entry maps a record to the shape of its fields and a function that builds its ``
 
 # urdftool.backends.collada.ColladaScene
 def _init_backends_collada_ColladaScene(__defaults__, __factories__, __sentinel__, __set__, __slot__):
-    _set_parts = __slot__('parts')
-    _set_unit = __slot__('unit')
+    (_set_parts, _set_unit,) = map(__slot__, ('parts', 'unit'))
     def __init__(self, parts, unit):
         _set_parts(self, parts)
         _set_unit(self, unit)
@@ -20,11 +19,7 @@ def _init_backends_collada_ColladaScene(__defaults__, __factories__, __sentinel_
 
 # urdftool.backends.collada.Part
 def _init_backends_collada_Part(__defaults__, __factories__, __sentinel__, __set__, __slot__):
-    _set_vertices = __slot__('vertices')
-    _set_normals = __slot__('normals')
-    _set_uv = __slot__('uv')
-    _set_textured = __slot__('textured')
-    _set_matrix = __slot__('matrix')
+    (_set_vertices, _set_normals, _set_uv, _set_textured, _set_matrix,) = map(__slot__, ('vertices', 'normals', 'uv', 'textured', 'matrix'))
     def __init__(self, vertices, normals, uv, textured, matrix):
         _set_vertices(self, vertices)
         _set_normals(self, normals)
@@ -51,9 +46,7 @@ def _init_backends_collision_CollisionScene(__defaults__, __factories__, __senti
 
 # urdftool.backends.collision.Piece
 def _init_backends_collision_Piece(__defaults__, __factories__, __sentinel__, __set__, __slot__):
-    _set_link = __slot__('link')
-    _set_index = __slot__('index')
-    _set_body = __slot__('body')
+    (_set_link, _set_index, _set_body,) = map(__slot__, ('link', 'index', 'body'))
     def __init__(self, link, index, body):
         _set_link(self, link)
         _set_index(self, index)
@@ -63,10 +56,7 @@ def _init_backends_collision_Piece(__defaults__, __factories__, __sentinel__, __
 
 # urdftool.backends.collision_shapes.Primitive
 def _init_backends_collision_shapes_Primitive(__defaults__, __factories__, __sentinel__, __set__, __slot__):
-    _set_kind = __slot__('kind')
-    _set_size = __slot__('size')
-    _set_xyz = __slot__('xyz')
-    _set_rpy = __slot__('rpy')
+    (_set_kind, _set_size, _set_xyz, _set_rpy,) = map(__slot__, ('kind', 'size', 'xyz', 'rpy'))
     def __init__(self, kind, size, xyz, rpy):
         _set_kind(self, kind)
         _set_size(self, size)
@@ -77,13 +67,7 @@ def _init_backends_collision_shapes_Primitive(__defaults__, __factories__, __sen
 
 # urdftool.backends.collision_shapes.Simplified
 def _init_backends_collision_shapes_Simplified(__defaults__, __factories__, __sentinel__, __set__, __slot__):
-    _set_mode = __slot__('mode')
-    _set_parts = __slot__('parts')
-    _set_primitive = __slot__('primitive')
-    _set_volume = __slot__('volume')
-    _set_mesh_volume = __slot__('mesh_volume')
-    _set_note = __slot__('note')
-    _set_cached = __slot__('cached')
+    (_set_mode, _set_parts, _set_primitive, _set_volume, _set_mesh_volume, _set_note, _set_cached,) = map(__slot__, ('mode', 'parts', 'primitive', 'volume', 'mesh_volume', 'note', 'cached'))
     def __init__(self, mode, parts=__defaults__['parts'], primitive=__defaults__['primitive'], volume=__defaults__['volume'], mesh_volume=__defaults__['mesh_volume'], note=__defaults__['note'], cached=__defaults__['cached']):
         _set_mode(self, mode)
         _set_parts(self, parts)
@@ -97,11 +81,7 @@ def _init_backends_collision_shapes_Simplified(__defaults__, __factories__, __se
 
 # urdftool.backends.collision_volume.Solid
 def _init_backends_collision_volume_Solid(__defaults__, __factories__, __sentinel__, __set__, __slot__):
-    _set_shape = __slot__('shape')
-    _set_mesh = __slot__('mesh')
-    _set_lower = __slot__('lower')
-    _set_upper = __slot__('upper')
-    _set_envelope = __slot__('envelope')
+    (_set_shape, _set_mesh, _set_lower, _set_upper, _set_envelope,) = map(__slot__, ('shape', 'mesh', 'lower', 'upper', 'envelope'))
     def __init__(self, shape, mesh, lower, upper, envelope=__defaults__['envelope']):
         _set_shape(self, shape)
         _set_mesh(self, mesh)
@@ -113,9 +93,7 @@ def _init_backends_collision_volume_Solid(__defaults__, __factories__, __sentine
 
 # urdftool.backends.mesh_formats.MeshFormat
 def _init_backends_mesh_formats_MeshFormat(__defaults__, __factories__, __sentinel__, __set__, __slot__):
-    _set_kind = __slot__('kind')
-    _set_extension = __slot__('extension')
-    _set_faces = __slot__('faces')
+    (_set_kind, _set_extension, _set_faces,) = map(__slot__, ('kind', 'extension', 'faces'))
     def __init__(self, kind, extension, faces=__defaults__['faces']):
         _set_kind(self, kind)
         _set_extension(self, extension)
@@ -125,9 +103,7 @@ def _init_backends_mesh_formats_MeshFormat(__defaults__, __factories__, __sentin
 
 # urdftool.backends.mesh_materials.ColouredPart
 def _init_backends_mesh_materials_ColouredPart(__defaults__, __factories__, __sentinel__, __set__, __slot__):
-    _set_rgba = __slot__('rgba')
-    _set_vertices = __slot__('vertices')
-    _set_faces = __slot__('faces')
+    (_set_rgba, _set_vertices, _set_faces,) = map(__slot__, ('rgba', 'vertices', 'faces'))
     def __init__(self, rgba, vertices, faces):
         _set_rgba(self, rgba)
         _set_vertices(self, vertices)
@@ -137,17 +113,7 @@ def _init_backends_mesh_materials_ColouredPart(__defaults__, __factories__, __se
 
 # urdftool.backends.mesh_shape.ShapeFacts
 def _init_backends_mesh_shape_ShapeFacts(__defaults__, __factories__, __sentinel__, __set__, __slot__):
-    _set_vertices = __slot__('vertices')
-    _set_faces = __slot__('faces')
-    _set_watertight = __slot__('watertight')
-    _set_winding_consistent = __slot__('winding_consistent')
-    _set_nonmanifold_edges = __slot__('nonmanifold_edges')
-    _set_degenerate_faces = __slot__('degenerate_faces')
-    _set_solid_volume = __slot__('solid_volume')
-    _set_hull_volume = __slot__('hull_volume')
-    _set_hull_vertices = __slot__('hull_vertices')
-    _set_objects = __slot__('objects')
-    _set_object_hull_volume = __slot__('object_hull_volume')
+    (_set_vertices, _set_faces, _set_watertight, _set_winding_consistent, _set_nonmanifold_edges, _set_degenerate_faces, _set_solid_volume, _set_hull_volume, _set_hull_vertices, _set_objects, _set_object_hull_volume,) = map(__slot__, ('vertices', 'faces', 'watertight', 'winding_consistent', 'nonmanifold_edges', 'degenerate_faces', 'solid_volume', 'hull_volume', 'hull_vertices', 'objects', 'object_hull_volume'))
     def __init__(self, vertices, faces, watertight, winding_consistent, nonmanifold_edges, degenerate_faces, solid_volume, hull_volume, hull_vertices, objects, object_hull_volume):
         _set_vertices(self, vertices)
         _set_faces(self, faces)
@@ -165,15 +131,7 @@ def _init_backends_mesh_shape_ShapeFacts(__defaults__, __factories__, __sentinel
 
 # urdftool.backends.meshes.MeshFacts
 def _init_backends_meshes_MeshFacts(__defaults__, __factories__, __sentinel__, __set__, __slot__):
-    _set_vertices = __slot__('vertices')
-    _set_faces = __slot__('faces')
-    _set_watertight = __slot__('watertight')
-    _set_volume = __slot__('volume')
-    _set_center_mass = __slot__('center_mass')
-    _set_second_moment = __slot__('second_moment')
-    _set_bounds_min = __slot__('bounds_min')
-    _set_bounds_max = __slot__('bounds_max')
-    _set_unit = __slot__('unit')
+    (_set_vertices, _set_faces, _set_watertight, _set_volume, _set_center_mass, _set_second_moment, _set_bounds_min, _set_bounds_max, _set_unit,) = map(__slot__, ('vertices', 'faces', 'watertight', 'volume', 'center_mass', 'second_moment', 'bounds_min', 'bounds_max', 'unit'))
     def __init__(self, vertices, faces, watertight, volume, center_mass, second_moment, bounds_min, bounds_max, unit=__defaults__['unit']):
         _set_vertices(self, vertices)
         _set_faces(self, faces)
@@ -189,16 +147,7 @@ def _init_backends_meshes_MeshFacts(__defaults__, __factories__, __sentinel__, _
 
 # urdftool.backends.meshes.MeshInfo
 def _init_backends_meshes_MeshInfo(__defaults__, __factories__, __sentinel__, __set__, __slot__):
-    _set_path = __slot__('path')
-    _set_vertices = __slot__('vertices')
-    _set_faces = __slot__('faces')
-    _set_watertight = __slot__('watertight')
-    _set_volume = __slot__('volume')
-    _set_center_mass = __slot__('center_mass')
-    _set_inertia_unit_density = __slot__('inertia_unit_density')
-    _set_bounds_min = __slot__('bounds_min')
-    _set_bounds_max = __slot__('bounds_max')
-    _set_unit = __slot__('unit')
+    (_set_path, _set_vertices, _set_faces, _set_watertight, _set_volume, _set_center_mass, _set_inertia_unit_density, _set_bounds_min, _set_bounds_max, _set_unit,) = map(__slot__, ('path', 'vertices', 'faces', 'watertight', 'volume', 'center_mass', 'inertia_unit_density', 'bounds_min', 'bounds_max', 'unit'))
     def __init__(self, path, vertices, faces, watertight, volume, center_mass, inertia_unit_density, bounds_min, bounds_max, unit=__defaults__['unit']):
         _set_path(self, path)
         _set_vertices(self, vertices)
@@ -235,16 +184,7 @@ def _init_backends_pinocchio_PinocchioModel(__defaults__, __factories__, __senti
 
 # urdftool.backends.pybullet.EngineJoint
 def _init_backends_pybullet_EngineJoint(__defaults__, __factories__, __sentinel__, __set__, __slot__):
-    _set_name = __slot__('name')
-    _set_index = __slot__('index')
-    _set_type = __slot__('type')
-    _set_child = __slot__('child')
-    _set_axis = __slot__('axis')
-    _set_lower = __slot__('lower')
-    _set_upper = __slot__('upper')
-    _set_effort = __slot__('effort')
-    _set_velocity = __slot__('velocity')
-    _set_dof = __slot__('dof')
+    (_set_name, _set_index, _set_type, _set_child, _set_axis, _set_lower, _set_upper, _set_effort, _set_velocity, _set_dof,) = map(__slot__, ('name', 'index', 'type', 'child', 'axis', 'lower', 'upper', 'effort', 'velocity', 'dof'))
     def __init__(self, name, index, type, child, axis, lower, upper, effort, velocity, dof):
         _set_name(self, name)
         _set_index(self, index)
@@ -261,11 +201,7 @@ def _init_backends_pybullet_EngineJoint(__defaults__, __factories__, __sentinel_
 
 # urdftool.backends.pybullet.EngineLink
 def _init_backends_pybullet_EngineLink(__defaults__, __factories__, __sentinel__, __set__, __slot__):
-    _set_name = __slot__('name')
-    _set_index = __slot__('index')
-    _set_mass = __slot__('mass')
-    _set_inertia_diagonal = __slot__('inertia_diagonal')
-    _set_inertial_frame = __slot__('inertial_frame')
+    (_set_name, _set_index, _set_mass, _set_inertia_diagonal, _set_inertial_frame,) = map(__slot__, ('name', 'index', 'mass', 'inertia_diagonal', 'inertial_frame'))
     def __init__(self, name, index, mass, inertia_diagonal, inertial_frame):
         _set_name(self, name)
         _set_index(self, index)

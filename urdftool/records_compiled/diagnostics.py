@@ -10,16 +10,7 @@ entry maps a record to the shape of its fields and a function that builds its ``
 
 # urdftool.diagnostics.Diagnostic
 def _init_diagnostics_Diagnostic(__defaults__, __factories__, __sentinel__, __set__, __slot__):
-    _set_code = __slot__('code')
-    _set_name = __slot__('name')
-    _set_severity = __slot__('severity')
-    _set_message = __slot__('message')
-    _set_location = __slot__('location')
-    _set_element = __slot__('element')
-    _set_help = __slot__('help')
-    _set_data = __slot__('data')
-    _set_related = __slot__('related')
-    _set_fix = __slot__('fix')
+    (_set_code, _set_name, _set_severity, _set_message, _set_location, _set_element, _set_help, _set_data, _set_related, _set_fix,) = map(__slot__, ('code', 'name', 'severity', 'message', 'location', 'element', 'help', 'data', 'related', 'fix'))
     def __init__(self, code, name, severity, message, location=__defaults__['location'], element=__defaults__['element'], help=__defaults__['help'], data=__sentinel__, related=__defaults__['related'], fix=__defaults__['fix']):
         _set_code(self, code)
         _set_name(self, name)
@@ -36,8 +27,7 @@ def _init_diagnostics_Diagnostic(__defaults__, __factories__, __sentinel__, __se
 
 # urdftool.diagnostics.Edit
 def _init_diagnostics_Edit(__defaults__, __factories__, __sentinel__, __set__, __slot__):
-    _set_span = __slot__('span')
-    _set_content = __slot__('content')
+    (_set_span, _set_content,) = map(__slot__, ('span', 'content'))
     def __init__(self, span, content):
         _set_span(self, span)
         _set_content(self, content)
@@ -46,10 +36,7 @@ def _init_diagnostics_Edit(__defaults__, __factories__, __sentinel__, __set__, _
 
 # urdftool.diagnostics.FileReport
 def _init_diagnostics_FileReport(__defaults__, __factories__, __sentinel__, __set__, __slot__):
-    _set_path = __slot__('path')
-    _set_format = __slot__('format')
-    _set_robot = __slot__('robot')
-    _set_diagnostics = __slot__('diagnostics')
+    (_set_path, _set_format, _set_robot, _set_diagnostics,) = map(__slot__, ('path', 'format', 'robot', 'diagnostics'))
     def __init__(self, path, format, robot, diagnostics):
         _set_path(self, path)
         _set_format(self, format)
@@ -60,9 +47,7 @@ def _init_diagnostics_FileReport(__defaults__, __factories__, __sentinel__, __se
 
 # urdftool.diagnostics.Fix
 def _init_diagnostics_Fix(__defaults__, __factories__, __sentinel__, __set__, __slot__):
-    _set_message = __slot__('message')
-    _set_edits = __slot__('edits')
-    _set_applicability = __slot__('applicability')
+    (_set_message, _set_edits, _set_applicability,) = map(__slot__, ('message', 'edits', 'applicability'))
     def __init__(self, message, edits, applicability=__defaults__['applicability']):
         _set_message(self, message)
         _set_edits(self, edits)
@@ -72,8 +57,7 @@ def _init_diagnostics_Fix(__defaults__, __factories__, __sentinel__, __set__, __
 
 # urdftool.diagnostics.Related
 def _init_diagnostics_Related(__defaults__, __factories__, __sentinel__, __set__, __slot__):
-    _set_span = __slot__('span')
-    _set_label = __slot__('label')
+    (_set_span, _set_label,) = map(__slot__, ('span', 'label'))
     def __init__(self, span, label):
         _set_span(self, span)
         _set_label(self, label)
@@ -82,7 +66,7 @@ def _init_diagnostics_Related(__defaults__, __factories__, __sentinel__, __set__
 
 # urdftool.diagnostics.Report
 def _init_diagnostics_Report(__defaults__, __factories__, __sentinel__, __set__, __slot__):
-    _set_files = __slot__('files')
+    (_set_files,) = map(__slot__, ('files',))
     def __init__(self, files):
         _set_files(self, files)
     return __init__

@@ -10,15 +10,7 @@ entry maps a record to the shape of its fields and a function that builds its ``
 
 # urdftool.export.ExportOptions
 def _init_export_ExportOptions(__defaults__, __factories__, __sentinel__, __set__, __slot__):
-    _set_floating_base = __slot__('floating_base')
-    _set_actuators = __slot__('actuators')
-    _set_repair_inertia = __slot__('repair_inertia')
-    _set_copy_assets = __slot__('copy_assets')
-    _set_scene = __slot__('scene')
-    _set_absolute_mesh_paths = __slot__('absolute_mesh_paths')
-    _set_extra = __slot__('extra')
-    _set_findings = __slot__('findings')
-    _set_fuse_fixed = __slot__('fuse_fixed')
+    (_set_floating_base, _set_actuators, _set_repair_inertia, _set_copy_assets, _set_scene, _set_absolute_mesh_paths, _set_extra, _set_findings, _set_fuse_fixed,) = map(__slot__, ('floating_base', 'actuators', 'repair_inertia', 'copy_assets', 'scene', 'absolute_mesh_paths', 'extra', 'findings', 'fuse_fixed'))
     def __init__(self, floating_base=__defaults__['floating_base'], actuators=__defaults__['actuators'], repair_inertia=__defaults__['repair_inertia'], copy_assets=__defaults__['copy_assets'], scene=__defaults__['scene'], absolute_mesh_paths=__defaults__['absolute_mesh_paths'], extra=__sentinel__, findings=__defaults__['findings'], fuse_fixed=__defaults__['fuse_fixed']):
         _set_floating_base(self, floating_base)
         _set_actuators(self, actuators)
@@ -51,9 +43,7 @@ def _init_export_VerifyResult(__defaults__, __factories__, __sentinel__, __set__
 
 # urdftool.export.assets.MeshFile
 def _init_export_assets_MeshFile(__defaults__, __factories__, __sentinel__, __set__, __slot__):
-    _set_reference = __slot__('reference')
-    _set_converted = __slot__('converted')
-    _set_source_hash = __slot__('source_hash')
+    (_set_reference, _set_converted, _set_source_hash,) = map(__slot__, ('reference', 'converted', 'source_hash'))
     def __init__(self, reference, converted, source_hash):
         _set_reference(self, reference)
         _set_converted(self, converted)
@@ -76,11 +66,7 @@ def _init_export_assets_MeshFiles(__defaults__, __factories__, __sentinel__, __s
 
 # urdftool.export.graph.GraphOptions
 def _init_export_graph_GraphOptions(__defaults__, __factories__, __sentinel__, __set__, __slot__):
-    _set_rankdir = __slot__('rankdir')
-    _set_collapse_fixed = __slot__('collapse_fixed')
-    _set_diagnostics = __slot__('diagnostics')
-    _set_select = __slot__('select')
-    _set_ignore = __slot__('ignore')
+    (_set_rankdir, _set_collapse_fixed, _set_diagnostics, _set_select, _set_ignore,) = map(__slot__, ('rankdir', 'collapse_fixed', 'diagnostics', 'select', 'ignore'))
     def __init__(self, rankdir=__defaults__['rankdir'], collapse_fixed=__defaults__['collapse_fixed'], diagnostics=__defaults__['diagnostics'], select=__defaults__['select'], ignore=__defaults__['ignore']):
         _set_rankdir(self, rankdir)
         _set_collapse_fixed(self, collapse_fixed)
@@ -93,8 +79,7 @@ def _init_export_graph_GraphOptions(__defaults__, __factories__, __sentinel__, _
 
 # urdftool.export.graph.build.GraphSettings
 def _init_export_graph_build_GraphSettings(__defaults__, __factories__, __sentinel__, __set__, __slot__):
-    _set_rankdir = __slot__('rankdir')
-    _set_collapse_fixed = __slot__('collapse_fixed')
+    (_set_rankdir, _set_collapse_fixed,) = map(__slot__, ('rankdir', 'collapse_fixed'))
     def __init__(self, rankdir=__defaults__['rankdir'], collapse_fixed=__defaults__['collapse_fixed']):
         _set_rankdir(self, rankdir)
         _set_collapse_fixed(self, collapse_fixed)
@@ -122,9 +107,7 @@ def _init_export_graph_groups_LinkGroups(__defaults__, __factories__, __sentinel
 
 # urdftool.export.mjcf_actuators.Drive
 def _init_export_mjcf_actuators_Drive(__defaults__, __factories__, __sentinel__, __set__, __slot__):
-    _set_interface = __slot__('interface')
-    _set_reduction = __slot__('reduction')
-    _set_rotor_inertia = __slot__('rotor_inertia')
+    (_set_interface, _set_reduction, _set_rotor_inertia,) = map(__slot__, ('interface', 'reduction', 'rotor_inertia'))
     def __init__(self, interface=__defaults__['interface'], reduction=__defaults__['reduction'], rotor_inertia=__defaults__['rotor_inertia']):
         _set_interface(self, interface)
         _set_reduction(self, reduction)
@@ -148,9 +131,7 @@ def _init_export_mjcf_assets_AssetPlan(__defaults__, __factories__, __sentinel__
 
 # urdftool.export.mjcf_assets.MeshAsset
 def _init_export_mjcf_assets_MeshAsset(__defaults__, __factories__, __sentinel__, __set__, __slot__):
-    _set_name = __slot__('name')
-    _set_file = __slot__('file')
-    _set_scale = __slot__('scale')
+    (_set_name, _set_file, _set_scale,) = map(__slot__, ('name', 'file', 'scale'))
     def __init__(self, name, file, scale):
         _set_name(self, name)
         _set_file(self, file)
@@ -160,8 +141,7 @@ def _init_export_mjcf_assets_MeshAsset(__defaults__, __factories__, __sentinel__
 
 # urdftool.export.mjcf_assets.VisualPart
 def _init_export_mjcf_assets_VisualPart(__defaults__, __factories__, __sentinel__, __set__, __slot__):
-    _set_mesh = __slot__('mesh')
-    _set_material = __slot__('material')
+    (_set_mesh, _set_material,) = map(__slot__, ('mesh', 'material'))
     def __init__(self, mesh, material):
         _set_mesh(self, mesh)
         _set_material(self, material)
@@ -178,11 +158,7 @@ def _init_export_mjcf_bodies_BodyTree(__defaults__, __factories__, __sentinel__,
 
 # urdftool.export.mjcf_bodies.MjJoint
 def _init_export_mjcf_bodies_MjJoint(__defaults__, __factories__, __sentinel__, __set__, __slot__):
-    _set_name = __slot__('name')
-    _set_kind = __slot__('kind')
-    _set_source = __slot__('source')
-    _set_home = __slot__('home')
-    _set_range = __slot__('range')
+    (_set_name, _set_kind, _set_source, _set_home, _set_range,) = map(__slot__, ('name', 'kind', 'source', 'home', 'range'))
     def __init__(self, name, kind, source, home, range=__defaults__['range']):
         _set_name(self, name)
         _set_kind(self, kind)
@@ -202,9 +178,7 @@ def _init_export_mjcf_classes__Member(__defaults__, __factories__, __sentinel__,
 
 # urdftool.export.mjcf_keyframe.LoopSolve
 def _init_export_mjcf_keyframe_LoopSolve(__defaults__, __factories__, __sentinel__, __set__, __slot__):
-    _set_before = __slot__('before')
-    _set_after = __slot__('after')
-    _set_steps = __slot__('steps')
+    (_set_before, _set_after, _set_steps,) = map(__slot__, ('before', 'after', 'steps'))
     def __init__(self, before, after, steps):
         _set_before(self, before)
         _set_after(self, after)
@@ -224,13 +198,7 @@ def _init_export_mjcf_verify_Errors(__defaults__, __factories__, __sentinel__, _
 
 # urdftool.export.mjcf_verify.JointMap
 def _init_export_mjcf_verify_JointMap(__defaults__, __factories__, __sentinel__, __set__, __slot__):
-    _set_joint = __slot__('joint')
-    _set_kind = __slot__('kind')
-    _set_mj_qpos = __slot__('mj_qpos')
-    _set_mj_dof = __slot__('mj_dof')
-    _set_pin_q = __slot__('pin_q')
-    _set_pin_v = __slot__('pin_v')
-    _set_origin = __slot__('origin')
+    (_set_joint, _set_kind, _set_mj_qpos, _set_mj_dof, _set_pin_q, _set_pin_v, _set_origin,) = map(__slot__, ('joint', 'kind', 'mj_qpos', 'mj_dof', 'pin_q', 'pin_v', 'origin'))
     def __init__(self, joint, kind, mj_qpos, mj_dof, pin_q, pin_v, origin):
         _set_joint(self, joint)
         _set_kind(self, kind)
@@ -244,8 +212,7 @@ def _init_export_mjcf_verify_JointMap(__defaults__, __factories__, __sentinel__,
 
 # urdftool.export.pybullet.BasePlan
 def _init_export_pybullet_BasePlan(__defaults__, __factories__, __sentinel__, __set__, __slot__):
-    _set_robot = __slot__('robot')
-    _set_diagnostics = __slot__('diagnostics')
+    (_set_robot, _set_diagnostics,) = map(__slot__, ('robot', 'diagnostics'))
     def __init__(self, robot, diagnostics=__defaults__['diagnostics']):
         _set_robot(self, robot)
         _set_diagnostics(self, diagnostics)
@@ -254,10 +221,7 @@ def _init_export_pybullet_BasePlan(__defaults__, __factories__, __sentinel__, __
 
 # urdftool.export.pybullet.ExportPlan
 def _init_export_pybullet_ExportPlan(__defaults__, __factories__, __sentinel__, __set__, __slot__):
-    _set_robot = __slot__('robot')
-    _set_unfused = __slot__('unfused')
-    _set_fusion = __slot__('fusion')
-    _set_diagnostics = __slot__('diagnostics')
+    (_set_robot, _set_unfused, _set_fusion, _set_diagnostics,) = map(__slot__, ('robot', 'unfused', 'fusion', 'diagnostics'))
     def __init__(self, robot, unfused, fusion, diagnostics=__defaults__['diagnostics']):
         _set_robot(self, robot)
         _set_unfused(self, unfused)
@@ -268,10 +232,7 @@ def _init_export_pybullet_ExportPlan(__defaults__, __factories__, __sentinel__, 
 
 # urdftool.export.pybullet.PyBulletFlavor
 def _init_export_pybullet_PyBulletFlavor(__defaults__, __factories__, __sentinel__, __set__, __slot__):
-    _set_name = __slot__('name')
-    _set_joint_types = __slot__('joint_types')
-    _set_extra_shapes = __slot__('extra_shapes')
-    _set_filenames = __slot__('filenames')
+    (_set_name, _set_joint_types, _set_extra_shapes, _set_filenames,) = map(__slot__, ('name', 'joint_types', 'extra_shapes', 'filenames'))
     def __init__(self, name=__defaults__['name'], joint_types=__sentinel__, extra_shapes=__defaults__['extra_shapes'], filenames=__sentinel__):
         _set_name(self, name)
         _set_joint_types(self, __factories__['joint_types']() if joint_types is __sentinel__ else joint_types)
@@ -282,10 +243,7 @@ def _init_export_pybullet_PyBulletFlavor(__defaults__, __factories__, __sentinel
 
 # urdftool.export.pybullet_fuse.FusedFrame
 def _init_export_pybullet_fuse_FusedFrame(__defaults__, __factories__, __sentinel__, __set__, __slot__):
-    _set_link = __slot__('link')
-    _set_into = __slot__('into')
-    _set_pose = __slot__('pose')
-    _set_joint = __slot__('joint')
+    (_set_link, _set_into, _set_pose, _set_joint,) = map(__slot__, ('link', 'into', 'pose', 'joint'))
     def __init__(self, link, into, pose, joint):
         _set_link(self, link)
         _set_into(self, into)
@@ -296,8 +254,7 @@ def _init_export_pybullet_fuse_FusedFrame(__defaults__, __factories__, __sentine
 
 # urdftool.export.pybullet_fuse.Fusion
 def _init_export_pybullet_fuse_Fusion(__defaults__, __factories__, __sentinel__, __set__, __slot__):
-    _set_robot = __slot__('robot')
-    _set_frames = __slot__('frames')
+    (_set_robot, _set_frames,) = map(__slot__, ('robot', 'frames'))
     def __init__(self, robot, frames=__defaults__['frames']):
         _set_robot(self, robot)
         _set_frames(self, frames)
@@ -353,9 +310,7 @@ def _init_export_sdf_SdfWriter(__defaults__, __factories__, __sentinel__, __set_
 
 # urdftool.export.urdf.UrdfFlavor
 def _init_export_urdf_UrdfFlavor(__defaults__, __factories__, __sentinel__, __set__, __slot__):
-    _set_name = __slot__('name')
-    _set_joint_types = __slot__('joint_types')
-    _set_extra_shapes = __slot__('extra_shapes')
+    (_set_name, _set_joint_types, _set_extra_shapes,) = map(__slot__, ('name', 'joint_types', 'extra_shapes'))
     def __init__(self, name=__defaults__['name'], joint_types=__sentinel__, extra_shapes=__defaults__['extra_shapes']):
         _set_name(self, name)
         _set_joint_types(self, __factories__['joint_types']() if joint_types is __sentinel__ else joint_types)

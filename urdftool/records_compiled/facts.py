@@ -21,7 +21,7 @@ def _init_facts_collisions_Matrix(__defaults__, __factories__, __sentinel__, __s
 
 # urdftool.facts.collisions.NotChecked
 def _init_facts_collisions_NotChecked(__defaults__, __factories__, __sentinel__, __set__, __slot__):
-    _set_reason = __slot__('reason')
+    (_set_reason,) = map(__slot__, ('reason',))
     def __init__(self, reason):
         _set_reason(self, reason)
     return __init__
@@ -29,9 +29,7 @@ def _init_facts_collisions_NotChecked(__defaults__, __factories__, __sentinel__,
 
 # urdftool.facts.collisions.Overlap
 def _init_facts_collisions_Overlap(__defaults__, __factories__, __sentinel__, __set__, __slot__):
-    _set_link1 = __slot__('link1')
-    _set_link2 = __slot__('link2')
-    _set_depth = __slot__('depth')
+    (_set_link1, _set_link2, _set_depth,) = map(__slot__, ('link1', 'link2', 'depth'))
     def __init__(self, link1, link2, depth):
         _set_link1(self, link1)
         _set_link2(self, link2)
@@ -79,10 +77,7 @@ def _init_facts_dynamics_analysis_DynamicsAnalysis(__defaults__, __factories__, 
 
 # urdftool.facts.dynamics.analysis.GravityLoad
 def _init_facts_dynamics_analysis_GravityLoad(__defaults__, __factories__, __sentinel__, __set__, __slot__):
-    _set_joint = __slot__('joint')
-    _set_torque = __slot__('torque')
-    _set_configuration = __slot__('configuration')
-    _set_sample = __slot__('sample')
+    (_set_joint, _set_torque, _set_configuration, _set_sample,) = map(__slot__, ('joint', 'torque', 'configuration', 'sample'))
     def __init__(self, joint, torque, configuration, sample):
         _set_joint(self, joint)
         _set_torque(self, torque)
@@ -93,9 +88,7 @@ def _init_facts_dynamics_analysis_GravityLoad(__defaults__, __factories__, __sen
 
 # urdftool.facts.dynamics.configurations.Samples
 def _init_facts_dynamics_configurations_Samples(__defaults__, __factories__, __sentinel__, __set__, __slot__):
-    _set_joints = __slot__('joints')
-    _set_values = __slot__('values')
-    _set_others = __slot__('others')
+    (_set_joints, _set_values, _set_others,) = map(__slot__, ('joints', 'values', 'others'))
     def __init__(self, joints, values, others):
         _set_joints(self, joints)
         _set_values(self, values)
@@ -105,8 +98,7 @@ def _init_facts_dynamics_configurations_Samples(__defaults__, __factories__, __s
 
 # urdftool.facts.dynamics.coverage.NotCovered
 def _init_facts_dynamics_coverage_NotCovered(__defaults__, __factories__, __sentinel__, __set__, __slot__):
-    _set_reason = __slot__('reason')
-    _set_elements = __slot__('elements')
+    (_set_reason, _set_elements,) = map(__slot__, ('reason', 'elements'))
     def __init__(self, reason, elements=__defaults__['elements']):
         _set_reason(self, reason)
         _set_elements(self, elements)
@@ -115,7 +107,7 @@ def _init_facts_dynamics_coverage_NotCovered(__defaults__, __factories__, __sent
 
 # urdftool.facts.dynamics.run.Skipped
 def _init_facts_dynamics_run_Skipped(__defaults__, __factories__, __sentinel__, __set__, __slot__):
-    _set_why = __slot__('why')
+    (_set_why,) = map(__slot__, ('why',))
     def __init__(self, why):
         _set_why(self, why)
     return __init__
@@ -123,10 +115,7 @@ def _init_facts_dynamics_run_Skipped(__defaults__, __factories__, __sentinel__, 
 
 # urdftool.facts.meshes.MeshUse
 def _init_facts_meshes_MeshUse(__defaults__, __factories__, __sentinel__, __set__, __slot__):
-    _set_link = __slot__('link')
-    _set_role = __slot__('role')
-    _set_mesh = __slot__('mesh')
-    _set_origin = __slot__('origin')
+    (_set_link, _set_role, _set_mesh, _set_origin,) = map(__slot__, ('link', 'role', 'mesh', 'origin'))
     def __init__(self, link, role, mesh, origin):
         _set_link(self, link)
         _set_role(self, role)
@@ -137,17 +126,7 @@ def _init_facts_meshes_MeshUse(__defaults__, __factories__, __sentinel__, __set_
 
 # urdftool.facts.range_sweep.Sweep
 def _init_facts_range_sweep_Sweep(__defaults__, __factories__, __sentinel__, __set__, __slot__):
-    _set_joint = __slot__('joint')
-    _set_parent = __slot__('parent')
-    _set_child = __slot__('child')
-    _set_lower = __slot__('lower')
-    _set_upper = __slot__('upper')
-    _set_home = __slot__('home')
-    _set_home_depth = __slot__('home_depth')
-    _set_angles = __slot__('angles')
-    _set_depths = __slot__('depths')
-    _set_step = __slot__('step')
-    _set_exact = __slot__('exact')
+    (_set_joint, _set_parent, _set_child, _set_lower, _set_upper, _set_home, _set_home_depth, _set_angles, _set_depths, _set_step, _set_exact,) = map(__slot__, ('joint', 'parent', 'child', 'lower', 'upper', 'home', 'home_depth', 'angles', 'depths', 'step', 'exact'))
     def __init__(self, joint, parent, child, lower, upper, home, home_depth, angles, depths, step, exact):
         _set_joint(self, joint)
         _set_parent(self, parent)
@@ -165,12 +144,7 @@ def _init_facts_range_sweep_Sweep(__defaults__, __factories__, __sentinel__, __s
 
 # urdftool.facts.ros2_control.Block
 def _init_facts_ros2_control_Block(__defaults__, __factories__, __sentinel__, __set__, __slot__):
-    _set_name = __slot__('name')
-    _set_type = __slot__('type')
-    _set_element = __slot__('element')
-    _set_plugin = __slot__('plugin')
-    _set_components = __slot__('components')
-    _set_hardware_params = __slot__('hardware_params')
+    (_set_name, _set_type, _set_element, _set_plugin, _set_components, _set_hardware_params,) = map(__slot__, ('name', 'type', 'element', 'plugin', 'components', 'hardware_params'))
     def __init__(self, name, type, element, plugin, components=__defaults__['components'], hardware_params=__sentinel__):
         _set_name(self, name)
         _set_type(self, type)
@@ -183,12 +157,7 @@ def _init_facts_ros2_control_Block(__defaults__, __factories__, __sentinel__, __
 
 # urdftool.facts.ros2_control.Component
 def _init_facts_ros2_control_Component(__defaults__, __factories__, __sentinel__, __set__, __slot__):
-    _set_kind = __slot__('kind')
-    _set_name = __slot__('name')
-    _set_element = __slot__('element')
-    _set_command = __slot__('command')
-    _set_state = __slot__('state')
-    _set_params = __slot__('params')
+    (_set_kind, _set_name, _set_element, _set_command, _set_state, _set_params,) = map(__slot__, ('kind', 'name', 'element', 'command', 'state', 'params'))
     def __init__(self, kind, name, element, command=__defaults__['command'], state=__defaults__['state'], params=__sentinel__):
         _set_kind(self, kind)
         _set_name(self, name)
@@ -201,9 +170,7 @@ def _init_facts_ros2_control_Component(__defaults__, __factories__, __sentinel__
 
 # urdftool.facts.ros2_control.Interface
 def _init_facts_ros2_control_Interface(__defaults__, __factories__, __sentinel__, __set__, __slot__):
-    _set_name = __slot__('name')
-    _set_element = __slot__('element')
-    _set_params = __slot__('params')
+    (_set_name, _set_element, _set_params,) = map(__slot__, ('name', 'element', 'params'))
     def __init__(self, name, element, params=__sentinel__):
         _set_name(self, name)
         _set_element(self, element)
@@ -221,11 +188,7 @@ def _init_facts_simulation_SimResult(__defaults__, __factories__, __sentinel__, 
 
 # urdftool.facts.simulation.options.SimOptions
 def _init_facts_simulation_options_SimOptions(__defaults__, __factories__, __sentinel__, __set__, __slot__):
-    _set_engines = __slot__('engines')
-    _set_duration = __slot__('duration')
-    _set_timestep = __slot__('timestep')
-    _set_hold = __slot__('hold')
-    _set_repair_inertia = __slot__('repair_inertia')
+    (_set_engines, _set_duration, _set_timestep, _set_hold, _set_repair_inertia,) = map(__slot__, ('engines', 'duration', 'timestep', 'hold', 'repair_inertia'))
     def __init__(self, engines=__defaults__['engines'], duration=__defaults__['duration'], timestep=__defaults__['timestep'], hold=__defaults__['hold'], repair_inertia=__defaults__['repair_inertia']):
         _set_engines(self, engines)
         _set_duration(self, duration)
@@ -268,11 +231,7 @@ def _init_facts_simulation_record_EngineRun(__defaults__, __factories__, __senti
 
 # urdftool.facts.simulation.record.LimitViolation
 def _init_facts_simulation_record_LimitViolation(__defaults__, __factories__, __sentinel__, __set__, __slot__):
-    _set_joint = __slot__('joint')
-    _set_amount = __slot__('amount')
-    _set_position = __slot__('position')
-    _set_bound = __slot__('bound')
-    _set_time = __slot__('time')
+    (_set_joint, _set_amount, _set_position, _set_bound, _set_time,) = map(__slot__, ('joint', 'amount', 'position', 'bound', 'time'))
     def __init__(self, joint, amount, position, bound, time):
         _set_joint(self, joint)
         _set_amount(self, amount)
@@ -284,9 +243,7 @@ def _init_facts_simulation_record_LimitViolation(__defaults__, __factories__, __
 
 # urdftool.facts.simulation.record.Penetration
 def _init_facts_simulation_record_Penetration(__defaults__, __factories__, __sentinel__, __set__, __slot__):
-    _set_link_a = __slot__('link_a')
-    _set_link_b = __slot__('link_b')
-    _set_depth = __slot__('depth')
+    (_set_link_a, _set_link_b, _set_depth,) = map(__slot__, ('link_a', 'link_b', 'depth'))
     def __init__(self, link_a, link_b, depth):
         _set_link_a(self, link_a)
         _set_link_b(self, link_b)

@@ -10,9 +10,7 @@ entry maps a record to the shape of its fields and a function that builds its ``
 
 # urdftool.lsp.analysis.LineEdit
 def _init_lsp_analysis_LineEdit(__defaults__, __factories__, __sentinel__, __set__, __slot__):
-    _set_start = __slot__('start')
-    _set_end = __slot__('end')
-    _set_text = __slot__('text')
+    (_set_start, _set_end, _set_text,) = map(__slot__, ('start', 'end', 'text'))
     def __init__(self, start, end, text):
         _set_start(self, start)
         _set_end(self, end)
@@ -22,10 +20,7 @@ def _init_lsp_analysis_LineEdit(__defaults__, __factories__, __sentinel__, __set
 
 # urdftool.lsp.analysis.Placed
 def _init_lsp_analysis_Placed(__defaults__, __factories__, __sentinel__, __set__, __slot__):
-    _set_diagnostic = __slot__('diagnostic')
-    _set_line = __slot__('line')
-    _set_start = __slot__('start')
-    _set_end = __slot__('end')
+    (_set_diagnostic, _set_line, _set_start, _set_end,) = map(__slot__, ('diagnostic', 'line', 'start', 'end'))
     def __init__(self, diagnostic, line, start, end):
         _set_diagnostic(self, diagnostic)
         _set_line(self, line)
@@ -36,10 +31,7 @@ def _init_lsp_analysis_Placed(__defaults__, __factories__, __sentinel__, __set__
 
 # urdftool.lsp.analysis.TextEdit
 def _init_lsp_analysis_TextEdit(__defaults__, __factories__, __sentinel__, __set__, __slot__):
-    _set_path = __slot__('path')
-    _set_start = __slot__('start')
-    _set_end = __slot__('end')
-    _set_text = __slot__('text')
+    (_set_path, _set_start, _set_end, _set_text,) = map(__slot__, ('path', 'start', 'end', 'text'))
     def __init__(self, path, start, end, text):
         _set_path(self, path)
         _set_start(self, start)

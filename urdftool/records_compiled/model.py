@@ -10,8 +10,7 @@ entry maps a record to the shape of its fields and a function that builds its ``
 
 # urdftool.model.geometry.Box
 def _init_model_geometry_Box(__defaults__, __factories__, __sentinel__, __set__, __slot__):
-    _set_size = __slot__('size')
-    _set_span = __slot__('span')
+    (_set_size, _set_span,) = map(__slot__, ('size', 'span'))
     def __init__(self, size, span=__defaults__['span']):
         _set_size(self, size)
         _set_span(self, span)
@@ -20,9 +19,7 @@ def _init_model_geometry_Box(__defaults__, __factories__, __sentinel__, __set__,
 
 # urdftool.model.geometry.Capsule
 def _init_model_geometry_Capsule(__defaults__, __factories__, __sentinel__, __set__, __slot__):
-    _set_radius = __slot__('radius')
-    _set_length = __slot__('length')
-    _set_span = __slot__('span')
+    (_set_radius, _set_length, _set_span,) = map(__slot__, ('radius', 'length', 'span'))
     def __init__(self, radius, length, span=__defaults__['span']):
         _set_radius(self, radius)
         _set_length(self, length)
@@ -32,9 +29,7 @@ def _init_model_geometry_Capsule(__defaults__, __factories__, __sentinel__, __se
 
 # urdftool.model.geometry.Cylinder
 def _init_model_geometry_Cylinder(__defaults__, __factories__, __sentinel__, __set__, __slot__):
-    _set_radius = __slot__('radius')
-    _set_length = __slot__('length')
-    _set_span = __slot__('span')
+    (_set_radius, _set_length, _set_span,) = map(__slot__, ('radius', 'length', 'span'))
     def __init__(self, radius, length, span=__defaults__['span']):
         _set_radius(self, radius)
         _set_length(self, length)
@@ -44,8 +39,7 @@ def _init_model_geometry_Cylinder(__defaults__, __factories__, __sentinel__, __s
 
 # urdftool.model.geometry.Ellipsoid
 def _init_model_geometry_Ellipsoid(__defaults__, __factories__, __sentinel__, __set__, __slot__):
-    _set_radii = __slot__('radii')
-    _set_span = __slot__('span')
+    (_set_radii, _set_span,) = map(__slot__, ('radii', 'span'))
     def __init__(self, radii, span=__defaults__['span']):
         _set_radii(self, radii)
         _set_span(self, span)
@@ -54,11 +48,7 @@ def _init_model_geometry_Ellipsoid(__defaults__, __factories__, __sentinel__, __
 
 # urdftool.model.geometry.Mesh
 def _init_model_geometry_Mesh(__defaults__, __factories__, __sentinel__, __set__, __slot__):
-    _set_filename = __slot__('filename')
-    _set_resolved = __slot__('resolved')
-    _set_scale = __slot__('scale')
-    _set_span = __slot__('span')
-    _set_resolution = __slot__('resolution')
+    (_set_filename, _set_resolved, _set_scale, _set_span, _set_resolution,) = map(__slot__, ('filename', 'resolved', 'scale', 'span', 'resolution'))
     def __init__(self, filename, resolved=__defaults__['resolved'], scale=__defaults__['scale'], span=__defaults__['span'], resolution=__defaults__['resolution']):
         _set_filename(self, filename)
         _set_resolved(self, resolved)
@@ -70,9 +60,7 @@ def _init_model_geometry_Mesh(__defaults__, __factories__, __sentinel__, __set__
 
 # urdftool.model.geometry.Plane
 def _init_model_geometry_Plane(__defaults__, __factories__, __sentinel__, __set__, __slot__):
-    _set_normal = __slot__('normal')
-    _set_size = __slot__('size')
-    _set_span = __slot__('span')
+    (_set_normal, _set_size, _set_span,) = map(__slot__, ('normal', 'size', 'span'))
     def __init__(self, normal=__defaults__['normal'], size=__defaults__['size'], span=__defaults__['span']):
         _set_normal(self, normal)
         _set_size(self, size)
@@ -82,11 +70,7 @@ def _init_model_geometry_Plane(__defaults__, __factories__, __sentinel__, __set_
 
 # urdftool.model.geometry.Resolution
 def _init_model_geometry_Resolution(__defaults__, __factories__, __sentinel__, __set__, __slot__):
-    _set_path = __slot__('path')
-    _set_tried = __slot__('tried')
-    _set_package = __slot__('package')
-    _set_package_missing = __slot__('package_missing')
-    _set_package_dir = __slot__('package_dir')
+    (_set_path, _set_tried, _set_package, _set_package_missing, _set_package_dir,) = map(__slot__, ('path', 'tried', 'package', 'package_missing', 'package_dir'))
     def __init__(self, path, tried=__defaults__['tried'], package=__defaults__['package'], package_missing=__defaults__['package_missing'], package_dir=__defaults__['package_dir']):
         _set_path(self, path)
         _set_tried(self, tried)
@@ -98,8 +82,7 @@ def _init_model_geometry_Resolution(__defaults__, __factories__, __sentinel__, _
 
 # urdftool.model.geometry.Sphere
 def _init_model_geometry_Sphere(__defaults__, __factories__, __sentinel__, __set__, __slot__):
-    _set_radius = __slot__('radius')
-    _set_span = __slot__('span')
+    (_set_radius, _set_span,) = map(__slot__, ('radius', 'span'))
     def __init__(self, radius, span=__defaults__['span']):
         _set_radius(self, radius)
         _set_span(self, span)
@@ -108,8 +91,7 @@ def _init_model_geometry_Sphere(__defaults__, __factories__, __sentinel__, __set
 
 # urdftool.model.pose.Pose
 def _init_model_pose_Pose(__defaults__, __factories__, __sentinel__, __set__, __slot__):
-    _set_xyz = __slot__('xyz')
-    _set_rpy = __slot__('rpy')
+    (_set_xyz, _set_rpy,) = map(__slot__, ('xyz', 'rpy'))
     def __init__(self, xyz=__defaults__['xyz'], rpy=__defaults__['rpy']):
         _set_xyz(self, xyz)
         _set_rpy(self, rpy)
@@ -118,9 +100,7 @@ def _init_model_pose_Pose(__defaults__, __factories__, __sentinel__, __set__, __
 
 # urdftool.model.robot.Calibration
 def _init_model_robot_Calibration(__defaults__, __factories__, __sentinel__, __set__, __slot__):
-    _set_rising = __slot__('rising')
-    _set_falling = __slot__('falling')
-    _set_span = __slot__('span')
+    (_set_rising, _set_falling, _set_span,) = map(__slot__, ('rising', 'falling', 'span'))
     def __init__(self, rising=__defaults__['rising'], falling=__defaults__['falling'], span=__defaults__['span']):
         _set_rising(self, rising)
         _set_falling(self, falling)
@@ -130,10 +110,7 @@ def _init_model_robot_Calibration(__defaults__, __factories__, __sentinel__, __s
 
 # urdftool.model.robot.Collision
 def _init_model_robot_Collision(__defaults__, __factories__, __sentinel__, __set__, __slot__):
-    _set_geometry = __slot__('geometry')
-    _set_origin = __slot__('origin')
-    _set_name = __slot__('name')
-    _set_span = __slot__('span')
+    (_set_geometry, _set_origin, _set_name, _set_span,) = map(__slot__, ('geometry', 'origin', 'name', 'span'))
     def __init__(self, geometry, origin=__defaults__['origin'], name=__defaults__['name'], span=__defaults__['span']):
         _set_geometry(self, geometry)
         _set_origin(self, origin)
@@ -144,11 +121,7 @@ def _init_model_robot_Collision(__defaults__, __factories__, __sentinel__, __set
 
 # urdftool.model.robot.Dynamics
 def _init_model_robot_Dynamics(__defaults__, __factories__, __sentinel__, __set__, __slot__):
-    _set_damping = __slot__('damping')
-    _set_friction = __slot__('friction')
-    _set_span = __slot__('span')
-    _set_spring_stiffness = __slot__('spring_stiffness')
-    _set_spring_reference = __slot__('spring_reference')
+    (_set_damping, _set_friction, _set_span, _set_spring_stiffness, _set_spring_reference,) = map(__slot__, ('damping', 'friction', 'span', 'spring_stiffness', 'spring_reference'))
     def __init__(self, damping=__defaults__['damping'], friction=__defaults__['friction'], span=__defaults__['span'], spring_stiffness=__defaults__['spring_stiffness'], spring_reference=__defaults__['spring_reference']):
         _set_damping(self, damping)
         _set_friction(self, friction)
@@ -160,10 +133,7 @@ def _init_model_robot_Dynamics(__defaults__, __factories__, __sentinel__, __set_
 
 # urdftool.model.robot.Extension
 def _init_model_robot_Extension(__defaults__, __factories__, __sentinel__, __set__, __slot__):
-    _set_tag = __slot__('tag')
-    _set_attributes = __slot__('attributes')
-    _set_element = __slot__('element')
-    _set_span = __slot__('span')
+    (_set_tag, _set_attributes, _set_element, _set_span,) = map(__slot__, ('tag', 'attributes', 'element', 'span'))
     def __init__(self, tag, attributes, element, span=__defaults__['span']):
         _set_tag(self, tag)
         _set_attributes(self, attributes)
@@ -174,12 +144,7 @@ def _init_model_robot_Extension(__defaults__, __factories__, __sentinel__, __set
 
 # urdftool.model.robot.Inertial
 def _init_model_robot_Inertial(__defaults__, __factories__, __sentinel__, __set__, __slot__):
-    _set_mass = __slot__('mass')
-    _set_inertia = __slot__('inertia')
-    _set_origin = __slot__('origin')
-    _set_span = __slot__('span')
-    _set_mass_span = __slot__('mass_span')
-    _set_inertia_span = __slot__('inertia_span')
+    (_set_mass, _set_inertia, _set_origin, _set_span, _set_mass_span, _set_inertia_span,) = map(__slot__, ('mass', 'inertia', 'origin', 'span', 'mass_span', 'inertia_span'))
     def __init__(self, mass, inertia, origin=__defaults__['origin'], span=__defaults__['span'], mass_span=__defaults__['mass_span'], inertia_span=__defaults__['inertia_span']):
         _set_mass(self, mass)
         _set_inertia(self, inertia)
@@ -192,22 +157,7 @@ def _init_model_robot_Inertial(__defaults__, __factories__, __sentinel__, __set_
 
 # urdftool.model.robot.Joint
 def _init_model_robot_Joint(__defaults__, __factories__, __sentinel__, __set__, __slot__):
-    _set_name = __slot__('name')
-    _set_type = __slot__('type')
-    _set_parent = __slot__('parent')
-    _set_child = __slot__('child')
-    _set_origin = __slot__('origin')
-    _set_axis = __slot__('axis')
-    _set_limit = __slot__('limit')
-    _set_dynamics = __slot__('dynamics')
-    _set_mimic = __slot__('mimic')
-    _set_safety_controller = __slot__('safety_controller')
-    _set_calibration = __slot__('calibration')
-    _set_span = __slot__('span')
-    _set_axis_span = __slot__('axis_span')
-    _set_axis2 = __slot__('axis2')
-    _set_limit2 = __slot__('limit2')
-    _set_extensions = __slot__('extensions')
+    (_set_name, _set_type, _set_parent, _set_child, _set_origin, _set_axis, _set_limit, _set_dynamics, _set_mimic, _set_safety_controller, _set_calibration, _set_span, _set_axis_span, _set_axis2, _set_limit2, _set_extensions,) = map(__slot__, ('name', 'type', 'parent', 'child', 'origin', 'axis', 'limit', 'dynamics', 'mimic', 'safety_controller', 'calibration', 'span', 'axis_span', 'axis2', 'limit2', 'extensions'))
     def __init__(self, name, type, parent, child, origin=__defaults__['origin'], axis=__defaults__['axis'], limit=__defaults__['limit'], dynamics=__defaults__['dynamics'], mimic=__defaults__['mimic'], safety_controller=__defaults__['safety_controller'], calibration=__defaults__['calibration'], span=__defaults__['span'], axis_span=__defaults__['axis_span'], axis2=__defaults__['axis2'], limit2=__defaults__['limit2'], extensions=__defaults__['extensions']):
         _set_name(self, name)
         _set_type(self, type)
@@ -230,13 +180,7 @@ def _init_model_robot_Joint(__defaults__, __factories__, __sentinel__, __set__, 
 
 # urdftool.model.robot.Limit
 def _init_model_robot_Limit(__defaults__, __factories__, __sentinel__, __set__, __slot__):
-    _set_lower = __slot__('lower')
-    _set_upper = __slot__('upper')
-    _set_effort = __slot__('effort')
-    _set_velocity = __slot__('velocity')
-    _set_span = __slot__('span')
-    _set_lower_span = __slot__('lower_span')
-    _set_upper_span = __slot__('upper_span')
+    (_set_lower, _set_upper, _set_effort, _set_velocity, _set_span, _set_lower_span, _set_upper_span,) = map(__slot__, ('lower', 'upper', 'effort', 'velocity', 'span', 'lower_span', 'upper_span'))
     def __init__(self, lower=__defaults__['lower'], upper=__defaults__['upper'], effort=__defaults__['effort'], velocity=__defaults__['velocity'], span=__defaults__['span'], lower_span=__defaults__['lower_span'], upper_span=__defaults__['upper_span']):
         _set_lower(self, lower)
         _set_upper(self, upper)
@@ -250,12 +194,7 @@ def _init_model_robot_Limit(__defaults__, __factories__, __sentinel__, __set__, 
 
 # urdftool.model.robot.Link
 def _init_model_robot_Link(__defaults__, __factories__, __sentinel__, __set__, __slot__):
-    _set_name = __slot__('name')
-    _set_inertial = __slot__('inertial')
-    _set_visuals = __slot__('visuals')
-    _set_collisions = __slot__('collisions')
-    _set_span = __slot__('span')
-    _set_extensions = __slot__('extensions')
+    (_set_name, _set_inertial, _set_visuals, _set_collisions, _set_span, _set_extensions,) = map(__slot__, ('name', 'inertial', 'visuals', 'collisions', 'span', 'extensions'))
     def __init__(self, name, inertial=__defaults__['inertial'], visuals=__defaults__['visuals'], collisions=__defaults__['collisions'], span=__defaults__['span'], extensions=__defaults__['extensions']):
         _set_name(self, name)
         _set_inertial(self, inertial)
@@ -268,9 +207,7 @@ def _init_model_robot_Link(__defaults__, __factories__, __sentinel__, __set__, _
 
 # urdftool.model.robot.LoopClosure
 def _init_model_robot_LoopClosure(__defaults__, __factories__, __sentinel__, __set__, __slot__):
-    _set_joint = __slot__('joint')
-    _set_parent_anchor = __slot__('parent_anchor')
-    _set_child_anchor = __slot__('child_anchor')
+    (_set_joint, _set_parent_anchor, _set_child_anchor,) = map(__slot__, ('joint', 'parent_anchor', 'child_anchor'))
     def __init__(self, joint, parent_anchor, child_anchor):
         _set_joint(self, joint)
         _set_parent_anchor(self, parent_anchor)
@@ -280,10 +217,7 @@ def _init_model_robot_LoopClosure(__defaults__, __factories__, __sentinel__, __s
 
 # urdftool.model.robot.Material
 def _init_model_robot_Material(__defaults__, __factories__, __sentinel__, __set__, __slot__):
-    _set_name = __slot__('name')
-    _set_color = __slot__('color')
-    _set_texture = __slot__('texture')
-    _set_span = __slot__('span')
+    (_set_name, _set_color, _set_texture, _set_span,) = map(__slot__, ('name', 'color', 'texture', 'span'))
     def __init__(self, name, color=__defaults__['color'], texture=__defaults__['texture'], span=__defaults__['span']):
         _set_name(self, name)
         _set_color(self, color)
@@ -294,10 +228,7 @@ def _init_model_robot_Material(__defaults__, __factories__, __sentinel__, __set_
 
 # urdftool.model.robot.Mimic
 def _init_model_robot_Mimic(__defaults__, __factories__, __sentinel__, __set__, __slot__):
-    _set_joint = __slot__('joint')
-    _set_multiplier = __slot__('multiplier')
-    _set_offset = __slot__('offset')
-    _set_span = __slot__('span')
+    (_set_joint, _set_multiplier, _set_offset, _set_span,) = map(__slot__, ('joint', 'multiplier', 'offset', 'span'))
     def __init__(self, joint, multiplier=__defaults__['multiplier'], offset=__defaults__['offset'], span=__defaults__['span']):
         _set_joint(self, joint)
         _set_multiplier(self, multiplier)
@@ -327,11 +258,7 @@ def _init_model_robot_Robot(__defaults__, __factories__, __sentinel__, __set__, 
 
 # urdftool.model.robot.SafetyController
 def _init_model_robot_SafetyController(__defaults__, __factories__, __sentinel__, __set__, __slot__):
-    _set_k_velocity = __slot__('k_velocity')
-    _set_k_position = __slot__('k_position')
-    _set_soft_lower_limit = __slot__('soft_lower_limit')
-    _set_soft_upper_limit = __slot__('soft_upper_limit')
-    _set_span = __slot__('span')
+    (_set_k_velocity, _set_k_position, _set_soft_lower_limit, _set_soft_upper_limit, _set_span,) = map(__slot__, ('k_velocity', 'k_position', 'soft_lower_limit', 'soft_upper_limit', 'span'))
     def __init__(self, k_velocity, k_position=__defaults__['k_position'], soft_lower_limit=__defaults__['soft_lower_limit'], soft_upper_limit=__defaults__['soft_upper_limit'], span=__defaults__['span']):
         _set_k_velocity(self, k_velocity)
         _set_k_position(self, k_position)
@@ -343,11 +270,7 @@ def _init_model_robot_SafetyController(__defaults__, __factories__, __sentinel__
 
 # urdftool.model.robot.Visual
 def _init_model_robot_Visual(__defaults__, __factories__, __sentinel__, __set__, __slot__):
-    _set_geometry = __slot__('geometry')
-    _set_origin = __slot__('origin')
-    _set_name = __slot__('name')
-    _set_material = __slot__('material')
-    _set_span = __slot__('span')
+    (_set_geometry, _set_origin, _set_name, _set_material, _set_span,) = map(__slot__, ('geometry', 'origin', 'name', 'material', 'span'))
     def __init__(self, geometry, origin=__defaults__['origin'], name=__defaults__['name'], material=__defaults__['material'], span=__defaults__['span']):
         _set_geometry(self, geometry)
         _set_origin(self, origin)

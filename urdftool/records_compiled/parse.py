@@ -24,10 +24,7 @@ def _init_parse_Loaded(__defaults__, __factories__, __sentinel__, __set__, __slo
 
 # urdftool.parse.controllers.Controller
 def _init_parse_controllers_Controller(__defaults__, __factories__, __sentinel__, __set__, __slot__):
-    _set_name = __slot__('name')
-    _set_span = __slot__('span')
-    _set_type = __slot__('type')
-    _set_params = __slot__('params')
+    (_set_name, _set_span, _set_type, _set_params,) = map(__slot__, ('name', 'span', 'type', 'params'))
     def __init__(self, name, span, type=__defaults__['type'], params=__sentinel__):
         _set_name(self, name)
         _set_span(self, span)
@@ -56,8 +53,7 @@ def _init_parse_controllers_Controllers(__defaults__, __factories__, __sentinel_
 
 # urdftool.parse.controllers.Value
 def _init_parse_controllers_Value(__defaults__, __factories__, __sentinel__, __set__, __slot__):
-    _set_value = __slot__('value')
-    _set_span = __slot__('span')
+    (_set_value, _set_span,) = map(__slot__, ('value', 'span'))
     def __init__(self, value, span):
         _set_value(self, value)
         _set_span(self, span)
@@ -238,9 +234,7 @@ def _init_parse_sdf_semantics__Scope(__defaults__, __factories__, __sentinel__, 
 
 # urdftool.parse.srdf.Chain
 def _init_parse_srdf_Chain(__defaults__, __factories__, __sentinel__, __set__, __slot__):
-    _set_base = __slot__('base')
-    _set_tip = __slot__('tip')
-    _set_span = __slot__('span')
+    (_set_base, _set_tip, _set_span,) = map(__slot__, ('base', 'tip', 'span'))
     def __init__(self, base, tip, span=__defaults__['span']):
         _set_base(self, base)
         _set_tip(self, tip)
@@ -250,11 +244,7 @@ def _init_parse_srdf_Chain(__defaults__, __factories__, __sentinel__, __set__, _
 
 # urdftool.parse.srdf.CollisionPair
 def _init_parse_srdf_CollisionPair(__defaults__, __factories__, __sentinel__, __set__, __slot__):
-    _set_link1 = __slot__('link1')
-    _set_link2 = __slot__('link2')
-    _set_reason = __slot__('reason')
-    _set_span = __slot__('span')
-    _set_enable = __slot__('enable')
+    (_set_link1, _set_link2, _set_reason, _set_span, _set_enable,) = map(__slot__, ('link1', 'link2', 'reason', 'span', 'enable'))
     def __init__(self, link1, link2, reason, span=__defaults__['span'], enable=__defaults__['enable']):
         _set_link1(self, link1)
         _set_link2(self, link2)
@@ -266,11 +256,7 @@ def _init_parse_srdf_CollisionPair(__defaults__, __factories__, __sentinel__, __
 
 # urdftool.parse.srdf.EndEffector
 def _init_parse_srdf_EndEffector(__defaults__, __factories__, __sentinel__, __set__, __slot__):
-    _set_name = __slot__('name')
-    _set_parent_link = __slot__('parent_link')
-    _set_group = __slot__('group')
-    _set_parent_group = __slot__('parent_group')
-    _set_span = __slot__('span')
+    (_set_name, _set_parent_link, _set_group, _set_parent_group, _set_span,) = map(__slot__, ('name', 'parent_link', 'group', 'parent_group', 'span'))
     def __init__(self, name, parent_link, group, parent_group=__defaults__['parent_group'], span=__defaults__['span']):
         _set_name(self, name)
         _set_parent_link(self, parent_link)
@@ -282,12 +268,7 @@ def _init_parse_srdf_EndEffector(__defaults__, __factories__, __sentinel__, __se
 
 # urdftool.parse.srdf.Group
 def _init_parse_srdf_Group(__defaults__, __factories__, __sentinel__, __set__, __slot__):
-    _set_name = __slot__('name')
-    _set_links = __slot__('links')
-    _set_joints = __slot__('joints')
-    _set_chains = __slot__('chains')
-    _set_subgroups = __slot__('subgroups')
-    _set_span = __slot__('span')
+    (_set_name, _set_links, _set_joints, _set_chains, _set_subgroups, _set_span,) = map(__slot__, ('name', 'links', 'joints', 'chains', 'subgroups', 'span'))
     def __init__(self, name, links=__defaults__['links'], joints=__defaults__['joints'], chains=__defaults__['chains'], subgroups=__defaults__['subgroups'], span=__defaults__['span']):
         _set_name(self, name)
         _set_links(self, links)
@@ -300,10 +281,7 @@ def _init_parse_srdf_Group(__defaults__, __factories__, __sentinel__, __set__, _
 
 # urdftool.parse.srdf.GroupState
 def _init_parse_srdf_GroupState(__defaults__, __factories__, __sentinel__, __set__, __slot__):
-    _set_name = __slot__('name')
-    _set_group = __slot__('group')
-    _set_joints = __slot__('joints')
-    _set_span = __slot__('span')
+    (_set_name, _set_group, _set_joints, _set_span,) = map(__slot__, ('name', 'group', 'joints', 'span'))
     def __init__(self, name, group, joints=__defaults__['joints'], span=__defaults__['span']):
         _set_name(self, name)
         _set_group(self, group)
@@ -314,9 +292,7 @@ def _init_parse_srdf_GroupState(__defaults__, __factories__, __sentinel__, __set
 
 # urdftool.parse.srdf.JointValue
 def _init_parse_srdf_JointValue(__defaults__, __factories__, __sentinel__, __set__, __slot__):
-    _set_name = __slot__('name')
-    _set_values = __slot__('values')
-    _set_span = __slot__('span')
+    (_set_name, _set_values, _set_span,) = map(__slot__, ('name', 'values', 'span'))
     def __init__(self, name, values, span=__defaults__['span']):
         _set_name(self, name)
         _set_values(self, values)
@@ -326,8 +302,7 @@ def _init_parse_srdf_JointValue(__defaults__, __factories__, __sentinel__, __set
 
 # urdftool.parse.srdf.Named
 def _init_parse_srdf_Named(__defaults__, __factories__, __sentinel__, __set__, __slot__):
-    _set_name = __slot__('name')
-    _set_span = __slot__('span')
+    (_set_name, _set_span,) = map(__slot__, ('name', 'span'))
     def __init__(self, name, span=__defaults__['span']):
         _set_name(self, name)
         _set_span(self, span)
@@ -354,11 +329,7 @@ def _init_parse_srdf_Srdf(__defaults__, __factories__, __sentinel__, __set__, __
 
 # urdftool.parse.srdf.VirtualJoint
 def _init_parse_srdf_VirtualJoint(__defaults__, __factories__, __sentinel__, __set__, __slot__):
-    _set_name = __slot__('name')
-    _set_type = __slot__('type')
-    _set_parent_frame = __slot__('parent_frame')
-    _set_child_link = __slot__('child_link')
-    _set_span = __slot__('span')
+    (_set_name, _set_type, _set_parent_frame, _set_child_link, _set_span,) = map(__slot__, ('name', 'type', 'parent_frame', 'child_link', 'span'))
     def __init__(self, name, type, parent_frame, child_link, span=__defaults__['span']):
         _set_name(self, name)
         _set_type(self, type)
@@ -418,8 +389,7 @@ def _init_parse_xacro__Session(__defaults__, __factories__, __sentinel__, __set_
 
 # urdftool.parse.xacro_args.KnownArgument
 def _init_parse_xacro_args_KnownArgument(__defaults__, __factories__, __sentinel__, __set__, __slot__):
-    _set_span = __slot__('span')
-    _set_default = __slot__('default')
+    (_set_span, _set_default,) = map(__slot__, ('span', 'default'))
     def __init__(self, span, default):
         _set_span(self, span)
         _set_default(self, default)

@@ -10,11 +10,7 @@ entry maps a record to the shape of its fields and a function that builds its ``
 
 # urdftool.physics.bodies.MassRole
 def _init_physics_bodies_MassRole(__defaults__, __factories__, __sentinel__, __set__, __slot__):
-    _set_why = __slot__('why')
-    _set_severity = __slot__('severity')
-    _set_joint = __slot__('joint')
-    _set_carrier = __slot__('carrier')
-    _set_carrier_mass = __slot__('carrier_mass')
+    (_set_why, _set_severity, _set_joint, _set_carrier, _set_carrier_mass,) = map(__slot__, ('why', 'severity', 'joint', 'carrier', 'carrier_mass'))
     def __init__(self, why, severity, joint, carrier, carrier_mass):
         _set_why(self, why)
         _set_severity(self, severity)
@@ -35,9 +31,7 @@ def _init_physics_bodies_RigidBody(__defaults__, __factories__, __sentinel__, __
 
 # urdftool.physics.inertia.InertiaVerdict
 def _init_physics_inertia_InertiaVerdict(__defaults__, __factories__, __sentinel__, __set__, __slot__):
-    _set_moments = __slot__('moments')
-    _set_positive_definite = __slot__('positive_definite')
-    _set_triangle_violation = __slot__('triangle_violation')
+    (_set_moments, _set_positive_definite, _set_triangle_violation,) = map(__slot__, ('moments', 'positive_definite', 'triangle_violation'))
     def __init__(self, moments, positive_definite, triangle_violation):
         _set_moments(self, moments)
         _set_positive_definite(self, positive_definite)
@@ -47,11 +41,7 @@ def _init_physics_inertia_InertiaVerdict(__defaults__, __factories__, __sentinel
 
 # urdftool.physics.linkmass.InertiaComparison
 def _init_physics_linkmass_InertiaComparison(__defaults__, __factories__, __sentinel__, __set__, __slot__):
-    _set_source = __slot__('source')
-    _set_solid = __slot__('solid')
-    _set_computed = __slot__('computed')
-    _set_ratio = __slot__('ratio')
-    _set_worst = __slot__('worst')
+    (_set_source, _set_solid, _set_computed, _set_ratio, _set_worst,) = map(__slot__, ('source', 'solid', 'computed', 'ratio', 'worst'))
     def __init__(self, source, solid, computed, ratio, worst):
         _set_source(self, source)
         _set_solid(self, solid)
@@ -63,13 +53,7 @@ def _init_physics_linkmass_InertiaComparison(__defaults__, __factories__, __sent
 
 # urdftool.physics.massprops.SolidProperties
 def _init_physics_massprops_SolidProperties(__defaults__, __factories__, __sentinel__, __set__, __slot__):
-    _set_volume = __slot__('volume')
-    _set_center = __slot__('center')
-    _set_inertia = __slot__('inertia')
-    _set_bounds_min = __slot__('bounds_min')
-    _set_bounds_max = __slot__('bounds_max')
-    _set_label = __slot__('label')
-    _set_approximate = __slot__('approximate')
+    (_set_volume, _set_center, _set_inertia, _set_bounds_min, _set_bounds_max, _set_label, _set_approximate,) = map(__slot__, ('volume', 'center', 'inertia', 'bounds_min', 'bounds_max', 'label', 'approximate'))
     def __init__(self, volume, center, inertia, bounds_min, bounds_max, label, approximate=__defaults__['approximate']):
         _set_volume(self, volume)
         _set_center(self, center)
@@ -83,9 +67,7 @@ def _init_physics_massprops_SolidProperties(__defaults__, __factories__, __senti
 
 # urdftool.physics.mobility.BasePlan
 def _init_physics_mobility_BasePlan(__defaults__, __factories__, __sentinel__, __set__, __slot__):
-    _set_kind = __slot__('kind')
-    _set_reason = __slot__('reason')
-    _set_free_joint = __slot__('free_joint')
+    (_set_kind, _set_reason, _set_free_joint,) = map(__slot__, ('kind', 'reason', 'free_joint'))
     def __init__(self, kind, reason, free_joint=__defaults__['free_joint']):
         _set_kind(self, kind)
         _set_reason(self, reason)

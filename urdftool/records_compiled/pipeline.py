@@ -10,9 +10,7 @@ entry maps a record to the shape of its fields and a function that builds its ``
 
 # urdftool.pipeline.baseline.BaselineResult
 def _init_pipeline_baseline_BaselineResult(__defaults__, __factories__, __sentinel__, __set__, __slot__):
-    _set_report = __slot__('report')
-    _set_known = __slot__('known')
-    _set_fixed = __slot__('fixed')
+    (_set_report, _set_known, _set_fixed,) = map(__slot__, ('report', 'known', 'fixed'))
     def __init__(self, report, known, fixed):
         _set_report(self, report)
         _set_known(self, known)
@@ -22,18 +20,7 @@ def _init_pipeline_baseline_BaselineResult(__defaults__, __factories__, __sentin
 
 # urdftool.pipeline.check.CheckOptions
 def _init_pipeline_check_CheckOptions(__defaults__, __factories__, __sentinel__, __set__, __slot__):
-    _set_select = __slot__('select')
-    _set_ignore = __slot__('ignore')
-    _set_xacro_args = __slot__('xacro_args')
-    _set_packages = __slot__('packages')
-    _set_package_paths = __slot__('package_paths')
-    _set_rule_options = __slot__('rule_options')
-    _set_file_limits = __slot__('file_limits')
-    _set_suppressions = __slot__('suppressions')
-    _set_severity = __slot__('severity')
-    _set_srdf = __slot__('srdf')
-    _set_discover_srdf = __slot__('discover_srdf')
-    _set_controllers = __slot__('controllers')
+    (_set_select, _set_ignore, _set_xacro_args, _set_packages, _set_package_paths, _set_rule_options, _set_file_limits, _set_suppressions, _set_severity, _set_srdf, _set_discover_srdf, _set_controllers,) = map(__slot__, ('select', 'ignore', 'xacro_args', 'packages', 'package_paths', 'rule_options', 'file_limits', 'suppressions', 'severity', 'srdf', 'discover_srdf', 'controllers'))
     def __init__(self, select=__defaults__['select'], ignore=__defaults__['ignore'], xacro_args=__sentinel__, packages=__sentinel__, package_paths=__defaults__['package_paths'], rule_options=__sentinel__, file_limits=__sentinel__, suppressions=__defaults__['suppressions'], severity=__sentinel__, srdf=__defaults__['srdf'], discover_srdf=__defaults__['discover_srdf'], controllers=__defaults__['controllers']):
         _set_select(self, select)
         _set_ignore(self, ignore)
@@ -52,10 +39,7 @@ def _init_pipeline_check_CheckOptions(__defaults__, __factories__, __sentinel__,
 
 # urdftool.pipeline.collision.CollisionOptions
 def _init_pipeline_collision_CollisionOptions(__defaults__, __factories__, __sentinel__, __set__, __slot__):
-    _set_mode = __slot__('mode')
-    _set_threshold = __slot__('threshold')
-    _set_max_parts = __slot__('max_parts')
-    _set_tolerance = __slot__('tolerance')
+    (_set_mode, _set_threshold, _set_max_parts, _set_tolerance,) = map(__slot__, ('mode', 'threshold', 'max_parts', 'tolerance'))
     def __init__(self, mode=__defaults__['mode'], threshold=__defaults__['threshold'], max_parts=__defaults__['max_parts'], tolerance=__defaults__['tolerance']):
         _set_mode(self, mode)
         _set_threshold(self, threshold)
@@ -88,14 +72,7 @@ def _init_pipeline_convert_Conversion(__defaults__, __factories__, __sentinel__,
 
 # urdftool.pipeline.diff.Change
 def _init_pipeline_diff_Change(__defaults__, __factories__, __sentinel__, __set__, __slot__):
-    _set_kind = __slot__('kind')
-    _set_subject = __slot__('subject')
-    _set_field = __slot__('field')
-    _set_old = __slot__('old')
-    _set_new = __slot__('new')
-    _set_size = __slot__('size')
-    _set_unit = __slot__('unit')
-    _set_severity = __slot__('severity')
+    (_set_kind, _set_subject, _set_field, _set_old, _set_new, _set_size, _set_unit, _set_severity,) = map(__slot__, ('kind', 'subject', 'field', 'old', 'new', 'size', 'unit', 'severity'))
     def __init__(self, kind, subject, field=__defaults__['field'], old=__defaults__['old'], new=__defaults__['new'], size=__defaults__['size'], unit=__defaults__['unit'], severity=__defaults__['severity']):
         _set_kind(self, kind)
         _set_subject(self, subject)
@@ -110,11 +87,7 @@ def _init_pipeline_diff_Change(__defaults__, __factories__, __sentinel__, __set_
 
 # urdftool.pipeline.diff.RobotDiff
 def _init_pipeline_diff_RobotDiff(__defaults__, __factories__, __sentinel__, __set__, __slot__):
-    _set_old = __slot__('old')
-    _set_new = __slot__('new')
-    _set_changes = __slot__('changes')
-    _set_link_renames = __slot__('link_renames')
-    _set_joint_renames = __slot__('joint_renames')
+    (_set_old, _set_new, _set_changes, _set_link_renames, _set_joint_renames,) = map(__slot__, ('old', 'new', 'changes', 'link_renames', 'joint_renames'))
     def __init__(self, old, new, changes, link_renames=__sentinel__, joint_renames=__sentinel__):
         _set_old(self, old)
         _set_new(self, new)
@@ -146,13 +119,7 @@ def _init_pipeline_fix_FixResult(__defaults__, __factories__, __sentinel__, __se
 
 # urdftool.pipeline.fixtext.Attribute
 def _init_pipeline_fixtext_Attribute(__defaults__, __factories__, __sentinel__, __set__, __slot__):
-    _set_name = __slot__('name')
-    _set_name_start = __slot__('name_start')
-    _set_name_end = __slot__('name_end')
-    _set_value_start = __slot__('value_start')
-    _set_value_end = __slot__('value_end')
-    _set_quote = __slot__('quote')
-    _set_raw = __slot__('raw')
+    (_set_name, _set_name_start, _set_name_end, _set_value_start, _set_value_end, _set_quote, _set_raw,) = map(__slot__, ('name', 'name_start', 'name_end', 'value_start', 'value_end', 'quote', 'raw'))
     def __init__(self, name, name_start, name_end, value_start, value_end, quote, raw):
         _set_name(self, name)
         _set_name_start(self, name_start)
@@ -176,12 +143,7 @@ def _init_pipeline_fixtext_SourceText(__defaults__, __factories__, __sentinel__,
 
 # urdftool.pipeline.fixtext.Tag
 def _init_pipeline_fixtext_Tag(__defaults__, __factories__, __sentinel__, __set__, __slot__):
-    _set_name = __slot__('name')
-    _set_start = __slot__('start')
-    _set_name_end = __slot__('name_end')
-    _set_end = __slot__('end')
-    _set_self_closing = __slot__('self_closing')
-    _set_attributes = __slot__('attributes')
+    (_set_name, _set_start, _set_name_end, _set_end, _set_self_closing, _set_attributes,) = map(__slot__, ('name', 'start', 'name_end', 'end', 'self_closing', 'attributes'))
     def __init__(self, name, start, name_end, end, self_closing, attributes):
         _set_name(self, name)
         _set_start(self, start)
@@ -194,8 +156,7 @@ def _init_pipeline_fixtext_Tag(__defaults__, __factories__, __sentinel__, __set_
 
 # urdftool.pipeline.home.HomeState
 def _init_pipeline_home_HomeState(__defaults__, __factories__, __sentinel__, __set__, __slot__):
-    _set_name = __slot__('name')
-    _set_values = __slot__('values')
+    (_set_name, _set_values,) = map(__slot__, ('name', 'values'))
     def __init__(self, name, values):
         _set_name(self, name)
         _set_values(self, values)
@@ -204,8 +165,7 @@ def _init_pipeline_home_HomeState(__defaults__, __factories__, __sentinel__, __s
 
 # urdftool.pipeline.settings.ConfigFile
 def _init_pipeline_settings_ConfigFile(__defaults__, __factories__, __sentinel__, __set__, __slot__):
-    _set_path = __slot__('path')
-    _set_table = __slot__('table')
+    (_set_path, _set_table,) = map(__slot__, ('path', 'table'))
     def __init__(self, path, table):
         _set_path(self, path)
         _set_table(self, table)
@@ -214,15 +174,7 @@ def _init_pipeline_settings_ConfigFile(__defaults__, __factories__, __sentinel__
 
 # urdftool.pipeline.settings.Overrides
 def _init_pipeline_settings_Overrides(__defaults__, __factories__, __sentinel__, __set__, __slot__):
-    _set_select = __slot__('select')
-    _set_ignore = __slot__('ignore')
-    _set_extend_select = __slot__('extend_select')
-    _set_strict = __slot__('strict')
-    _set_package_paths = __slot__('package_paths')
-    _set_packages = __slot__('packages')
-    _set_xacro_args = __slot__('xacro_args')
-    _set_format = __slot__('format')
-    _set_isolated = __slot__('isolated')
+    (_set_select, _set_ignore, _set_extend_select, _set_strict, _set_package_paths, _set_packages, _set_xacro_args, _set_format, _set_isolated,) = map(__slot__, ('select', 'ignore', 'extend_select', 'strict', 'package_paths', 'packages', 'xacro_args', 'format', 'isolated'))
     def __init__(self, select=__defaults__['select'], ignore=__defaults__['ignore'], extend_select=__defaults__['extend_select'], strict=__defaults__['strict'], package_paths=__defaults__['package_paths'], packages=__sentinel__, xacro_args=__sentinel__, format=__defaults__['format'], isolated=__defaults__['isolated']):
         _set_select(self, select)
         _set_ignore(self, ignore)
@@ -238,18 +190,7 @@ def _init_pipeline_settings_Overrides(__defaults__, __factories__, __sentinel__,
 
 # urdftool.pipeline.settings.Settings
 def _init_pipeline_settings_Settings(__defaults__, __factories__, __sentinel__, __set__, __slot__):
-    _set_select = __slot__('select')
-    _set_ignore = __slot__('ignore')
-    _set_severity = __slot__('severity')
-    _set_strict = __slot__('strict')
-    _set_package_paths = __slot__('package_paths')
-    _set_packages = __slot__('packages')
-    _set_xacro_args = __slot__('xacro_args')
-    _set_target = __slot__('target')
-    _set_budgets = __slot__('budgets')
-    _set_format = __slot__('format')
-    _set_config = __slot__('config')
-    _set_sources = __slot__('sources')
+    (_set_select, _set_ignore, _set_severity, _set_strict, _set_package_paths, _set_packages, _set_xacro_args, _set_target, _set_budgets, _set_format, _set_config, _set_sources,) = map(__slot__, ('select', 'ignore', 'severity', 'strict', 'package_paths', 'packages', 'xacro_args', 'target', 'budgets', 'format', 'config', 'sources'))
     def __init__(self, select=__defaults__['select'], ignore=__defaults__['ignore'], severity=__sentinel__, strict=__defaults__['strict'], package_paths=__defaults__['package_paths'], packages=__sentinel__, xacro_args=__sentinel__, target=__defaults__['target'], budgets=__sentinel__, format=__defaults__['format'], config=__defaults__['config'], sources=__sentinel__):
         _set_select(self, select)
         _set_ignore(self, ignore)

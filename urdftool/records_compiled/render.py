@@ -10,11 +10,7 @@ entry maps a record to the shape of its fields and a function that builds its ``
 
 # urdftool.render.rule_meta.RuleMeta
 def _init_render_rule_meta_RuleMeta(__defaults__, __factories__, __sentinel__, __set__, __slot__):
-    _set_code = __slot__('code')
-    _set_name = __slot__('name')
-    _set_summary = __slot__('summary')
-    _set_severity = __slot__('severity')
-    _set_help_uri = __slot__('help_uri')
+    (_set_code, _set_name, _set_summary, _set_severity, _set_help_uri,) = map(__slot__, ('code', 'name', 'summary', 'severity', 'help_uri'))
     def __init__(self, code, name, summary, severity, help_uri):
         _set_code(self, code)
         _set_name(self, name)

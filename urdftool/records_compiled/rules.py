@@ -10,10 +10,7 @@ entry maps a record to the shape of its fields and a function that builds its ``
 
 # urdftool.rules.gazebo_drive.Wheel
 def _init_rules_gazebo_drive_Wheel(__defaults__, __factories__, __sentinel__, __set__, __slot__):
-    _set_joint = __slot__('joint')
-    _set_centre = __slot__('centre')
-    _set_axle = __slot__('axle')
-    _set_diameter = __slot__('diameter')
+    (_set_joint, _set_centre, _set_axle, _set_diameter,) = map(__slot__, ('joint', 'centre', 'axle', 'diameter'))
     def __init__(self, joint, centre, axle, diameter):
         _set_joint(self, joint)
         _set_centre(self, centre)
@@ -35,9 +32,7 @@ def _init_rules_gazebo_plugins_DrivePlugin(__defaults__, __factories__, __sentin
 
 # urdftool.rules.gazebo_plugins.JointRef
 def _init_rules_gazebo_plugins_JointRef(__defaults__, __factories__, __sentinel__, __set__, __slot__):
-    _set_name = __slot__('name')
-    _set_element = __slot__('element')
-    _set_owner = __slot__('owner')
+    (_set_name, _set_element, _set_owner,) = map(__slot__, ('name', 'element', 'owner'))
     def __init__(self, name, element, owner):
         _set_name(self, name)
         _set_element(self, element)
@@ -47,12 +42,7 @@ def _init_rules_gazebo_plugins_JointRef(__defaults__, __factories__, __sentinel_
 
 # urdftool.rules.gz_systems_known.Params
 def _init_rules_gz_systems_known_Params(__defaults__, __factories__, __sentinel__, __set__, __slot__):
-    _set_links = __slot__('links')
-    _set_link_attributes = __slot__('link_attributes')
-    _set_numbers = __slot__('numbers')
-    _set_integers = __slot__('integers')
-    _set_flags = __slot__('flags')
-    _set_positive = __slot__('positive')
+    (_set_links, _set_link_attributes, _set_numbers, _set_integers, _set_flags, _set_positive,) = map(__slot__, ('links', 'link_attributes', 'numbers', 'integers', 'flags', 'positive'))
     def __init__(self, links=__defaults__['links'], link_attributes=__defaults__['link_attributes'], numbers=__defaults__['numbers'], integers=__defaults__['integers'], flags=__defaults__['flags'], positive=__defaults__['positive']):
         _set_links(self, links)
         _set_link_attributes(self, link_attributes)
@@ -65,11 +55,7 @@ def _init_rules_gz_systems_known_Params(__defaults__, __factories__, __sentinel_
 
 # urdftool.rules.gz_systems_known.System
 def _init_rules_gz_systems_known_System(__defaults__, __factories__, __sentinel__, __set__, __slot__):
-    _set_element = __slot__('element')
-    _set_filename = __slot__('filename')
-    _set_name = __slot__('name')
-    _set_stem = __slot__('stem')
-    _set_cls = __slot__('cls')
+    (_set_element, _set_filename, _set_name, _set_stem, _set_cls,) = map(__slot__, ('element', 'filename', 'name', 'stem', 'cls'))
     def __init__(self, element, filename, name, stem, cls):
         _set_element(self, element)
         _set_filename(self, filename)
@@ -81,13 +67,7 @@ def _init_rules_gz_systems_known_System(__defaults__, __factories__, __sentinel_
 
 # urdftool.rules.intent_sweep.Passing
 def _init_rules_intent_sweep_Passing(__defaults__, __factories__, __sentinel__, __set__, __slot__):
-    _set_side = __slot__('side')
-    _set_limit = __slot__('limit')
-    _set_start = __slot__('start')
-    _set_fullest = __slot__('fullest')
-    _set_depth = __slot__('depth')
-    _set_share = __slot__('share')
-    _set_home_share = __slot__('home_share')
+    (_set_side, _set_limit, _set_start, _set_fullest, _set_depth, _set_share, _set_home_share,) = map(__slot__, ('side', 'limit', 'start', 'fullest', 'depth', 'share', 'home_share'))
     def __init__(self, side, limit, start, fullest, depth, share, home_share):
         _set_side(self, side)
         _set_limit(self, limit)
@@ -101,8 +81,7 @@ def _init_rules_intent_sweep_Passing(__defaults__, __factories__, __sentinel__, 
 
 # urdftool.rules.selection.Selection
 def _init_rules_selection_Selection(__defaults__, __factories__, __sentinel__, __set__, __slot__):
-    _set_select = __slot__('select')
-    _set_ignore = __slot__('ignore')
+    (_set_select, _set_ignore,) = map(__slot__, ('select', 'ignore'))
     def __init__(self, select=__defaults__['select'], ignore=__defaults__['ignore']):
         _set_select(self, select)
         _set_ignore(self, ignore)

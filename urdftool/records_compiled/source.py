@@ -27,13 +27,7 @@ def _init_source_SourceIndex(__defaults__, __factories__, __sentinel__, __set__,
 
 # urdftool.source.Span
 def _init_source_Span(__defaults__, __factories__, __sentinel__, __set__, __slot__):
-    _set_path = __slot__('path')
-    _set_line = __slot__('line')
-    _set_column = __slot__('column')
-    _set_end_line = __slot__('end_line')
-    _set_end_column = __slot__('end_column')
-    _set_offset = __slot__('offset')
-    _set_end_offset = __slot__('end_offset')
+    (_set_path, _set_line, _set_column, _set_end_line, _set_end_column, _set_offset, _set_end_offset,) = map(__slot__, ('path', 'line', 'column', 'end_line', 'end_column', 'offset', 'end_offset'))
     def __init__(self, path, line=__defaults__['line'], column=__defaults__['column'], end_line=__defaults__['end_line'], end_column=__defaults__['end_column'], offset=__defaults__['offset'], end_offset=__defaults__['end_offset']):
         _set_path(self, path)
         _set_line(self, line)

@@ -10,25 +10,7 @@ entry maps a record to the shape of its fields and a function that builds its ``
 
 # urdftool.targets.Target
 def _init_targets_Target(__defaults__, __factories__, __sentinel__, __set__, __slot__):
-    _set_name = __slot__('name')
-    _set_label = __slot__('label')
-    _set_verified = __slot__('verified')
-    _set_engine_tested = __slot__('engine_tested')
-    _set_missing_inertial = __slot__('missing_inertial')
-    _set_massless_stops = __slot__('massless_stops')
-    _set_floating_root = __slot__('floating_root')
-    _set_fixed_joints = __slot__('fixed_joints')
-    _set_hulls_collision_meshes = __slot__('hulls_collision_meshes')
-    _set_mimic = __slot__('mimic')
-    _set_joint_types = __slot__('joint_types')
-    _set_collision_formats = __slot__('collision_formats')
-    _set_unread_format_fails = __slot__('unread_format_fails')
-    _set_face_budget = __slot__('face_budget')
-    _set_hull_vertex_limit = __slot__('hull_vertex_limit')
-    _set_root_inertia_ignored = __slot__('root_inertia_ignored')
-    _set_inertia_from_collision = __slot__('inertia_from_collision')
-    _set_needs_srdf = __slot__('needs_srdf')
-    _set_keep_fixed = __slot__('keep_fixed')
+    (_set_name, _set_label, _set_verified, _set_engine_tested, _set_missing_inertial, _set_massless_stops, _set_floating_root, _set_fixed_joints, _set_hulls_collision_meshes, _set_mimic, _set_joint_types, _set_collision_formats, _set_unread_format_fails, _set_face_budget, _set_hull_vertex_limit, _set_root_inertia_ignored, _set_inertia_from_collision, _set_needs_srdf, _set_keep_fixed,) = map(__slot__, ('name', 'label', 'verified', 'engine_tested', 'missing_inertial', 'massless_stops', 'floating_root', 'fixed_joints', 'hulls_collision_meshes', 'mimic', 'joint_types', 'collision_formats', 'unread_format_fails', 'face_budget', 'hull_vertex_limit', 'root_inertia_ignored', 'inertia_from_collision', 'needs_srdf', 'keep_fixed'))
     def __init__(self, name, label, verified, engine_tested=__defaults__['engine_tested'], missing_inertial=__defaults__['missing_inertial'], massless_stops=__defaults__['massless_stops'], floating_root=__defaults__['floating_root'], fixed_joints=__defaults__['fixed_joints'], hulls_collision_meshes=__defaults__['hulls_collision_meshes'], mimic=__defaults__['mimic'], joint_types=__sentinel__, collision_formats=__defaults__['collision_formats'], unread_format_fails=__defaults__['unread_format_fails'], face_budget=__defaults__['face_budget'], hull_vertex_limit=__defaults__['hull_vertex_limit'], root_inertia_ignored=__defaults__['root_inertia_ignored'], inertia_from_collision=__defaults__['inertia_from_collision'], needs_srdf=__defaults__['needs_srdf'], keep_fixed=__defaults__['keep_fixed']):
         _set_name(self, name)
         _set_label(self, label)
