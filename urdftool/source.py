@@ -152,6 +152,13 @@ def deferred_span(path: str, locate: Callable[[Any], Span | None], key: Any) -> 
 _MARKUP = re.compile(rb"<(?:!--.*?-->|!\[CDATA\[.*?\]\]>|\?.*?\?>|([^/!?]))", re.S)
 
 
+def needs_expat(data: bytes) -> bool:
+    """Whether the scan of the bytes cannot serve *data* and expat's position pass must: a
+    document type declaration (whose literals may hold ``<``), or a lone carriage return (a line
+    break for expat, and so for every line number urdftool reports)."""
+    return b"<!DOCTYPE" in data or (b"\r" in data and data.count(b"\r") != data.count(b"\r\n"))
+
+
 def element_starts(data: bytes) -> list[tuple[int, int]]:
     """Return the (line, column) of every element start tag, in document order.
 
@@ -165,7 +172,7 @@ def element_starts(data: bytes) -> list[tuple[int, int]]:
     ``<``) or a lone carriage return (a line break for expat, and so for every
     line number urdftool reports) goes to expat instead.
     """
-    if b"<!DOCTYPE" in data or (b"\r" in data and data.count(b"\r") != data.count(b"\r\n")):
+    if needs_expat(data):
         return expat_element_starts(data)
     ascii_only = data.isascii()  # then a column is a byte count
     starts: list[tuple[int, int]] = []
@@ -199,7 +206,7 @@ def start_tag_offsets(data: bytes) -> list[int] | None:
     :func:`element_starts` would hand the document to expat (a DOCTYPE, a lone carriage return).
     The cheap part of the scan: turning an offset into a position is left to
     :func:`position_at`, for the few elements whose position is read."""
-    if b"<!DOCTYPE" in data or (b"\r" in data and data.count(b"\r") != data.count(b"\r\n")):
+    if needs_expat(data):
         return None
     return [match.start() for match in _MARKUP.finditer(data) if match.lastindex is not None]
 

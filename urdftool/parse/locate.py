@@ -7,9 +7,9 @@ A document's elements find their start tags in one of two ways:
   expansion writes it, the SDF reader's element copies keep it);
 - **tabled**: a reader that walks the document once (URDF, SRDF) keeps a
   :class:`PositionTable` beside the tree instead. Its spans are *deferred*
-  (:func:`urdftool.source.deferred_span`): the scan of the bytes that finds each
-  element's line and column runs when a span is first read, which for a file
-  without findings is never. The elements a model keeps (``<gazebo>``,
+  (:func:`urdftool.source.deferred_span`): an element's line and column are
+  looked up when its span is first read, which for a file without findings is
+  never. The elements a model keeps (``<gazebo>``,
   ``<transmission>``, ``<ros2_control>`` blocks) are marked with the table's key
   (``"@<n>"``), so :func:`span_of` finds their children's positions through
   the table later, for as long as a span of that document is alive.

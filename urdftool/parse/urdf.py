@@ -168,10 +168,10 @@ class UrdfReader(JointParts):
         return groups
 
     def _extension(self, element: etree._Element) -> Extension:
-        """*element* kept in the model as written; stamped, since rules and exporters locate
+        """*element* kept in the model as written; marked, since rules and exporters locate
         its children with ``span_of`` after the reading."""
         if self.document is not None:
-            self.document.stamp(element)
+            self.document.mark(element)
         return Extension(
             tag=element.tag if isinstance(element.tag, str) else str(element.tag),
             attributes={k: v for k, v in element.attrib.items() if k != SRC_ATTRIBUTE},

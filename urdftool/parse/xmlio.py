@@ -150,7 +150,7 @@ class XmlDocument:
     The positions are either stamped on every element (:data:`SRC_ATTRIBUTE`) or,
     for a document read with ``table=True``, kept in :attr:`table` (see
     :mod:`urdftool.parse.locate`): then :meth:`span` gives deferred spans, and
-    :meth:`stamp` marks the elements that outlive the reading (the model's
+    :meth:`mark` marks the elements that outlive the reading (the model's
     ``Extension.element`` subtrees), so that :func:`span_of` finds those later.
     """
 
@@ -177,7 +177,7 @@ class XmlDocument:
             return functools.partial(deferred_span, self.path, self.table.locate)
         return span_of
 
-    def stamp(self, element: etree._Element) -> None:
+    def mark(self, element: etree._Element) -> None:
         """Make *element* and everything below it findable by :func:`span_of` after the reading
         (no-op for a stamped document)."""
         if self.table is not None:
