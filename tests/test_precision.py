@@ -9,10 +9,13 @@ from __future__ import annotations
 from pathlib import Path
 
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 import urdftool
 from tests.conftest import FIXTURES
 from urdftool.diagnostics import Severity
+from urdftool.parse import xmlio
 from urdftool.pipeline.check import CheckOptions, check_file
 
 RULES = FIXTURES / "rules"
@@ -188,6 +191,26 @@ def test_double_hyphen_comment_in_a_urdf_is_a_warning(tmp_path: Path) -> None:
     assert not report.errors
     [found] = [d for d in report.diagnostics if d.code == "S001"]
     assert found.severity is Severity.WARNING and "xacro" in found.message
+
+
+def test_comment_ending_in_a_hyphen_is_read_as_tinyxml_reads_it(tmp_path: Path) -> None:
+    """`<!-- text --->`: the comment's text ends with a hyphen, which XML forbids and TinyXML
+    reads. It is mended as `--` inside a comment is, and warned about."""
+    path = tmp_path / "r.urdf"
+    path.write_text('<robot name="r"><!-- a banner ---><link name="a"/></robot>')
+    report = urdftool.check(path)
+    assert not report.errors
+    assert [d.severity for d in report.diagnostics if d.code == "S001"] == [Severity.WARNING]
+
+
+@settings(max_examples=400, deadline=None)
+@given(st.lists(st.sampled_from([b"<!--", b"-->", b"-", b"--", b"a", b"<a/>", b">", b"!"]), max_size=12))
+def test_hyphens_counted_only_when_comments_hold_none(parts: list[bytes]) -> None:
+    """The count that skips the comment-by-comment look says "no comment holds `--`" only when
+    that look would change nothing."""
+    data = b"<r>" + b"".join(parts) + b"</r>"
+    if xmlio._only_delimiters_hyphenate(data):
+        assert xmlio._hyphens_in_comments(data, "r.urdf", []) == data
 
 
 def test_controllers_yaml_written_for_the_ament_install_layout_is_read(tmp_path: Path) -> None:

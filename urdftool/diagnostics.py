@@ -2,13 +2,14 @@
 
 from __future__ import annotations
 
+import dataclasses
 import enum
 from collections.abc import Iterable, Mapping
 from dataclasses import field
 from typing import Any
 
 from urdftool.records import record
-from urdftool.source import Span
+from urdftool.source import Span, is_deferred, settled
 
 
 class Severity(str, enum.Enum):
@@ -88,6 +89,19 @@ class Diagnostic:
     data: Mapping[str, Any] = field(default_factory=dict)
     related: tuple[Related, ...] = ()
     fix: Fix | None = None
+
+    def detached(self) -> Diagnostic:
+        """This finding with plain spans (:func:`~urdftool.source.settled`): a finding that
+        outlives its check holds no document of the model."""
+        moved: dict[str, Any] = {}
+        if is_deferred(self.location):
+            moved["location"] = settled(self.location)  # type: ignore[arg-type]
+        if any(is_deferred(r.span) for r in self.related):
+            moved["related"] = tuple(Related(settled(r.span), r.label) for r in self.related)
+        if self.fix is not None and any(is_deferred(e.span) for e in self.fix.edits):
+            edits = tuple(Edit(settled(e.span), e.content) for e in self.fix.edits)
+            moved["fix"] = Fix(self.fix.message, edits, self.fix.applicability)
+        return dataclasses.replace(self, **moved) if moved else self
 
     def sort_key(self) -> tuple[str, int, int, str, str]:
         loc = self.location

@@ -161,7 +161,17 @@ def open_regular(path: str | os.PathLike[str], kind: str = "mesh", check_size: b
     The open never blocks (a FIFO with no writer would hang a plain ``open``);
     the checks run on the opened descriptor, so a swapped file cannot slip in.
     """
-    path = os.fspath(path)
+    fd, _ = _open_descriptor(os.fspath(path), kind, check_size)
+    try:
+        return os.fdopen(fd, "rb")
+    except BaseException:
+        os.close(fd)
+        raise
+
+
+def _open_descriptor(path: str, kind: str, check_size: bool) -> tuple[int, os.stat_result]:
+    """A blocking descriptor of *path* opened without blocking, and its status, once it is known to
+    be a regular file (within *kind*'s cap with *check_size*). Raises ``OSError``/:class:`UnsafeFile`."""
     fd = os.open(path, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0) | getattr(os, "O_NOCTTY", 0))
     try:
         info = os.fstat(fd)
@@ -170,10 +180,37 @@ def open_regular(path: str | os.PathLike[str], kind: str = "mesh", check_size: b
             _refuse_size(path, info.st_size, kind)
         if hasattr(os, "set_blocking"):
             os.set_blocking(fd, True)
-        return os.fdopen(fd, "rb")
+        return fd, info
     except BaseException:
         os.close(fd)
         raise
+
+
+def read_up_to(path: str | os.PathLike[str], kind: str, check_size: bool = False) -> bytes:
+    """At most one byte more than *kind*'s cap of the regular file *path* (so the caller can tell
+    an oversized file), read on the descriptor with no buffered file object: every model and
+    include is read this way, and the object cost more than reading a small file.
+    Raises ``OSError``/:class:`UnsafeFile`."""
+    path = os.fspath(path)
+    fd, info = _open_descriptor(path, kind, check_size)
+    try:
+        wanted = min(limit(kind), info.st_size) + 1
+        chunks = []
+        while wanted > 0:  # a read may return less than asked for; the end of the file returns b""
+            chunk = os.read(fd, wanted)
+            if not chunk:
+                break
+            chunks.append(chunk)
+            wanted -= len(chunk)
+        data = chunks[0] if len(chunks) == 1 else b"".join(chunks)
+        if len(data) > info.st_size:  # the file grew while read: the rest, up to the cap
+            rest = limit(kind) + 1 - len(data)
+            while rest > 0 and (chunk := os.read(fd, min(rest, 1 << 20))):
+                data += chunk
+                rest -= len(chunk)
+        return data
+    finally:
+        os.close(fd)
 
 
 def read_regular(path: str | os.PathLike[str], kind: str = "mesh") -> bytes:

@@ -146,6 +146,21 @@ def deferred_span(path: str, locate: Callable[[Any], Span | None], key: Any) -> 
     return span
 
 
+def is_deferred(span: Span | None) -> bool:
+    """Whether *span* is a :func:`deferred_span` (``type``, not ``isinstance``: it passes for a Span)."""
+    return type(span) is _DeferredSpan
+
+
+def settled(span: Span) -> Span:
+    """*span* as a plain :class:`Span` with its position looked up: what a finding keeps once
+    the check is over, so that the finding does not keep the document and its position table
+    alive (a report per file of a many-file run would keep every document with a finding)."""
+    if type(span) is not _DeferredSpan:
+        return span
+    return Span(span.path, span.line, span.column, span.end_line, span.end_column, span.offset,
+                span.end_offset)
+
+
 #: In a document lxml has accepted, every ``<`` is markup: a comment, a CDATA section or a
 #: processing instruction (each skipped whole, since its text may hold ``<``), an end tag or a
 #: declaration (``</``, ``<!``), or an element's start tag, which the group captures.

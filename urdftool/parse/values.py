@@ -98,6 +98,10 @@ class Unbounded:
 UNBOUNDED = Unbounded()
 
 
+def _attribute_span(sources: SourceIndex, key: tuple[Span, str]) -> Span:
+    return sources.attribute_span(*key)
+
+
 @record(frozen=False, eq=False)  # one run's state, equal only to itself
 class ValueReader:
     """Reads numbers and vectors from elements, collecting diagnostics."""
@@ -118,10 +122,9 @@ class ValueReader:
         span = self.locate(element)
         if span is None:
             return None
-        return deferred_span(span.path, self._attribute_span, (span, attribute))
-
-    def _attribute_span(self, key: tuple[Span, str]) -> Span:
-        return self.sources.attribute_span(*key)
+        # The lookup holds the sources, not this reader: a finding in the reader's own list holding
+        # the reader would make a cycle, which keeps the document until the collector runs.
+        return deferred_span(span.path, functools.partial(_attribute_span, self.sources), (span, attribute))
 
     def text(self, element: etree._Element, attribute: str, where: str, required: bool = False) -> str | None:
         value: str | None = element.get(attribute)

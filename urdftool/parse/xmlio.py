@@ -30,7 +30,7 @@ from urdftool.catalogue.xacro import XacroInUrdf
 from urdftool.diagnostics import Diagnostic, Severity
 from urdftool.parse.locate import PositionTable, span_of, stamp_positions
 from urdftool.records import record
-from urdftool.safe_files import DEFAULT_LIMITS, human, limit, open_regular, read_capped
+from urdftool.safe_files import DEFAULT_LIMITS, human, limit, read_up_to
 from urdftool.source import Span, deferred_span
 
 #: Larger inputs are refused by default (the largest corpus URDF is about 1 MB);
@@ -340,7 +340,7 @@ def _hyphens_in_comments(data: bytes, path: str, warnings: list[Diagnostic]) -> 
     expat (xacro, urdf_parser_py) refuse them. Only comment text changes, so no
     position moves.
     """
-    if b"--" not in data.replace(b"<!--", b"").replace(b"-->", b""):
+    if _only_delimiters_hyphenate(data):
         return data
     first: int | None = None
 
@@ -367,6 +367,15 @@ def _hyphens_in_comments(data: bytes, path: str, warnings: list[Diagnostic]) -> 
             )
         )
     return data
+
+
+def _only_delimiters_hyphenate(data: bytes) -> bool:
+    """Whether every ``--`` of *data* belongs to a comment's ``<!--`` or ``-->``, told by counting,
+    without copying the text. With no ``---`` anywhere every run of hyphens is one or two long,
+    so ``count(b"--")`` counts the runs of two; if they are as many as the delimiters (which
+    hold one each, and share none unless written ``<!-->``, which counts less), there is no
+    other. Anything else goes to the comment-by-comment look."""
+    return b"---" not in data and data.count(b"--") == data.count(b"<!--") + data.count(b"-->")
 
 
 def _tolerate_quirks(data: bytes, path: str) -> tuple[bytes, list[Diagnostic]]:
@@ -499,8 +508,7 @@ def read_file(
 def read_up_to_cap(path: str, kind: str) -> bytes:
     """The bytes of a regular file, at most one more than *kind*'s cap (so the caller
     can report an oversized file as a finding). Raises ``OSError``."""
-    with open_regular(path, kind, check_size=False) as handle:
-        return read_capped(handle, limit(kind))
+    return read_up_to(path, kind)
 
 
 def xacro_in_urdf(

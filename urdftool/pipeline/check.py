@@ -159,7 +159,7 @@ def _settled(report: FileReport, diagnostics: list[Diagnostic], options: CheckOp
     if options.severity:
         diagnostics = [_with_severity(d, options.severity) for d in diagnostics]
     if diagnostics:
-        diagnostics = fixes.attach(diagnostics)
+        diagnostics = [d.detached() for d in fixes.attach(diagnostics)]
     return FileReport(report.path, report.format, report.robot,
                       tuple(sorted(diagnostics, key=Diagnostic.sort_key)))
 
