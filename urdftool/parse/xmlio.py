@@ -224,17 +224,17 @@ def parse_bytes(
         if entity:
             return None, [_entities_refused(path, line_of(data, entity.start()))]
     data, warnings = _tolerate_quirks(data, path)
-    try:
-        root = etree.fromstring(data, _parser())
-    except etree.XMLSyntaxError as exc:
-        line, column = exc.position if exc.position else (1, 1)
-        message = str(exc.msg or exc).split(", line ")[0]
-        message, hint = _explain(message, data)
-        return None, [
-            XmlSyntax.diagnostic(message, Span(path, max(line, 1), max(column, 1)), help=hint)
-        ]
-    except ValueError as exc:  # e.g. unsupported encoding declarations
-        return None, [XmlSyntax.diagnostic(str(exc), Span(path, 1, 1))]
+    root, refusal = _parse_root(data, path)
+    if refusal is not None:
+        # libxml2 refuses `--` inside a comment, which TinyXML-based loaders read: mended here,
+        # after a failed parse, so that the documents without one pay no scan for it.
+        mended = _hyphens_in_comments(data, path, warnings)
+        if mended is data:
+            return None, [refusal]
+        data = mended
+        root, refusal = _parse_root(data, path)
+        if refusal is not None:
+            return None, [refusal]
     if root is None:
         return None, [XmlSyntax.diagnostic("document has no root element", Span(path, 1, 1))]
     dtd = root.getroottree().docinfo.internalDTD
@@ -338,7 +338,7 @@ def _hyphens_in_comments(data: bytes, path: str, warnings: list[Diagnostic]) -> 
     gz-sim's own example worlds write shell commands (``gz service --timeout``)
     in comments; sdformat and urdfdom (TinyXML2) read them, libxml2 and Python's
     expat (xacro, urdf_parser_py) refuse them. Only comment text changes, so no
-    position moves.
+    position moves. Returns *data* itself when no comment needs mending.
     """
     if _only_delimiters_hyphenate(data):
         return data
@@ -354,19 +354,33 @@ def _hyphens_in_comments(data: bytes, path: str, warnings: list[Diagnostic]) -> 
             first = match.start()
         return b"<!--" + mended + b"-->"
 
-    data = _COMMENT.sub(mend, data)
-    if first is not None:
-        sdf = path.lower().endswith((".sdf", ".world"))
-        warnings.append(
-            XmlSyntax.diagnostic(
-                "a comment holds '--', which XML forbids; read as if it did not"
-                + ("" if sdf else " (xacro and other expat-based tools refuse the file)"),
-                Span(path, line_of(data, first), 1),
-                severity=Severity.INFO if sdf else Severity.WARNING,
-                help="write the hyphens apart, or move the text out of the comment",
-            )
+    mended = _COMMENT.sub(mend, data)
+    if first is None:
+        return data  # the same object: nothing was mended
+    sdf = path.lower().endswith((".sdf", ".world"))
+    warnings.append(
+        XmlSyntax.diagnostic(
+            "a comment holds '--', which XML forbids; read as if it did not"
+            + ("" if sdf else " (xacro and other expat-based tools refuse the file)"),
+            Span(path, line_of(mended, first), 1),
+            severity=Severity.INFO if sdf else Severity.WARNING,
+            help="write the hyphens apart, or move the text out of the comment",
         )
-    return data
+    )
+    return mended
+
+
+def _parse_root(data: bytes, path: str) -> tuple[etree._Element | None, Diagnostic | None]:
+    """The root element of *data* parsed by libxml2, or the located refusal."""
+    try:
+        return etree.fromstring(data, _parser()), None
+    except etree.XMLSyntaxError as exc:
+        line, column = exc.position if exc.position else (1, 1)
+        message = str(exc.msg or exc).split(", line ")[0]
+        message, hint = _explain(message, data)
+        return None, XmlSyntax.diagnostic(message, Span(path, max(line, 1), max(column, 1)), help=hint)
+    except ValueError as exc:  # e.g. unsupported encoding declarations
+        return None, XmlSyntax.diagnostic(str(exc), Span(path, 1, 1))
 
 
 def _only_delimiters_hyphenate(data: bytes) -> bool:
@@ -378,17 +392,22 @@ def _only_delimiters_hyphenate(data: bytes) -> bool:
     return b"---" not in data and data.count(b"--") == data.count(b"<!--") + data.count(b"-->")
 
 
+_LEADING_SPACE = re.compile(rb"[ \t\r\n]*")
+
+
 def _tolerate_quirks(data: bytes, path: str) -> tuple[bytes, list[Diagnostic]]:
     """Accept, with a warning, harmless defects that TinyXML-based loaders accept.
 
-    * ``--`` inside comments (an info in SDF, whose loaders all accept it);
+    (``--`` inside comments is mended after libxml2 has refused the text: see
+    :func:`_hyphens_in_comments`.)
+
     * blank lines before the XML declaration;
     * an XML declaration with a version other than 1.0/1.1 (``version="0.0"``,
       written by several exporters), read as 1.0;
     * NUL bytes after the root element (padding left by some editors), ignored.
     """
     warnings: list[Diagnostic] = []
-    leading = len(data) - len(data.lstrip(b" \t\r\n"))
+    leading = _LEADING_SPACE.match(data).end()  # type: ignore[union-attr]  # (lstrip copied the text)
     if leading and data[leading:].startswith(b"<?xml"):
         # Move the blank prefix behind the declaration so every line keeps its number.
         end = data.find(b"?>", leading) + 2
@@ -416,7 +435,6 @@ def _tolerate_quirks(data: bytes, path: str) -> tuple[bytes, list[Diagnostic]]:
     if path.lower().endswith((".sdf", ".world")):
         data = _scoped_tags(data, path, warnings)
         data = _declare_prefixes(data, path, warnings)
-    data = _hyphens_in_comments(data, path, warnings)
     stripped = data.rstrip(b"\0\r\n\t ") if b"\0" in data else data  # (rstrip copies the text)
     if b"\0" in data[len(stripped) :]:
         warnings.append(
