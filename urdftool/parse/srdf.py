@@ -190,6 +190,9 @@ def read_srdf(path: str, resolver: PackageResolver | None = None) -> Srdf:
     return srdf
 
 
+_PAIR_TAGS = frozenset({"disable_collisions", "enable_collisions"})
+
+
 class _Reader:
     def __init__(self, path: str, locate: Callable[[etree._Element], Span | None] = span_of) -> None:
         self.path = path
@@ -232,9 +235,15 @@ class _Reader:
         where = f"robot[{srdf.robot_name or ''}]"
         pairs: list[etree._Element] = []
         for element in root:
-            if not isinstance(element.tag, str):
-                continue
             tag = element.tag
+            if tag in _PAIR_TAGS:  # most of a MoveIt SRDF: asked first, and inline when complete
+                get = element.get
+                complete = (get("link1") or "").strip() and (get("link2") or "").strip()
+                if complete or self.names_both_links(element):
+                    pairs.append(element)
+                continue
+            if not isinstance(tag, str):
+                continue
             if tag == "group":
                 group = self.group(element)
                 if group is not None:
@@ -255,9 +264,6 @@ class _Reader:
                 passive = self.named(element, "name", where)
                 if passive is not None:
                     srdf.passive_joints.append(passive)
-            elif tag in ("disable_collisions", "enable_collisions"):
-                if self.names_both_links(element):
-                    pairs.append(element)
             elif tag == "disable_default_collisions":
                 link = self.named(element, "link", where)
                 if link is not None:
