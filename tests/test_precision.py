@@ -213,6 +213,33 @@ def test_hyphens_counted_only_when_comments_hold_none(parts: list[bytes]) -> Non
         assert xmlio._hyphens_in_comments(data, "r.urdf", []) == data
 
 
+def test_blank_lines_before_the_declaration_keep_every_position(tmp_path: Path) -> None:
+    """TinyXML reads a file whose XML declaration follows blank lines; libxml2 refuses it. It is
+    read with a warning, and every finding keeps the line and column it has in the file, on the
+    declaration's own line too (moving the blank lines behind the declaration shifted them)."""
+    path = tmp_path / "r.urdf"
+    text = ('\n\n<?xml version="1.0"\n  encoding="utf-8"?><robot name="r"><link name="a"><inertial>'
+            '<mass valeu="1"/><inertia ixx="1" iyy="1" izz="1" ixy="0" ixz="0" iyz="0"/></inertial>'
+            "</link></robot>\n")
+    path.write_text(text)
+    report = urdftool.check(path)
+    found = {d.code: d for d in report.diagnostics}
+    assert found["S001"].severity is Severity.WARNING and found["S001"].location.line == 3
+    line = text.split("\n")[3]
+    assert (found["S009"].location.line, found["S009"].location.column) == (4, line.index("valeu=") + 1)
+    assert (found["S010"].location.line, found["S010"].location.column) == (4, line.index("<mass") + 1)
+
+
+def test_declared_version_other_than_1_0_is_read_as_1_0(tmp_path: Path) -> None:
+    """Several exporters write version="0.0"; TinyXML ignores the version, libxml2 refuses it."""
+    path = tmp_path / "r.urdf"
+    path.write_text('<?xml version="0.0"?>\n<robot name="r"><link name="a"/></robot>\n')
+    report = urdftool.check(path)
+    assert not report.errors
+    assert [d.message for d in report.diagnostics if d.code == "S001"] == [
+        'XML declaration has version "0.0"; read as 1.0']
+
+
 def test_controllers_yaml_written_for_the_ament_install_layout_is_read(tmp_path: Path) -> None:
     """ros2_control_demos' example_9 names `$(find pkg)/config/rrbot_controllers.yaml`, which its
     CMake install rule takes from bringup/config: G106 reported it missing in the source tree.

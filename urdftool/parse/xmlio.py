@@ -393,6 +393,12 @@ def _only_delimiters_hyphenate(data: bytes) -> bool:
 
 
 _LEADING_SPACE = re.compile(rb"[ \t\r\n]*")
+_NOT_A_BREAK = re.compile(rb"[^\r\n]")
+
+
+def _blank(text: bytes) -> bytes:
+    """*text* with every byte but its line breaks turned into a space."""
+    return _NOT_A_BREAK.sub(b" ", text)
 
 
 def _tolerate_quirks(data: bytes, path: str) -> tuple[bytes, list[Diagnostic]]:
@@ -407,19 +413,6 @@ def _tolerate_quirks(data: bytes, path: str) -> tuple[bytes, list[Diagnostic]]:
     * NUL bytes after the root element (padding left by some editors), ignored.
     """
     warnings: list[Diagnostic] = []
-    leading = _LEADING_SPACE.match(data).end()  # type: ignore[union-attr]  # (lstrip copied the text)
-    if leading and data[leading:].startswith(b"<?xml"):
-        # Move the blank prefix behind the declaration so every line keeps its number.
-        end = data.find(b"?>", leading) + 2
-        warnings.append(
-            XmlSyntax.diagnostic(
-                "the XML declaration is not at the very start of the file; read as if it were",
-                Span(path, line_of(data, leading), 1),
-                severity=Severity.WARNING,
-                help="remove the blank lines before <?xml ...?>",
-            )
-        )
-        data = data[leading:end] + data[:leading] + data[end:]
     match = _DECLARED_VERSION.match(data)
     if match and match.group(2) not in (b"1.0", b"1.1"):
         version = match.group(2).decode("ascii", "replace")
@@ -432,6 +425,23 @@ def _tolerate_quirks(data: bytes, path: str) -> tuple[bytes, list[Diagnostic]]:
                 help='write <?xml version="1.0"?>',
             )
         )
+    leading = _LEADING_SPACE.match(data).end()  # type: ignore[union-attr]  # (lstrip copied the text)
+    close = data.find(b"?>", leading) if leading and data.startswith(b"<?xml", leading) else -1
+    if close >= 0:
+        warnings.append(
+            XmlSyntax.diagnostic(
+                "the XML declaration is not at the very start of the file; read as if it were",
+                Span(path, line_of(data, leading), 1),
+                severity=Severity.WARNING,
+                help="remove the blank lines before <?xml ...?>",
+            )
+        )
+        # The declaration is blanked where it stands (its line breaks kept), so every element
+        # keeps its line and column; moving the blank lines behind it shifted the columns of
+        # whatever followed it on its line. Without a declaration libxml2 reads UTF-8, which
+        # the text is by now (to_utf8).
+        end = close + 2
+        data = data[:leading] + _blank(data[leading:end]) + data[end:]
     if path.lower().endswith((".sdf", ".world")):
         data = _scoped_tags(data, path, warnings)
         data = _declare_prefixes(data, path, warnings)
