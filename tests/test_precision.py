@@ -17,6 +17,8 @@ from tests.conftest import FIXTURES
 from urdftool.diagnostics import Severity
 from urdftool.parse import xmlio
 from urdftool.pipeline.check import CheckOptions, check_file
+from urdftool.render.text import render_diagnostic
+from urdftool.source import SourceIndex
 
 RULES = FIXTURES / "rules"
 
@@ -238,6 +240,24 @@ def test_declared_version_other_than_1_0_is_read_as_1_0(tmp_path: Path) -> None:
     assert not report.errors
     assert [d.message for d in report.diagnostics if d.code == "S001"] == [
         'XML declaration has version "0.0"; read as 1.0']
+
+
+@pytest.mark.parametrize("encoding", ["utf-16", "utf-16-be", "utf-32", "latin-1", "utf-8-sig"])
+def test_findings_in_a_file_not_in_utf8_point_at_the_attribute(tmp_path: Path, encoding: str) -> None:
+    """The readers decode UTF-16/32 (by BOM or NUL pattern) and a declared encoding; the
+    attribute search and the excerpt read the text the same way, not as UTF-8."""
+    declared = "ISO-8859-1" if encoding == "latin-1" else encoding.split("-sig")[0].upper()
+    text = (f'<?xml version="1.0" encoding="{declared}"?>\n<robot name="r">\n  <link name="bra\u00e7o">\n'
+            '    <inertial><mass valeu="1"/><inertia ixx="1" iyy="1" izz="1" ixy="0" ixz="0" iyz="0"/>'
+            "</inertial>\n  </link>\n</robot>\n")
+    path = tmp_path / "r.urdf"
+    path.write_bytes(text.encode(encoding))
+    reports = check_file(str(path), CheckOptions(select=("S",)))
+    [found] = [d for r in reports for d in r.diagnostics if d.code == "S009"]
+    line = text.split("\n")[3]
+    assert (found.location.line, found.location.column) == (4, line.index("valeu=") + 1)
+    rendered = render_diagnostic(found, SourceIndex())
+    assert line.strip() in rendered and "bra\u00e7o" in found.message
 
 
 def test_controllers_yaml_written_for_the_ament_install_layout_is_read(tmp_path: Path) -> None:

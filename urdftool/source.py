@@ -281,6 +281,59 @@ def _attribute_pattern(attribute: str) -> re.Pattern[str]:
     return re.compile(r"(?<![\w:.-])" + re.escape(attribute) + r"\s*=")
 
 
+#: Byte-order marks of the encodings that are not ASCII-compatible, the longest first.
+BOMS: tuple[tuple[bytes, str], ...] = (
+    (b"\x00\x00\xfe\xff", "utf-32-be"),
+    (b"\xff\xfe\x00\x00", "utf-32-le"),
+    (b"\xfe\xff", "utf-16-be"),
+    (b"\xff\xfe", "utf-16-le"),
+)
+#: The XML declaration's encoding name (group 2).
+DECLARED_ENCODING = re.compile(rb"^(\s*<\?xml[^>]*?encoding\s*=\s*[\"'])([A-Za-z0-9._:-]*)([\"'])")
+UTF8_NAMES = frozenset({"utf-8", "utf8", "us-ascii", "ascii"})
+
+
+def sniff_encoding(data: bytes) -> str | None:
+    """UTF-16/32 by byte-order mark, or by the NUL pattern of ``<`` and other ASCII
+    characters at the start (XML 1.0 appendix F); ``None`` for ASCII-compatible text."""
+    for bom, name in BOMS:
+        if data.startswith(bom):
+            return name
+    head = data[:4]
+    if len(head) < 4:
+        return None
+    zero = [b == 0 for b in head]
+    if zero == [True, True, True, False]:
+        return "utf-32-be"
+    if zero == [False, True, True, True]:
+        return "utf-32-le"
+    if zero == [True, False, True, False]:
+        return "utf-16-be"
+    if zero == [False, True, False, True]:
+        return "utf-16-le"
+    return None
+
+
+def decode_source(data: bytes) -> str:
+    """The text of a source file as the readers decode it (``parse.xmlio.to_utf8``): UTF-16/32
+    by byte-order mark or NUL pattern, else the encoding the XML declaration names, else UTF-8;
+    bytes that do not decode become U+FFFD. A UTF-8 byte-order mark is dropped, as the readers
+    drop it, so that columns on the first line agree with theirs."""
+    encoding = sniff_encoding(data)
+    if encoding is not None:
+        bom = next((b for b, name in BOMS if name == encoding and data.startswith(b)), b"")
+        return data[len(bom):].decode(encoding, "replace")
+    if data.startswith(b"\xef\xbb\xbf"):
+        data = data[3:]
+    match = DECLARED_ENCODING.match(data)
+    if match is not None and match.group(2).decode("ascii").lower() not in UTF8_NAMES:
+        try:
+            return data.decode(match.group(2).decode("ascii"), "replace")
+        except LookupError:  # an unknown encoding: the reader has reported it
+            pass
+    return data.decode("utf-8", "replace")
+
+
 @record(frozen=False, eq=False)  # one run's state, equal only to itself
 class SourceIndex:
     """The texts of the files a model was read from, for locating attributes.
@@ -306,8 +359,8 @@ class SourceIndex:
     def lines(self, path: str) -> list[str]:
         if path not in self._lines:
             try:
-                with open(path, encoding="utf-8", errors="replace") as handle:
-                    self._lines[path] = handle.read().split("\n")
+                with open(path, "rb") as handle:
+                    self._lines[path] = decode_source(handle.read()).split("\n")
             except OSError:
                 self._lines[path] = []
         return self._lines[path]

@@ -31,7 +31,7 @@ from urdftool.diagnostics import Diagnostic, Severity
 from urdftool.parse.locate import PositionTable, span_of, stamp_positions
 from urdftool.records import record
 from urdftool.safe_files import DEFAULT_LIMITS, human, limit, read_up_to
-from urdftool.source import Span, deferred_span
+from urdftool.source import BOMS, DECLARED_ENCODING, UTF8_NAMES, Span, deferred_span, sniff_encoding
 
 #: Larger inputs are refused by default (the largest corpus URDF is about 1 MB);
 #: ``--max-file-size`` raises the cap (see :mod:`urdftool.safe_files`).
@@ -39,42 +39,11 @@ MAX_BYTES = DEFAULT_LIMITS["model"]
 
 _KIND_WORDS = {"model": "robot descriptions", "include": "included xacro files"}
 
-_BOMS: tuple[tuple[bytes, str], ...] = (
-    (b"\x00\x00\xfe\xff", "utf-32-be"),
-    (b"\xff\xfe\x00\x00", "utf-32-le"),
-    (b"\xfe\xff", "utf-16-be"),
-    (b"\xff\xfe", "utf-16-le"),
-)
-_DECLARED_ENCODING = re.compile(rb"^(\s*<\?xml[^>]*?encoding\s*=\s*[\"'])([A-Za-z0-9._:-]*)([\"'])")
-_UTF8_NAMES = {"utf-8", "utf8", "us-ascii", "ascii"}
-
-
-def sniff_encoding(data: bytes) -> str | None:
-    """UTF-16/32 by byte-order mark, or by the NUL pattern of ``<`` and other ASCII
-    characters at the start (XML 1.0 appendix F); ``None`` for ASCII-compatible text."""
-    for bom, name in _BOMS:
-        if data.startswith(bom):
-            return name
-    head = data[:4]
-    if len(head) < 4:
-        return None
-    zero = [b == 0 for b in head]
-    if zero == [True, True, True, False]:
-        return "utf-32-be"
-    if zero == [False, True, True, True]:
-        return "utf-32-le"
-    if zero == [True, False, True, False]:
-        return "utf-16-be"
-    if zero == [False, True, False, True]:
-        return "utf-16-le"
-    return None
-
-
 def to_utf8(data: bytes, path: str) -> tuple[bytes, Diagnostic | None]:
     """*data* as UTF-8 with its declaration saying so; a diagnostic when it cannot be decoded."""
     encoding = sniff_encoding(data)
     if encoding is not None:
-        bom = next((b for b, name in _BOMS if name == encoding and data.startswith(b)), b"")
+        bom = next((b for b, name in BOMS if name == encoding and data.startswith(b)), b"")
         try:
             data = data[len(bom):].decode(encoding).encode("utf-8")
         except UnicodeDecodeError as exc:
@@ -85,12 +54,12 @@ def to_utf8(data: bytes, path: str) -> tuple[bytes, Diagnostic | None]:
             )
     elif data.startswith(b"\xef\xbb\xbf"):
         data = data[3:]
-    match = _DECLARED_ENCODING.match(data)
+    match = DECLARED_ENCODING.match(data)
     if match is None:
         return data, None
     declared = match.group(2).decode("ascii").lower()
-    if encoding is not None or declared in _UTF8_NAMES:
-        if declared not in _UTF8_NAMES:  # the text is UTF-8 now: say so
+    if encoding is not None or declared in UTF8_NAMES:
+        if declared not in UTF8_NAMES:  # the text is UTF-8 now: say so
             data = data[: match.start(2)] + b"UTF-8" + data[match.end(2):]
         return data, None
     try:
@@ -114,7 +83,7 @@ def to_utf8(data: bytes, path: str) -> tuple[bytes, Diagnostic | None]:
             help="save the file as UTF-8",
         )
     data = text.encode("utf-8")
-    match = _DECLARED_ENCODING.match(data)
+    match = DECLARED_ENCODING.match(data)
     if match is not None:
         data = data[: match.start(2)] + b"UTF-8" + data[match.end(2):]
     return data, None
