@@ -204,6 +204,32 @@ def _joint_pairs(ctx: CheckContext) -> list[tuple[Joint, Joint]]:
     return found
 
 
+def _named_by_slot(
+    ctx: CheckContext, ja: Joint, jb: Joint, poses: dict[str, np.ndarray], middle: float
+) -> bool:
+    """Whether each joint's child, mirrored, lands where a child of its own parent is.
+
+    A row of parts named by slot, not by mirror: the Create 3's seven IR sensors run
+    `side_left`, `left`, `front_left`, `front_center_left` (on the centre line),
+    `front_center_right`, `front_right`, `right`, so `left` mirrors `front_right` and the row
+    is symmetric as a whole. Positions at home, in the root frame (metres); *middle* is the
+    lateral offset of the mirror plane, doubled (non-zero only for two parts on a bare frame).
+    """
+    for joint, partner in ((ja, jb), (jb, ja)):
+        pose = poses.get(joint.child)
+        if pose is None:
+            return False
+        flipped = pose[:3, 3] * [1, -1, 1] + [0, middle, 0]
+        row = [poses.get(j.child) for j in ctx.robot.joints if j.parent == joint.parent and j is not partner]
+        if not any(
+            other is not None
+            and all(_close(float(x), float(y), ctx) for x, y in zip(other[:3, 3], flipped, strict=False))
+            for other in row
+        ):
+            return False
+    return True
+
+
 @register
 class MirroredPoseMismatch(IntentRule):
     """A left/right pair of joints is not placed as mirror images.
@@ -222,7 +248,10 @@ class MirroredPoseMismatch(IntentRule):
     `imu`, `camera`, `stereo`, `sensor`, `fsr`, `optical`, `laser`,
     `lidar`…) and bare frames (no mass, no shape) are not compared for
     offsets: sensors sit where the hardware fits, a stereo pair's right
-    camera is offset from its left one by design.
+    camera is offset from its left one by design. Nor is a pair whose
+    members each mirror onto another part of their own parent: a row
+    named by slot (`left`, `front_left`, `front_center_left` … `right`)
+    that is symmetric as a whole.
 
     ## Why it matters
     A copied leg or arm whose offset was edited on one side only walks
@@ -279,7 +308,12 @@ class MirroredPoseMismatch(IntentRule):
                     f"joints '{ja.name}' and '{jb.name}' put their children at the same place, "
                     f"{_vec(wa)} m, on the same side (y {fmt(float(wa[1]))} m): copied, not mirrored"
                 )
-            elif not written and not mirrored_world and not (_mount(ctx, ja) or _mount(ctx, jb)):
+            elif (
+                not written
+                and not mirrored_world
+                and not (_mount(ctx, ja) or _mount(ctx, jb))
+                and not _named_by_slot(ctx, ja, jb, poses, middle)
+            ):
                 message = (
                     f"joint '{jb.name}' at xyz=\"{_vec(jb.origin.xyz)}\" does not mirror "
                     f"'{ja.name}' at xyz=\"{_vec(ja.origin.xyz)}\""
