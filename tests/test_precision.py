@@ -260,6 +260,25 @@ def test_findings_in_a_file_not_in_utf8_point_at_the_attribute(tmp_path: Path, e
     assert line.strip() in rendered and "bra\u00e7o" in found.message
 
 
+def test_unknown_attribute_suggests_no_name_the_tag_already_has(tmp_path: Path) -> None:
+    """ANYmal B's <limit> carries ANYbotics' command_effort beside effort: "did you mean
+    'effort'?" would send the user to write effort twice. A misspelling with the intended name
+    absent is still answered."""
+    path = tmp_path / "r.urdf"
+    path.write_text(
+        '<robot name="r"><link name="a"/><link name="b"/>'
+        '<joint name="j" type="revolute"><parent link="a"/><child link="b"/><axis xyz="0 0 1"/>'
+        '<limit command_effort="80" effort="80" lower="-1" upper="1" velocity="2"/></joint>'
+        '<joint name="k" type="revolute"><parent link="b"/><child link="c"/><axis xyz="0 0 1"/>'
+        '<limit efort="80" lower="-1" upper="1" velocity="2"/></joint><link name="c"/></robot>')
+    messages = [d.message for r in check_file(str(path), CheckOptions(select=("S009",)))
+                for d in r.diagnostics]
+    assert messages == [
+        "joint[j]/limit: <limit> has no attribute 'command_effort'",
+        "joint[k]/limit: <limit> has no attribute 'efort'; did you mean 'effort'?",
+    ]
+
+
 def test_controllers_yaml_written_for_the_ament_install_layout_is_read(tmp_path: Path) -> None:
     """ros2_control_demos' example_9 names `$(find pkg)/config/rrbot_controllers.yaml`, which its
     CMake install rule takes from bringup/config: G106 reported it missing in the source tree.

@@ -12,7 +12,7 @@ from dataclasses import field
 
 from lxml import etree
 
-from urdftool.catalogue.suggest import did_you_mean
+from urdftool.catalogue.suggest import closest, did_you_mean
 from urdftool.catalogue.syntax import (
     JointMissingParentOrChild,
     MissingAttribute,
@@ -114,9 +114,14 @@ class UrdfReader(JointParts):
         unknown, vendor = attribute_verdict(tag, tuple(element.keys()))
         if unknown:
             for name in unknown:
+                # The closest name is no suggestion when the tag has it already (ANYmal's
+                # <limit command_effort="…"> stands beside its effort="…"), and the next closest
+                # is a guess.
+                match = closest(name, allowed)
+                hint = f"; did you mean '{match}'?" if match and element.get(match) is None else ""
                 self._report(
                     UnknownAttribute.diagnostic(
-                        f"{where}: <{tag}> has no attribute '{name}'" + did_you_mean(name, allowed),
+                        f"{where}: <{tag}> has no attribute '{name}'" + hint,
                         self.values.attr_span(element, name),
                         element=where,
                         data={"attribute": name, "allowed": sorted(allowed)},
