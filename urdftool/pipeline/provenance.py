@@ -30,7 +30,8 @@ from pathlib import Path
 
 from urdftool.diagnostics import Diagnostic, Related
 from urdftool.model import Robot
-from urdftool.source import Span
+from urdftool.safe_files import read_up_to
+from urdftool.source import Span, decode_source
 
 _EXPR = re.compile(r"\$\{([^}]*)\}")
 _NAME = re.compile(r"[A-Za-z_][A-Za-z0-9_]*")
@@ -45,8 +46,9 @@ FAMILIES = ("N",)
 
 @functools.lru_cache(maxsize=64)
 def _text(path: str) -> str | None:
+    """The text of *path* as the readers decode it (a regular file only), or ``None``."""
     try:
-        return Path(path).read_text(encoding="utf-8", errors="replace")
+        return decode_source(read_up_to(path, "include"))
     except OSError:
         return None
 
