@@ -207,12 +207,16 @@ def test_comment_ending_in_a_hyphen_is_read_as_tinyxml_reads_it(tmp_path: Path) 
 
 @settings(max_examples=400, deadline=None)
 @given(st.lists(st.sampled_from([b"<!--", b"-->", b"-", b"--", b"a", b"<a/>", b">", b"!"]), max_size=12))
-def test_hyphens_counted_only_when_comments_hold_none(parts: list[bytes]) -> None:
-    """The count that skips the comment-by-comment look says "no comment holds `--`" only when
-    that look would change nothing."""
+def test_mended_comments_keep_every_position(parts: list[bytes]) -> None:
+    """Mending `--` in comments changes bytes in place, warns once when it changes any, and
+    hands back the text itself when it changes none (then the parser's refusal stands)."""
     data = b"<r>" + b"".join(parts) + b"</r>"
-    if xmlio._only_delimiters_hyphenate(data):
-        assert xmlio._hyphens_in_comments(data, "r.urdf", []) == data
+    warnings: list = []
+    mended = xmlio._hyphens_in_comments(data, "r.urdf", warnings)
+    assert len(mended) == len(data) and mended.count(b"\n") == data.count(b"\n")
+    assert (mended is data) == (not warnings) and len(warnings) <= 1
+    if mended is not data:
+        assert mended != data
 
 
 def test_blank_lines_before_the_declaration_keep_every_position(tmp_path: Path) -> None:

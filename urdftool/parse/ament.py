@@ -12,7 +12,7 @@ import os
 import re
 from pathlib import Path
 
-from urdftool.parse.xmlio import read_up_to_cap
+from urdftool.safe_files import read_up_to
 
 _INSTALL = re.compile(r"\binstall\s*\(([^()]*)\)", re.IGNORECASE)
 _INSTALL_KEYWORDS = frozenset({"DESTINATION", "FILES_MATCHING", "PATTERN", "REGEX", "EXCLUDE", "PERMISSIONS",
@@ -29,7 +29,7 @@ def installed_at(package: str, root: Path, relative: str) -> str | None:
     where the file sits in the source tree.
     """
     try:
-        text = read_up_to_cap(str(root / "CMakeLists.txt"), "include").decode("utf-8", "replace")
+        text = read_up_to(str(root / "CMakeLists.txt"), "include").decode("utf-8", "replace")
     except OSError:
         return None
     text = re.sub(r"#[^\n]*", "", text)
@@ -66,7 +66,7 @@ def installed_source(path: str) -> str | None:
         if not manifest.is_file():
             continue
         try:
-            text = read_up_to_cap(str(manifest), "include").decode("utf-8", "replace")
+            text = read_up_to(str(manifest), "include").decode("utf-8", "replace")
         except OSError:
             return None
         name = re.search(r"<name>\s*([^<\s]+)\s*</name>", text)

@@ -44,8 +44,9 @@ from urdftool.parse.locate import encode_src, span_of
 from urdftool.parse.packages import PackageResolver
 from urdftool.parse.xacro_args import KnownArgument, known_arguments, merge, misspelt_arguments
 from urdftool.parse.xacro_hints import text_property_help
-from urdftool.parse.xmlio import XmlDocument, parse_bytes, read_up_to_cap, to_utf8
+from urdftool.parse.xmlio import XmlDocument, parse_bytes, to_utf8
 from urdftool.records import record
+from urdftool.safe_files import read_up_to
 from urdftool.source import SRC_ATTRIBUTE, Span, element_starts, expat_element_starts
 
 _LOCK = threading.Lock()
@@ -179,7 +180,7 @@ def _patched(session: _Session) -> Iterator[None]:
                     xacro.filestack[-1] = moved
         kind = "include" if session.files else "model"
         try:
-            data = read_up_to_cap(path, kind)
+            data = read_up_to(path, kind)
         except OSError as exc:
             if xacro.filestack:
                 xacro.filestack.pop()

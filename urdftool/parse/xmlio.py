@@ -309,8 +309,6 @@ def _hyphens_in_comments(data: bytes, path: str, warnings: list[Diagnostic]) -> 
     expat (xacro, urdf_parser_py) refuse them. Only comment text changes, so no
     position moves. Returns *data* itself when no comment needs mending.
     """
-    if _only_delimiters_hyphenate(data):
-        return data
     first: int | None = None
 
     def mend(match: re.Match[bytes]) -> bytes:
@@ -350,15 +348,6 @@ def _parse_root(data: bytes, path: str) -> tuple[etree._Element | None, Diagnost
         return None, XmlSyntax.diagnostic(message, Span(path, max(line, 1), max(column, 1)), help=hint)
     except ValueError as exc:  # e.g. unsupported encoding declarations
         return None, XmlSyntax.diagnostic(str(exc), Span(path, 1, 1))
-
-
-def _only_delimiters_hyphenate(data: bytes) -> bool:
-    """Whether every ``--`` of *data* belongs to a comment's ``<!--`` or ``-->``, told by counting,
-    without copying the text. With no ``---`` anywhere every run of hyphens is one or two long,
-    so ``count(b"--")`` counts the runs of two; if they are as many as the delimiters (which
-    hold one each, and share none unless written ``<!-->``, which counts less), there is no
-    other. Anything else goes to the comment-by-comment look."""
-    return b"---" not in data and data.count(b"--") == data.count(b"<!--") + data.count(b"-->")
 
 
 _LEADING_SPACE = re.compile(rb"[ \t\r\n]*")
@@ -498,14 +487,8 @@ def read_file(
     """Read and parse *path* (positions in a table with *table*, see :class:`XmlDocument`).
     Raises :class:`OSError` when the file cannot be read
     (:class:`~urdftool.safe_files.UnsafeFile` when it is not a regular file)."""
-    data = read_up_to_cap(path, kind)
+    data = read_up_to(path, kind)
     return parse_bytes(data, path, kind=kind, table=table)
-
-
-def read_up_to_cap(path: str, kind: str) -> bytes:
-    """The bytes of a regular file, at most one more than *kind*'s cap (so the caller
-    can report an oversized file as a finding). Raises ``OSError``."""
-    return read_up_to(path, kind)
 
 
 def xacro_in_urdf(
