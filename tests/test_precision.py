@@ -6,6 +6,7 @@ consumer accepts and on which urdftool once reported an error.
 
 from __future__ import annotations
 
+import shutil
 from pathlib import Path
 
 import pytest
@@ -125,6 +126,45 @@ def test_collada_with_an_old_tail_and_no_nul_is_still_unreadable(tmp_path: Path)
     # Without the NUL the tail is XML after the document: Assimp 5.2 refuses it ("malformed XML").
     urdf = _mesh_robot(tmp_path, TRIANGLE_DAE + OLD_TAIL)
     assert [e.split()[0] for e in errors(urdf)] == ["M003"]
+
+
+@pytest.mark.parametrize("lean", [True, False])
+def test_collada_with_angle_brackets_in_an_attribute_reads_as_assimp_does(tmp_path: Path, lean: bool) -> None:
+    # provenance: reduced from velodyne_description's VLP16_base_1.dae (BSD-3-Clause), whose
+    # Assimp STL export names its node id="<STL_BINARY>": lxml refuses it, Assimp 5 (RViz) and
+    # PyBullet's tinyxml2 read the value up to its quote (the real file: 1,912 faces in both).
+    from urdftool.backends import meshes
+
+    urdf = _mesh_robot(tmp_path, TRIANGLE_DAE.replace(b'<node id="n">', b'<node id="<STL_BINARY>">'))
+    assert errors(urdf) == []
+    assert len(meshes.load_trimesh(str(tmp_path / "base.dae"), lean).faces) == 1
+
+
+def test_collada_with_a_broken_tag_is_still_unreadable(tmp_path: Path) -> None:
+    # Escaping an attribute's brackets repairs nothing else: a tag left open is still refused.
+    broken = TRIANGLE_DAE.replace(b'<node id="n">', b'<node id="<STL_BINARY>">')
+    broken = broken.replace(b"</mesh>", b"</mesh")
+    urdf = _mesh_robot(tmp_path, broken)
+    assert [e.split()[0] for e in errors(urdf)] == ["M003"]
+
+
+def test_vendor_controller_types_get_a_note_not_a_misleading_suggestion(tmp_path: Path) -> None:
+    # provenance: controller types of Universal_Robots_ROS2_Driver's ur_controllers.yaml and
+    # ros2_kortex's MoveIt configurations (BSD-3-Clause), hand-written. Every ros2_controllers
+    # package ends in _controller(s): a whole-name match offered pid_controller/PidController for
+    # ur_controllers/ForceModeController; a misspelt ros2_controllers type still gets its name.
+    shutil.copy(RULES / "G203" / "bad.urdf", tmp_path / "bad.urdf")
+    (tmp_path / "bad.yaml").write_text(
+        "controller_manager:\n  ros__parameters:\n"
+        + "".join(f"    c{n}:\n      type: {t}\n" for n, t in enumerate((
+            "ur_controllers/ForceModeController", "ur_controllers/GPIOController",
+            "picknik_twist_controller/PicknikTwistController",
+            "position_controller/JointGroupPositionController")))
+    )
+    found = [(d.severity, d.data.get("suggestion")) for d in urdftool.check(tmp_path / "bad.urdf").diagnostics
+             if d.code == "G203"]
+    assert found == [(Severity.INFO, None)] * 3 + [
+        (Severity.WARNING, "position_controllers/JointGroupPositionController")]
 
 
 def _ament_package(root: Path, destination: str) -> Path:

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import collections
+import dataclasses
 import glob
 import pickle
 import shutil
@@ -146,6 +147,29 @@ def test_xacro_srdf_is_expanded_and_located(tmp_path: Path) -> None:
     reports = check_file(str(tmp_path / "arm.urdf"), OPTIONS)
     found = [d for r in reports for d in r.diagnostics if d.code == "P002"]
     assert [(Path(d.location.path).name, d.location.line) for d in found] == [("arm.srdf.xacro", 4)]
+
+
+def test_xacro_srdf_gets_the_models_xacro_arguments(tmp_path: Path) -> None:
+    """provenance: reduced from Universal_Robots_ROS2_Driver ur_moveit_config/srdf/ur.srdf.xacro
+    (BSD-3-Clause), hand-written. The root reads $(arg name) before the file declares it, so xacro
+    stops without a mapping; MoveIt's launch passes one, as ``-a name:=...`` passes it here. The
+    model's other arguments (``names``, close to the SRDF's ``name``) are not the SRDF's to report."""
+    urdf = Path(__file__).parent.parent / "fixtures" / "rules" / "P002" / "good.urdf"
+    shutil.copy(urdf, tmp_path / "arm.urdf")
+    srdf = tmp_path / "arm.srdf.xacro"
+    srdf.write_text(
+        '<?xml version="1.0"?>\n<robot xmlns:xacro="http://www.ros.org/wiki/xacro" name="$(arg name)">\n'
+        '  <xacro:arg name="name" default="mini_arm"/>\n'
+        '  <group name="arm"><chain base_link="base_link" tip_link="hnad"/></group>\n'
+        "</robot>\n"
+    )
+    bare = check_file(str(tmp_path / "arm.urdf"), OPTIONS)
+    assert "X001" in {d.code for r in bare for d in r.diagnostics}  # as xacro does without it
+    given = dataclasses.replace(OPTIONS, xacro_args={"name": "mini_arm", "names": "ur5e"})
+    reports = check_file(str(tmp_path / "arm.urdf"), given)
+    codes = [(d.code, Path(d.location.path).name) for r in reports for d in r.diagnostics
+             if d.code.startswith(("X", "P"))]
+    assert codes == [("P002", "arm.srdf.xacro")]
 
 
 def test_collision_pairs_are_built_when_first_read_and_pickle_built(tmp_path: Path) -> None:

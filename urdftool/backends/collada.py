@@ -29,6 +29,7 @@ The file is untrusted: it is parsed without entities, DTDs or network access.
 from __future__ import annotations
 
 import math
+import re
 import warnings
 from typing import TYPE_CHECKING, Any
 
@@ -108,6 +109,23 @@ def before_nul(data: bytes) -> bytes:
     return data.split(b"\0", 1)[0]
 
 
+#: An attribute value holding ``<`` or ``>``, on one line.
+_ANGLED_ATTRIBUTE = re.compile(rb'="([^"\n<>]*[<>][^"\n]*)"')
+
+
+def escape_angled_attributes(data: bytes) -> bytes:
+    """The document with ``<`` and ``>`` inside attribute values escaped, as tolerant readers take it.
+
+    Assimp's STL-to-COLLADA export of 2015 writes ``<node id="<STL_BINARY>">``
+    (velodyne_description's VLP-16 and HDL-32E meshes). XML forbids ``<`` there
+    and lxml refuses the file, but Assimp (RViz, Gazebo, coal) and PyBullet's
+    tinyxml2 read the value up to its closing quote. Call it only on a document
+    the strict parse refused: a valid one has no such value.
+    """
+    return _ANGLED_ATTRIBUTE.sub(
+        lambda m: b'="' + m.group(1).replace(b"<", b"&lt;").replace(b">", b"&gt;") + b'"', data)
+
+
 def read_bytes(data: bytes) -> ColladaScene:
     data = before_nul(data)
     if b"<!ENTITY" in data[: 1 << 16].upper() or b"<!DOCTYPE" in data[: 1 << 16].upper():
@@ -115,7 +133,13 @@ def read_bytes(data: bytes) -> ColladaScene:
     try:
         root = etree.fromstring(data, _parser())
     except etree.XMLSyntaxError as exc:
-        raise Unsupported(f"XML: {exc}") from exc
+        escaped = escape_angled_attributes(data)
+        if escaped == data:
+            raise Unsupported(f"XML: {exc}") from exc
+        try:
+            root = etree.fromstring(escaped, _parser())
+        except etree.XMLSyntaxError:
+            raise Unsupported(f"XML: {exc}") from exc
     return _Reader(root).scene()
 
 

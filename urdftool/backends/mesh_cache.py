@@ -31,8 +31,9 @@ from pathlib import Path
 from typing import Any
 
 #: Bump when the stored facts change shape or meaning.
-SCHEMA = 3  # 2: a COLLADA file is read up to its first NUL byte, as Assimp reads it;
-#            3: a closed mesh with some triangles reversed is measured with its winding fixed
+SCHEMA = 4  # 2: a COLLADA file is read up to its first NUL byte, as Assimp reads it;
+#            3: a closed mesh with some triangles reversed is measured with its winding fixed;
+#            4: a COLLADA attribute value holding "<" is read, as Assimp and tinyxml2 read it
 
 
 @lru_cache(maxsize=1)

@@ -308,8 +308,10 @@ def lean_collada(path: str) -> Any:
 
 
 def _collada_before_nul(path: str) -> Any:
-    """A ``.dae`` file read by trimesh up to its first NUL byte, as the C and C++ readers read it
-    (:func:`urdftool.backends.collada.before_nul`); ``None`` when that changes nothing or fails."""
+    """A ``.dae`` file read by trimesh up to its first NUL byte and with ``<`` in attribute values
+    escaped, as the C and C++ readers read it (:func:`urdftool.backends.collada.before_nul`,
+    :func:`~urdftool.backends.collada.escape_angled_attributes`); ``None`` when that changes
+    nothing or fails."""
     import io
 
     import trimesh
@@ -320,8 +322,8 @@ def _collada_before_nul(path: str) -> Any:
         data = read_regular(path, "mesh")
     except OSError:
         return None
-    document = collada.before_nul(data)
-    if len(document) == len(data):
+    document = collada.escape_angled_attributes(collada.before_nul(data))
+    if document == data:
         return None
     try:
         return trimesh.load(

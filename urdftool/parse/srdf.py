@@ -17,7 +17,7 @@ from __future__ import annotations
 
 import functools
 import os
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from dataclasses import field
 
 from lxml import etree
@@ -163,9 +163,14 @@ def is_srdf_xacro(path: str) -> bool:
     return path.lower().endswith(".xacro")
 
 
-def read_srdf(path: str, resolver: PackageResolver | None = None) -> Srdf:
+def read_srdf(path: str, resolver: PackageResolver | None = None,
+              args: Mapping[str, str] | None = None) -> Srdf:
     """Read the SRDF at *path* (expanding it first when it is a ``.xacro``).
 
+    *args* are the model's xacro arguments: MoveIt launch files pass an
+    ``.srdf.xacro`` the mappings they pass the URDF (UR's ``ur.srdf.xacro``
+    reads ``$(arg name)`` before it declares it, so xacro stops without one).
+    Arguments the SRDF does not know are not reported: they were given for the model.
     Raises :class:`OSError` only when the file cannot be opened.
     """
     path = os.fspath(path)
@@ -173,8 +178,9 @@ def read_srdf(path: str, resolver: PackageResolver | None = None) -> Srdf:
         # Function-level: the xacro processor (and its minidom) is needed only for an .srdf.xacro.
         from urdftool.parse.xacro import expand
 
-        result = expand(path, resolver or PackageResolver.create())
-        found = [d for d in result.diagnostics if d.name != "macros-only"]
+        result = expand(path, resolver or PackageResolver.create(), args)
+        ignored = {"macros-only", "misspelt-xacro-argument"}
+        found = [d for d in result.diagnostics if d.name not in ignored]
         if result.document is None:
             return Srdf(path, diagnostics=found, span=Span(path, 1, 1), files=result.files or [path])
         srdf = _Reader(path).read(result.document.root)

@@ -141,7 +141,8 @@ def check_file(path: str, options: CheckOptions) -> list[FileReport]:
 def _check_models(path: str, options: CheckOptions) -> list[FileReport]:
     selection = options.selection()
     resolver = options.resolver()
-    models = [controllers.attach(srdf.attach(m, options.srdf, resolver, options.discover_srdf),
+    models = [controllers.attach(srdf.attach(m, options.srdf, resolver, options.discover_srdf,
+                                             options.xacro_args),
                                  options.controllers, resolver)
               for m in read(path, options.xacro_args, resolver)]
     # Rules that re-resolve URIs (to say where a mesh was looked for) use the same resolver.

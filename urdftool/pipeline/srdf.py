@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import dataclasses
 import os
+from collections.abc import Mapping
 
 from urdftool.catalogue.syntax import XmlSyntax
 from urdftool.diagnostics import Diagnostic
@@ -89,8 +90,10 @@ def find_srdf(model_path: str, robot_name: str | None = None) -> str | None:
     return found[0] if len(found) == 1 else None
 
 
-def attach(loaded: Loaded, srdf_path: str | None, resolver: PackageResolver, discover: bool = True) -> Loaded:
-    """*loaded* with its SRDF read (from *srdf_path*, else discovered) and its findings joined."""
+def attach(loaded: Loaded, srdf_path: str | None, resolver: PackageResolver, discover: bool = True,
+           args: Mapping[str, str] | None = None) -> Loaded:
+    """*loaded* with its SRDF read (from *srdf_path*, else discovered) and its findings joined;
+    an ``.srdf.xacro`` is expanded with the model's xacro *args*, as a MoveIt launch file does."""
     if loaded.robot is None:
         return loaded
     path = srdf_path or (find_srdf(loaded.path, loaded.robot.name) if discover else None)
@@ -100,7 +103,7 @@ def attach(loaded: Loaded, srdf_path: str | None, resolver: PackageResolver, dis
     from urdftool.parse.srdf import Srdf, read_srdf
 
     try:
-        srdf = read_srdf(path, resolver)
+        srdf = read_srdf(path, resolver, args)
     except OSError as exc:
         srdf = Srdf(path, diagnostics=[_unreadable(path, exc)])
     robot = dataclasses.replace(loaded.robot, diagnostics=(*loaded.robot.diagnostics, *srdf.diagnostics))

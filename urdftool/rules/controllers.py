@@ -101,6 +101,19 @@ def joint_values(controller: Controller) -> Iterator[Value]:
             yield value
 
 
+def _vendor_prefix(controller: Controller, name: str, urdf: set[str], known: set[str]) -> bool:
+    """Whether *name* may be an interface prefix a vendor's hardware exports on its own.
+
+    A controller type outside ros2_controllers gives its parameters its own meaning: Kinova's
+    MoveIt configurations give PickNik's twist controller ``joint: tcp``, and the Kortex hardware
+    interface exports ``tcp/twist.linear.x``… from code, with no URDF joint ``tcp``. Such a name
+    is left alone unless it is close to a joint name of the robot (then it is likely a typo).
+    """
+    if _type(controller) in KNOWN_TYPES or name in urdf:
+        return False
+    return closest(name, known) is None
+
+
 @register
 class ControllerJointUnknown(_Controllers):
     """A controller in the controllers YAML names a joint that no ros2_control block declares.
@@ -127,7 +140,10 @@ class ControllerJointUnknown(_Controllers):
     ## Fix
     Use the joint names of the `<ros2_control>` block, or declare the joint there.
     (Chained controllers' reference interfaces, `pid_controller/left_wheel_joint`,
-    name another controller of the file and are not reported.)
+    name another controller of the file and are not reported; nor is a name
+    far from every joint in a controller type outside ros2_controllers, which
+    may be an interface prefix its vendor's hardware exports, such as Kortex's
+    `tcp/twist.linear.x`.)
     """
 
     code = "G201"
@@ -144,6 +160,8 @@ class ControllerJointUnknown(_Controllers):
                 name = value.text() or ""
                 if name in known or "$" in name or name.split("/")[0] in names:
                     continue  # a chained controller's reference interface: CONTROLLER/NAME
+                if _vendor_prefix(controller, name, urdf, known):
+                    continue
                 if name in urdf:
                     message = (
                         f"controller '{controller.name}' names joint '{name}', which no "
@@ -247,6 +265,24 @@ class ControllerInterfaceUnknown(_Controllers):
             yield "command", implied, controller.type
 
 
+#: The packages of :data:`KNOWN_TYPES`.
+KNOWN_PACKAGES = frozenset(t.split("/")[0] for t in KNOWN_TYPES)
+#: How alike a package name must be to one of ros2_controllers' to be a misspelling of it: every
+#: package there ends in ``_controller(s)``, so a whole-string match tied UR's
+#: ``ur_controllers/ForceModeController`` to ``pid_controller/PidController`` (0.8: ``ur_controllers``
+#: and ``gpio_controllers``; 0.97: ``position_controller`` and ``position_controllers``).
+PACKAGE_CUTOFF = 0.85
+
+
+def _likely_meant(declared: str) -> str | None:
+    """The ros2_controllers type *declared* misspells, or ``None`` for a vendor's own package."""
+    package = declared.split("/")[0]
+    meant = package if package in KNOWN_PACKAGES else closest(package, KNOWN_PACKAGES, PACKAGE_CUTOFF)
+    if meant is None:
+        return None
+    return closest(declared, [t for t in KNOWN_TYPES if t.startswith(meant + "/")])
+
+
 @register
 class ControllerTypeUnknown(_Controllers):
     """A controller's `type` is not one of ros2_controllers' (a misspelling, or a vendor's controller).
@@ -255,9 +291,11 @@ class ControllerTypeUnknown(_Controllers):
     Compares each controller's `type` in the controller manager's parameters
     with the controllers ros2_controllers and ros2_control ship
     (`joint_trajectory_controller/JointTrajectoryController`,
-    `diff_drive_controller/DiffDriveController`, …). A type close to one of
-    them is a warning with the likely name; any other type is a note, since
-    vendors ship their own controllers.
+    `diff_drive_controller/DiffDriveController`, …). A type whose package is
+    one of ros2_controllers' (or a near miss of one) and whose name is close
+    to one of its types is a warning with the likely name; any other type is
+    a note, since vendors ship their own controllers
+    (`ur_controllers/ForceModeController`).
 
     ## Why it matters
     pluginlib finds no class for a misspelt type: the controller manager
@@ -282,7 +320,7 @@ class ControllerTypeUnknown(_Controllers):
             declared = _type(controller)
             if not declared or declared in KNOWN_TYPES or controller.type is None:
                 continue
-            suggestion = closest(declared, KNOWN_TYPES)
+            suggestion = _likely_meant(declared)
             if suggestion is not None:
                 yield self.diagnostic(
                     f"controller '{controller.name}' has type '{declared}'; did you mean '{suggestion}'?",
