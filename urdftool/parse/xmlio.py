@@ -277,7 +277,6 @@ def _declare_prefixes(data: bytes, path: str, warnings: list[Diagnostic]) -> byt
     return data[:at] + declarations + data[at:]
 
 
-_COMMENT = re.compile(rb"<!--(.*?)-->", re.S)
 _SCOPED_TAG = re.compile(rb"(</?[A-Za-z_][\w.-]*)::(?=[A-Za-z_])")
 
 
@@ -309,21 +308,28 @@ def _hyphens_in_comments(data: bytes, path: str, warnings: list[Diagnostic]) -> 
     expat (xacro, urdf_parser_py) refuse them. Only comment text changes, so no
     position moves. Returns *data* itself when no comment needs mending.
     """
+    # Comment by comment with find(), not a regular expression: a lazy match of each "<!--" up
+    # to its "-->" is quadratic in a text of many unclosed comments (64 kB took 2.7 s). A comment
+    # with no "-->" after it ends the search: no later one can close either.
+    parts: list[bytes] = []
     first: int | None = None
-
-    def mend(match: re.Match[bytes]) -> bytes:
-        nonlocal first
-        body = match.group(1)
+    done = searched = 0
+    while (start := data.find(b"<!--", searched)) >= 0:
+        end = data.find(b"-->", start + 4)
+        if end < 0:
+            break
+        body = data[start + 4:end]
         mended = body.replace(b"--", b"~~")
         if mended.endswith(b"-"):
             mended = mended[:-1] + b"~"
-        if mended != body and first is None:
-            first = match.start()
-        return b"<!--" + mended + b"-->"
-
-    mended = _COMMENT.sub(mend, data)
+        if mended != body:
+            first = start if first is None else first
+            parts += (data[done:start + 4], mended)
+            done = end
+        searched = end + 3
     if first is None:
         return data  # the same object: nothing was mended
+    mended = b"".join((*parts, data[done:]))
     sdf = path.lower().endswith((".sdf", ".world"))
     warnings.append(
         XmlSyntax.diagnostic(
