@@ -13,7 +13,9 @@ one model does not hide the others.
 Every error finding is then sorted into:
 
 - expected: listed under ``expected`` (reviewed as a genuine defect of the upstream file);
-- omitted: ``mesh-not-found`` for a mesh listed under ``omitted_meshes`` (not vendored);
+- omitted: ``mesh-not-found`` for a mesh listed under ``omitted_meshes`` (not vendored), or
+  ``mesh-unreadable`` for one listed there whose companion file was not vendored (a glTF
+  without its ``.bin`` buffer);
 - known false: listed under ``known_false`` (a false error that was fixed: seeing it again
   is a regression, so it is reported with the unexpected ones);
 - unexpected: anything else, to be reviewed by hand.
@@ -95,6 +97,10 @@ def _mesh_key(path: str, corpus: Path) -> str:
     return path
 
 
+#: Errors a mesh that is not vendored, or vendored without its companion files, gives.
+_OMISSION_FINDINGS = frozenset({"mesh-not-found", "mesh-unreadable"})
+
+
 def review(entry: Mapping[str, Any], found: Iterable[Mapping[str, Any]], corpus: Path) -> Review:
     """Sort the error findings of one model against its manifest entry (pure; no I/O)."""
     result = Review(label(entry))
@@ -111,7 +117,7 @@ def review(entry: Mapping[str, Any], found: Iterable[Mapping[str, Any]], corpus:
         if expected[key] > 0:
             expected[key] -= 1
             result.expected.append(dict(d))
-        elif d.get("name") == "mesh-not-found" and path and _mesh_key(path, corpus) in omitted:
+        elif d.get("name") in _OMISSION_FINDINGS and path and _mesh_key(path, corpus) in omitted:
             result.omitted.append(dict(d))
         elif known_false[key] > 0:
             known_false[key] -= 1

@@ -380,3 +380,63 @@ def test_closed_mesh_with_reversed_triangles_is_a_solid(tmp_path: Path) -> None:
     [mass] = [d for d in found if d.code == "T001"]
     assert mass.data["mass"] == pytest.approx(8.0, rel=1e-6)
     assert not [d for d in found if d.code == "T003"]
+
+
+def test_sdf_scalar_with_a_stray_character_is_read_as_libsdformat_reads_it(tmp_path: Path) -> None:
+    """Drake's iiwa14 SDF: `<velocity>2.356194490192345"</velocity>`. libsdformat parses a double
+    with std::stod, which reads the number and ignores the quote, so Drake and Gazebo both get
+    2.356 rad/s: a warning, and the limit is the value they read."""
+    report = urdftool.check(FIXTURES / "precision" / "sdf_number_stray_quote.sdf")
+    assert not report.errors, [d.message for d in report.errors]
+    [found] = [d for d in report.diagnostics if d.code == "S005"]
+    assert found.severity is Severity.WARNING and "libsdformat reads 2.356194490192345" in found.message
+    joint = next(j for j in urdftool.load(FIXTURES / "precision" / "sdf_number_stray_quote.sdf").joints
+                 if j.name == "wrist")
+    assert joint.limit is not None
+    assert joint.limit.velocity == pytest.approx(2.356194490192345)
+
+
+@pytest.mark.parametrize("text", ["1,5", "1.2.3", "0x10", "bad", "nan"])
+def test_sdf_scalar_that_loses_digits_or_is_no_number_stays_an_error(tmp_path: Path, text: str) -> None:
+    # std::stod reads "1" from "1,5": the half is dropped silently, which is the error S005 is for
+    source = (FIXTURES / "precision" / "sdf_number_stray_quote.sdf").read_text()
+    path = tmp_path / "arm.sdf"
+    path.write_text(source.replace('2.356194490192345"', text))
+    found = [d for d in urdftool.check(path).diagnostics if d.code == "S005"]
+    assert [d.severity for d in found] == [Severity.ERROR]
+
+
+def test_drake_custom_shape_in_an_sdf_geometry_is_no_unknown_element(tmp_path: Path) -> None:
+    """Drake's WSG-50 bubble gripper: `<drake:ellipsoid>` in a `<geometry>` is a custom element
+    (SDFormat 1.6+), which libsdformat keeps and ignores and Drake reads; it was a warning
+    "<{urn:undeclared:drake}ellipsoid> is not an SDF shape"."""
+    path = tmp_path / "finger.sdf"
+    path.write_text(
+        '<sdf version="1.7"><model name="finger"><link name="bubble">'
+        "<inertial><mass>0.1</mass><inertia><ixx>1e-4</ixx><iyy>1e-4</iyy><izz>1e-4</izz></inertia></inertial>"
+        '<collision name="ellipsoid"><geometry><drake:ellipsoid><a>0.03</a><b>0.04</b><c>0.02</c>'
+        "</drake:ellipsoid></geometry></collision></link></model></sdf>"
+    )
+    report = urdftool.check(path)
+    assert not report.errors
+    assert [d.message for d in report.diagnostics if d.code in ("S008", "S023")] == []
+
+
+def test_gltf_mesh_in_an_sdf_model_is_a_note_not_a_warning(tmp_path: Path) -> None:
+    """Drake's iiwa, WSG-50, Allegro and YCB SDFs use glTF visuals (76 warnings on 10 models):
+    gz-sim and Drake, the consumers of an SDF, read glTF; MuJoCo and PyBullet only meet the
+    model through an export, so M004 is an info there. A URDF keeps the warning."""
+    mesh = FIXTURES / "rules" / "M004" / "meshes" / "ascii.stl"
+    shutil.copy(mesh, tmp_path / "part.stl")
+    sdf = tmp_path / "part.sdf"
+    sdf.write_text(
+        '<sdf version="1.7"><model name="part"><link name="base">'
+        "<inertial><mass>0.1</mass><inertia><ixx>1e-4</ixx><iyy>1e-4</iyy><izz>1e-4</izz></inertia></inertial>"
+        '<visual name="v"><geometry><mesh><uri>part.stl</uri></mesh></geometry></visual>'
+        "</link></model></sdf>"
+    )
+    urdf = tmp_path / "part.urdf"
+    urdf.write_text('<robot name="part"><link name="base"><visual><geometry><mesh filename="part.stl"/>'
+                    "</geometry></visual></link></robot>")
+    assert [d.severity for d in urdftool.check(sdf).diagnostics if d.code == "M004"] == [Severity.INFO]
+    assert [d.severity for d in urdftool.check(urdf).diagnostics if d.code == "M004"] == [Severity.WARNING]

@@ -19,7 +19,7 @@ ENTRY = {
     "path": "arm/urdf/arm.xacro",
     "xacro_args": {"gazebo": "true"},
     "package_paths": ["arm"],
-    "omitted_meshes": ["arm/meshes/base.dae"],
+    "omitted_meshes": ["arm/meshes/base.dae", "arm/meshes/finger.gltf"],
     "expected": [{"code": "I005", "element": "link[cam]/inertial/inertia", "reason": "A+B<C"},
                  {"code": "G001", "element": "gazebo[stick]", "reason": "dead block"}],
     "known_false": [{"code": "S017", "element": "link[free]"}],
@@ -27,7 +27,7 @@ ENTRY = {
 
 
 def finding(code: str, element: str, severity: str = "error", **data: str) -> dict[str, object]:
-    names = {"M002": "mesh-not-found"}
+    names = {"M002": "mesh-not-found", "M003": "mesh-unreadable"}
     return {"code": code, "name": names.get(code, code), "severity": severity, "element": element,
             "message": f"{code} on {element}", "data": data}
 
@@ -37,17 +37,21 @@ def test_each_error_is_expected_omitted_known_false_or_unexpected() -> None:
         finding("I005", "link[cam]/inertial/inertia"),
         finding("M002", "link[base]/visual/geometry/mesh", path="/corpus/arm/meshes/base.dae"),
         finding("M002", "link[hand]/visual/geometry/mesh", path="/corpus/arm/meshes/hand.dae"),
+        finding("M003", "link[finger]/visual/geometry/mesh", path="/corpus/arm/meshes/finger.gltf"),
+        finding("M003", "link[palm]/visual/geometry/mesh", path="/corpus/arm/meshes/palm.gltf"),
         finding("S017", "link[free]"),
         finding("J001", "joint[j1]"),
         finding("G001", "gazebo[stick]", severity="warning"),
         finding("I006", "link[cam]/inertial", severity="warning"),
     ]
     review = review_realworld.review(ENTRY, found, CORPUS)
-    assert review.errors == 5
+    assert review.errors == 7
     assert [d["code"] for d in review.expected] == ["I005"]
-    assert [d["element"] for d in review.omitted] == ["link[base]/visual/geometry/mesh"]
+    # a glTF vendored without its .bin buffer is unreadable, not missing: omitted all the same
+    assert [d["element"] for d in review.omitted] == ["link[base]/visual/geometry/mesh",
+                                                      "link[finger]/visual/geometry/mesh"]
     assert [d["code"] for d in review.known_false] == ["S017"]
-    assert [d["code"] for d in review.unexpected] == ["M002", "J001"]
+    assert [d["code"] for d in review.unexpected] == ["M002", "M003", "J001"]
     assert review.vanished == [("G001", "gazebo[stick]", "now warning")]
 
 

@@ -135,7 +135,11 @@ class LinkBodyReader:
                 )
             )
             return None
-        shapes = [c for c in geometry if isinstance(c.tag, str)]
+        # A namespaced shape (<drake:ellipsoid>, Drake's own) is a custom element: libsdformat
+        # keeps it and ignores it, the tool it is written for reads it.
+        shapes = [c for c in geometry if isinstance(c.tag, str) and not _custom_tag(c.tag)]
+        if not shapes and any(isinstance(c.tag, str) for c in geometry):
+            return None
         known = [c for c in shapes if c.tag in SHAPES]
         for other in shapes:
             if other.tag not in SHAPES:
@@ -341,3 +345,8 @@ def _dynamics(values: SdfValues, axis: etree._Element | None, where: str) -> Dyn
     return Dynamics(damping or 0.0, friction or 0.0, span_of(element),
                     spring_stiffness=stiffness if stiffness and stiffness > 0 else 0.0,
                     spring_reference=reference or 0.0)
+
+
+def _custom_tag(tag: str) -> bool:
+    """A custom element of SDFormat 1.6+ (``prefix:name``, namespaced): not SDF's to check."""
+    return ":" in tag or tag.startswith("{")

@@ -9,10 +9,12 @@ behaviour for text: a malformed value is reported (``invalid-number``,
 from __future__ import annotations
 
 import math
+import re
 
 from lxml import etree
 
 from urdftool.catalogue.syntax import InvalidNumber, UnexpandedSubstitution, WrongVectorLength
+from urdftool.diagnostics import Severity
 from urdftool.model import Pose
 from urdftool.model.pose import Matrix, homogeneous, quaternion_to_matrix
 from urdftool.parse.locate import span_of
@@ -27,6 +29,9 @@ from urdftool.parse.values import (
 )
 
 _TRUE = {"1", "true", "True", "TRUE"}
+
+#: The decimal number std::stod reads at the start of a text (libsdformat's scalar parse).
+_LEADING_NUMBER = re.compile(r"[+-]?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?")
 _INF = {"inf", "infinity"}
 
 
@@ -77,6 +82,10 @@ class SdfValues(ValueReader):
         values = [_infinity(p) if infinite and p.lower().lstrip("+-") in _INF else parse_number(p)
                   for p in parts]
         bad = next((p for p, v in zip(parts, values, strict=True) if v is None), None)
+        if bad is not None and lengths == (1,) and len(parts) == 1:
+            lenient = self._stod_prefix(element, where, raw)
+            if lenient is not None:
+                return [lenient]
         if bad is not None:
             self.diagnostics.append(
                 InvalidNumber.diagnostic(
@@ -102,6 +111,35 @@ class SdfValues(ValueReader):
             )
             return None
         return [v for v in values if v is not None]
+
+    def _stod_prefix(self, element: etree._Element, where: str, raw: str) -> float | None:
+        """The number libsdformat reads from a malformed scalar, when it loses no digit; reported
+        as a warning. ``None`` (so an error) otherwise.
+
+        libsdformat parses a ``double`` element with ``std::stod``, which reads the longest
+        number at the start and ignores the rest: ``2.356194490192345"`` (a stray quote in
+        Drake's iiwa14 SDF) is 2.356… to Gazebo and Drake alike. When the rest holds a digit
+        (``1,5``, ``1.2.3``) part of the intended value is dropped, and that stays an error.
+        """
+        found = _LEADING_NUMBER.match(raw)
+        if found is None:
+            return None
+        rest = raw[found.end():]
+        value = parse_number(found.group())
+        if value is None or any(c.isdigit() for c in rest):
+            return None
+        self.diagnostics.append(
+            InvalidNumber.diagnostic(
+                f"{where}: <{element.tag}>{clip(raw)}</{element.tag}> is not a number; libsdformat "
+                f"reads {found.group()} and ignores '{clip(rest)}'",
+                span_of(element),
+                element=where,
+                severity=Severity.WARNING,  # every SDF consumer (libsdformat) reads the same value
+                help=f"write {found.group()}",
+                data={"value": raw, "read": value},
+            )
+        )
+        return value
 
     def text_number(
         self, parent: etree._Element | None, tag: str, where: str, default: float | None = None,

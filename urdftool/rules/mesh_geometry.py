@@ -95,11 +95,16 @@ def moving_groups(tree: KinematicTree) -> Iterator[tuple[Joint, list[Link]]]:
         yield joint, group
 
 
+#: Primitive shapes smaller than this (m) are contact points or markers, not the robot's size.
+_MARKER_SIZE = 1e-3
+
+
 def robot_size(ctx: CheckContext) -> tuple[float, str] | None:
     """A size for the robot (m) that does not depend on its meshes, and how it was measured.
 
     The diagonal of the box around its link frames at the zero configuration;
-    for a robot whose frames coincide, the median size of its primitive shapes.
+    for a robot whose frames coincide, the median size of its primitive shapes (of those a
+    millimetre or more across, when there are any).
     ``None`` when neither exists (a one-link mesh-only model has nothing to compare
     with). Meshes are left out on purpose: a robot whose meshes are all in
     millimetres must not be its own yardstick.
@@ -110,6 +115,9 @@ def robot_size(ctx: CheckContext) -> tuple[float, str] | None:
         if spread > 1e-6:
             return spread, "between its farthest link frames"
     sizes = [size for link in ctx.robot.links for size in _primitive_sizes(link) if size > 0]
+    # Drake's YCB objects put 1e-7 m spheres on the box corners as contact points: markers,
+    # not the object's size, so shapes under a millimetre count only when nothing is larger.
+    sizes = [size for size in sizes if size >= _MARKER_SIZE] or sizes
     if sizes:
         return float(np.median(sizes)), "the median size of its primitive shapes"
     return None

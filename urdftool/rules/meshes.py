@@ -310,7 +310,8 @@ class MeshFormatUnsupported(_Meshes):
     triangles) and OBJ, not COLLADA or ASCII STL; PyBullet reads binary STL,
     OBJ and COLLADA, not ASCII STL (it loads no shape) nor other formats (it
     refuses the URDF). Reported at warning severity when neither engine can
-    read the file, as info when one of them can.
+    read the file, as info when one of them can, and as info in an SDF model
+    (gz-sim and Drake, its consumers, read glTF and COLLADA).
 
     ## Why it matters
     A model that works in RViz and Gazebo (which read nearly every format)
@@ -333,7 +334,9 @@ class MeshFormatUnsupported(_Meshes):
     severity = Severity.WARNING
 
     def check(self, ctx: CheckContext) -> Iterator[Diagnostic]:
-
+        # An SDF model is loaded by libsdformat's consumers (gz-sim, Drake), which read glTF and
+        # COLLADA; MuJoCo and PyBullet see it only through an export, so it is a note there.
+        sdf = ctx.robot.format == "sdf"
         for path, uses in survey.by_file(ctx).items():
             fmt = survey.mesh_format(ctx, path)
             refusing = engines_refusing(fmt) if fmt is not None else {}
@@ -346,7 +349,7 @@ class MeshFormatUnsupported(_Meshes):
                 f"{first.describe} is {fmt.label}, which {names} cannot read",
                 first.location,
                 element=first.element,
-                severity=Severity.WARNING if len(refusing) == len(ENGINE_NAMES) else Severity.INFO,
+                severity=Severity.INFO if sdf or len(refusing) < len(ENGINE_NAMES) else Severity.WARNING,
                 help=f"{why}; give {names} a binary STL or OBJ copy{survey.other_places(uses)}",
                 data={
                     "uri": first.mesh.filename,
