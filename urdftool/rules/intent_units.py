@@ -129,7 +129,10 @@ class TravelLooksLikeMillimetres(IntentRule):
     more than 20 times the extent (option `length_factor`) when, read as
     centimetres or millimetres, it fits within twice the extent, unless the
     joint's parent link carries a primitive shape at least 90 % as
-    long as the travel (a rail drawn to scale).
+    long as the travel (a rail drawn to scale), or the joint moves a bare
+    frame (a child link with no geometry and no mass: one axis of a virtual
+    floating base spelled out joint by joint, such as Cassie's
+    `map → x → y → z` chain with ±1000 m of travel).
 
     ## Why it matters
     URDF lengths are metres (REP 103). A gripper whose fingers travel 40 m
@@ -162,7 +165,7 @@ class TravelLooksLikeMillimetres(IntentRule):
             if not math.isfinite(travel) or extent < 0.01 or travel <= max(minimum, factor * extent):
                 continue
             slip = _slip(travel, extent)
-            if slip is None or _rides_a_rail(ctx, joint, travel):
+            if slip is None or _rides_a_rail(ctx, joint, travel) or _moves_a_bare_frame(ctx, joint):
                 continue
             unit, scale = slip
             yield self.diagnostic(
@@ -185,6 +188,16 @@ def _rides_a_rail(ctx: CheckContext, joint: Joint, travel: float) -> bool:
     shapes = [c.geometry for c in parent.collisions] + [v.geometry for v in parent.visuals]
     lengths = [max(dims) for shape in shapes if (dims := shape_dims(shape)) is not None]
     return any(length >= 0.9 * travel for length in lengths)
+
+
+def _moves_a_bare_frame(ctx: CheckContext, joint: Joint) -> bool:
+    """The joint's child has no visual, no collision and no mass: a virtual axis of a floating
+    base (its huge travel stands for "unbounded"), not a part whose length was written in the
+    wrong unit, which would be drawn or weighed."""
+    child = ctx.robot.link(joint.child)
+    if child is None or child.visuals or child.collisions:
+        return False
+    return child.inertial is None or not child.inertial.mass > 0.0
 
 
 def _unit_name(unit: str) -> str:
