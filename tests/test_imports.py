@@ -26,8 +26,10 @@ OFF_THE_CHECK_PATH = (
     "urdftool.pipeline.fix", "urdftool.pipeline.baseline", "urdftool.facts.simulation.options",
     "urdftool.rules.summaries",
     # the compiled __init__ methods of records that only exports, engines and simulations build
-    "urdftool.records_compiled.export", "urdftool.records_compiled.backends",
-    "urdftool.records_compiled.simulation",
+    "urdftool.records_compiled.export", "urdftool.records_compiled.export_mjcf",
+    "urdftool.records_compiled.backends", "urdftool.records_compiled.simulation",
+    # ...and of records that only the SDF and SRDF readers build
+    "urdftool.records_compiled.parse_sdf", "urdftool.records_compiled.parse_srdf",
 )
 #: Modules that act on findings, imported only when a file has some.
 ONLY_FOR_FINDINGS = (

@@ -136,10 +136,28 @@ def init_source(cls: type, function_name: str = "make_init") -> str:
     return "\n".join(lines) + "\n"
 
 
-def compiled_module(module: str) -> str:
-    """The module of :mod:`urdftool.records_compiled` for records defined in *module*: one per
-    package of urdftool (``urdftool.model.robot`` -> ``model``, ``urdftool.source`` -> ``source``)."""
+def package_of(module: str) -> str:
+    """The package of urdftool that *module* belongs to (``urdftool.model.robot`` -> ``model``,
+    ``urdftool.source`` -> ``source``); ``""`` outside urdftool."""
     return module.split(".")[1] if module.startswith("urdftool.") else ""
+
+
+def compiled_module(module: str) -> str:
+    """The module of :mod:`urdftool.records_compiled` for records defined in *module*: its
+    package's, unless the generator gave the module's family one of its own
+    (``records_compiled.MODULES``, for a package too large for one module)."""
+    return _split_modules().get(module) or package_of(module)
+
+
+@functools.cache
+def _split_modules() -> dict[str, str]:
+    """``records_compiled.MODULES``: record module -> generated module, where a package is split."""
+    try:
+        package = importlib.import_module("urdftool.records_compiled")
+    except ModuleNotFoundError:  # not generated yet
+        return {}
+    split: dict[str, str] = getattr(package, "MODULES", {})
+    return split
 
 
 @functools.cache

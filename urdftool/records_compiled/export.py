@@ -105,111 +105,6 @@ def _init_export_graph_groups_LinkGroups(__defaults__, __factories__, __sentinel
     return __init__
 
 
-# urdftool.export.mjcf_actuators.Drive
-def _init_export_mjcf_actuators_Drive(__defaults__, __factories__, __sentinel__, __set__, __slot__):
-    (_set_interface, _set_reduction, _set_rotor_inertia,) = map(__slot__, ('interface', 'reduction', 'rotor_inertia'))
-    def __init__(self, interface=__defaults__['interface'], reduction=__defaults__['reduction'], rotor_inertia=__defaults__['rotor_inertia']):
-        _set_interface(self, interface)
-        _set_reduction(self, reduction)
-        _set_rotor_inertia(self, rotor_inertia)
-    return __init__
-
-
-# urdftool.export.mjcf_assets.AssetPlan
-def _init_export_mjcf_assets_AssetPlan(__defaults__, __factories__, __sentinel__, __set__, __slot__):
-    def __init__(self, out_dir, copy=__defaults__['copy'], meshes=__sentinel__, files=__sentinel__, materials=__sentinel__, _by_content=__sentinel__, _by_path=__sentinel__, _hashes=__sentinel__):
-        self.out_dir = out_dir
-        self.copy = copy
-        self.meshes = __factories__['meshes']() if meshes is __sentinel__ else meshes
-        self.files = __factories__['files']() if files is __sentinel__ else files
-        self.materials = __factories__['materials']() if materials is __sentinel__ else materials
-        self._by_content = __factories__['_by_content']() if _by_content is __sentinel__ else _by_content
-        self._by_path = __factories__['_by_path']() if _by_path is __sentinel__ else _by_path
-        self._hashes = __factories__['_hashes']() if _hashes is __sentinel__ else _hashes
-    return __init__
-
-
-# urdftool.export.mjcf_assets.MeshAsset
-def _init_export_mjcf_assets_MeshAsset(__defaults__, __factories__, __sentinel__, __set__, __slot__):
-    (_set_name, _set_file, _set_scale,) = map(__slot__, ('name', 'file', 'scale'))
-    def __init__(self, name, file, scale):
-        _set_name(self, name)
-        _set_file(self, file)
-        _set_scale(self, scale)
-    return __init__
-
-
-# urdftool.export.mjcf_assets.VisualPart
-def _init_export_mjcf_assets_VisualPart(__defaults__, __factories__, __sentinel__, __set__, __slot__):
-    (_set_mesh, _set_material,) = map(__slot__, ('mesh', 'material'))
-    def __init__(self, mesh, material):
-        _set_mesh(self, mesh)
-        _set_material(self, material)
-    return __init__
-
-
-# urdftool.export.mjcf_bodies.BodyTree
-def _init_export_mjcf_bodies_BodyTree(__defaults__, __factories__, __sentinel__, __set__, __slot__):
-    def __init__(self, joints=__sentinel__, diagnostics=__sentinel__):
-        self.joints = __factories__['joints']() if joints is __sentinel__ else joints
-        self.diagnostics = __factories__['diagnostics']() if diagnostics is __sentinel__ else diagnostics
-    return __init__
-
-
-# urdftool.export.mjcf_bodies.MjJoint
-def _init_export_mjcf_bodies_MjJoint(__defaults__, __factories__, __sentinel__, __set__, __slot__):
-    (_set_name, _set_kind, _set_source, _set_home, _set_range,) = map(__slot__, ('name', 'kind', 'source', 'home', 'range'))
-    def __init__(self, name, kind, source, home, range=__defaults__['range']):
-        _set_name(self, name)
-        _set_kind(self, kind)
-        _set_source(self, source)
-        _set_home(self, home)
-        _set_range(self, range)
-    return __init__
-
-
-# urdftool.export.mjcf_classes._Member
-def _init_export_mjcf_classes__Member(__defaults__, __factories__, __sentinel__, __set__, __slot__):
-    def __init__(self, joint, actuator):
-        self.joint = joint
-        self.actuator = actuator
-    return __init__
-
-
-# urdftool.export.mjcf_keyframe.LoopSolve
-def _init_export_mjcf_keyframe_LoopSolve(__defaults__, __factories__, __sentinel__, __set__, __slot__):
-    (_set_before, _set_after, _set_steps,) = map(__slot__, ('before', 'after', 'steps'))
-    def __init__(self, before, after, steps):
-        _set_before(self, before)
-        _set_after(self, after)
-        _set_steps(self, steps)
-    return __init__
-
-
-# urdftool.export.mjcf_verify.Errors
-def _init_export_mjcf_verify_Errors(__defaults__, __factories__, __sentinel__, __set__, __slot__):
-    def __init__(self, position=__defaults__['position'], rotation=__defaults__['rotation'], matrix=__defaults__['matrix'], worst_link=__defaults__['worst_link']):
-        self.position = position
-        self.rotation = rotation
-        self.matrix = matrix
-        self.worst_link = worst_link
-    return __init__
-
-
-# urdftool.export.mjcf_verify.JointMap
-def _init_export_mjcf_verify_JointMap(__defaults__, __factories__, __sentinel__, __set__, __slot__):
-    (_set_joint, _set_kind, _set_mj_qpos, _set_mj_dof, _set_pin_q, _set_pin_v, _set_origin,) = map(__slot__, ('joint', 'kind', 'mj_qpos', 'mj_dof', 'pin_q', 'pin_v', 'origin'))
-    def __init__(self, joint, kind, mj_qpos, mj_dof, pin_q, pin_v, origin):
-        _set_joint(self, joint)
-        _set_kind(self, kind)
-        _set_mj_qpos(self, mj_qpos)
-        _set_mj_dof(self, mj_dof)
-        _set_pin_q(self, pin_q)
-        _set_pin_v(self, pin_v)
-        _set_origin(self, origin)
-    return __init__
-
-
 # urdftool.export.pybullet.BasePlan
 def _init_export_pybullet_BasePlan(__defaults__, __factories__, __sentinel__, __set__, __slot__):
     (_set_robot, _set_diagnostics,) = map(__slot__, ('robot', 'diagnostics'))
@@ -337,16 +232,6 @@ COMPILED = {
     'urdftool.export.graph.build.GraphSettings': ('rankdir=,collapse_fixed=|slots', _init_export_graph_build_GraphSettings),
     'urdftool.export.graph.findings.Findings': ('links*,joints*,other*|plain', _init_export_graph_findings_Findings),
     'urdftool.export.graph.groups.LinkGroups': ('top*,members*,offset*,merged_joints*|plain', _init_export_graph_groups_LinkGroups),
-    'urdftool.export.mjcf_actuators.Drive': ('interface=,reduction=,rotor_inertia=|slots', _init_export_mjcf_actuators_Drive),
-    'urdftool.export.mjcf_assets.AssetPlan': ('out_dir,copy=,meshes*,files*,materials*,_by_content*,_by_path*,_hashes*|plain', _init_export_mjcf_assets_AssetPlan),
-    'urdftool.export.mjcf_assets.MeshAsset': ('name,file,scale|slots', _init_export_mjcf_assets_MeshAsset),
-    'urdftool.export.mjcf_assets.VisualPart': ('mesh,material|slots', _init_export_mjcf_assets_VisualPart),
-    'urdftool.export.mjcf_bodies.BodyTree': ('joints*,diagnostics*|plain', _init_export_mjcf_bodies_BodyTree),
-    'urdftool.export.mjcf_bodies.MjJoint': ('name,kind,source,home,range=|slots', _init_export_mjcf_bodies_MjJoint),
-    'urdftool.export.mjcf_classes._Member': ('joint,actuator|plain', _init_export_mjcf_classes__Member),
-    'urdftool.export.mjcf_keyframe.LoopSolve': ('before,after,steps|slots', _init_export_mjcf_keyframe_LoopSolve),
-    'urdftool.export.mjcf_verify.Errors': ('position=,rotation=,matrix=,worst_link=|plain', _init_export_mjcf_verify_Errors),
-    'urdftool.export.mjcf_verify.JointMap': ('joint,kind,mj_qpos,mj_dof,pin_q,pin_v,origin|slots', _init_export_mjcf_verify_JointMap),
     'urdftool.export.pybullet.BasePlan': ('robot,diagnostics=|slots', _init_export_pybullet_BasePlan),
     'urdftool.export.pybullet.ExportPlan': ('robot,unfused,fusion,diagnostics=|slots', _init_export_pybullet_ExportPlan),
     'urdftool.export.pybullet.PyBulletFlavor': ('name=,joint_types*,extra_shapes=,filenames*|slots', _init_export_pybullet_PyBulletFlavor),
