@@ -186,53 +186,41 @@ def _open_descriptor(path: str, kind: str, check_size: bool) -> tuple[int, os.st
         raise
 
 
-def read_up_to(path: str | os.PathLike[str], kind: str, check_size: bool = False) -> bytes:
-    """At most one byte more than *kind*'s cap of the regular file *path* (so the caller can tell
-    an oversized file), read on the descriptor with no buffered file object: every model and
-    include is read this way, and the object cost more than reading a small file.
-    Raises ``OSError``/:class:`UnsafeFile`."""
+def read_up_to(path: str | os.PathLike[str], kind: str, check_size: bool = False,
+               cap: int | None = None) -> bytes:
+    """At most one byte more than *cap* (*kind*'s cap by default) of the regular file *path*, so
+    the caller can tell an oversized file; with *check_size*, a file already over *kind*'s cap
+    is refused before it is read. Read on the descriptor, to the size the file has: a buffered
+    file object cost more than reading a small file, and asking it for ``cap + 1`` bytes
+    allocated that much (64 MiB for every model) before reading. A file that grows while read
+    is read on up to the cap. Raises ``OSError``/:class:`UnsafeFile`."""
     path = os.fspath(path)
+    cap = limit(kind) if cap is None else cap
     fd, info = _open_descriptor(path, kind, check_size)
     try:
-        wanted = min(limit(kind), info.st_size) + 1
-        chunks = []
-        while wanted > 0:  # a read may return less than asked for; the end of the file returns b""
-            chunk = os.read(fd, wanted)
-            if not chunk:
-                break
-            chunks.append(chunk)
-            wanted -= len(chunk)
-        data = chunks[0] if len(chunks) == 1 else b"".join(chunks)
+        data = _read(fd, min(cap, info.st_size) + 1)
         if len(data) > info.st_size:  # the file grew while read: the rest, up to the cap
-            rest = limit(kind) + 1 - len(data)
-            while rest > 0 and (chunk := os.read(fd, min(rest, 1 << 20))):
-                data += chunk
-                rest -= len(chunk)
+            data += _read(fd, cap + 1 - len(data))
         return data
     finally:
         os.close(fd)
 
 
+def _read(fd: int, size: int) -> bytes:
+    """Up to *size* bytes from *fd*: a read may return less than asked for, the end b""."""
+    chunks = []
+    while size > 0 and (chunk := os.read(fd, min(size, 1 << 24))):
+        chunks.append(chunk)
+        size -= len(chunk)
+    return chunks[0] if len(chunks) == 1 else b"".join(chunks)
+
+
 def read_regular(path: str | os.PathLike[str], kind: str = "mesh") -> bytes:
     """The bytes of *path*, if it is a regular file within *kind*'s cap (a file growing
     while read is cut at the cap and refused). Raises ``OSError``/:class:`UnsafeFile`."""
-    cap = limit(kind)
-    with open_regular(path, kind) as handle:
-        data = read_capped(handle, cap)
-    if len(data) > cap:
+    data = read_up_to(path, kind, check_size=True)
+    if len(data) > limit(kind):
         _refuse_size(os.fspath(path), len(data), kind)
-    return data
-
-
-def read_capped(handle: BinaryIO, cap: int) -> bytes:
-    """At most ``cap + 1`` bytes of the open regular file *handle* (one more than the cap, so
-    the caller can tell an oversized file), read to the size the file has. Asking for
-    ``cap + 1`` bytes at once had the buffered reader allocate that much before reading: 64 MiB
-    for every model, 256 MiB for every mesh, longer than the read of a small file itself."""
-    expected = os.fstat(handle.fileno()).st_size
-    data = handle.read(min(cap, expected) + 1)
-    if len(data) > expected:  # the file grew while read: the rest, up to the cap
-        data += handle.read(cap + 1 - len(data))
     return data
 
 

@@ -220,7 +220,7 @@ def start_tag_offsets(data: bytes) -> list[int] | None:
     """The byte offset of every element start tag's ``<``, in document order, or ``None`` when
     :func:`element_starts` would hand the document to expat (a DOCTYPE, a lone carriage return).
     The cheap part of the scan: turning an offset into a position is left to
-    :func:`position_at`, for the few elements whose position is read."""
+    :class:`LinePositions`, for the few elements whose position is read."""
     if needs_expat(data):
         return None
     return [match.start() for match in _MARKUP.finditer(data) if match.lastindex is not None]

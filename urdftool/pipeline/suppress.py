@@ -21,7 +21,7 @@ from urdftool.diagnostics import Diagnostic
 from urdftool.records import record
 from urdftool.rules import Selection, lookup
 from urdftool.rules.selection import suggestion
-from urdftool.safe_files import open_regular, read_capped
+from urdftool.safe_files import read_up_to
 from urdftool.source import Span
 
 #: ``<!-- urdftool: ignore[S009, unknown-attribute] -->`` and ``ignore-file[...]``
@@ -47,8 +47,7 @@ class Suppression:
 def scan(path: str) -> list[Suppression]:
     """The suppression comments in the file at *path* (none when it cannot be read)."""
     try:
-        with open_regular(path, "model", check_size=False) as handle:  # never a FIFO's wait
-            data = read_capped(handle, MAX_SCAN_BYTES)
+        data = read_up_to(path, "model", cap=MAX_SCAN_BYTES)  # a regular file: never a FIFO's wait
     except OSError:
         return []
     if b"urdftool:" not in data:  # most files have no comment: skip decoding them (ASCII in UTF-8)
