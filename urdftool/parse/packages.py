@@ -128,6 +128,8 @@ class PackageResolver:
     _found: dict[tuple[str, str], Lookup] = field(default_factory=dict, repr=False)
     #: (URI, file it is written in) -> the lookup as a model records it (:meth:`resolution`)
     _resolutions: dict[tuple[str, str], Resolution] = field(default_factory=dict, repr=False)
+    #: (package, file asking) -> the package's lookup as recorded (:meth:`_recorded`)
+    _packages_asked: dict[tuple[str, str], Resolution] = field(default_factory=dict, repr=False)
 
     @classmethod
     def create(
@@ -255,5 +257,19 @@ class PackageResolver:
         key = (uri, base)
         found = self._resolutions.get(key)
         if found is None:
-            found = self._resolutions[key] = self.resolve_uri(uri, base).recorded()
+            found = self._resolutions[key] = self._recorded(uri, base)
         return found
+
+    def _recorded(self, uri: str, base: str) -> Resolution:
+        """``resolve_uri(uri, base).recorded()``; a ``package://`` URI looks its package up once per
+        package and file (a robot's meshes all name the same one or two packages)."""
+        if not uri.startswith("package://"):
+            return self.resolve_uri(uri, base).recorded()
+        name, _, rel = uri[len("package://"):].lstrip("/").partition("/")
+        package = self._packages_asked.get((name, base))
+        if package is None:
+            package = self._packages_asked[(name, base)] = self.find_package(name, base).recorded()
+        if package.path is None:
+            return package
+        target = os.path.join(package.path, rel)
+        return Resolution(target, (*package.tried, target), name, False, package.path)
