@@ -103,6 +103,31 @@ def test_world_reports_each_model_and_skips_standard_ones() -> None:
     np.testing.assert_allclose(fk["post"][:3, 3], [2, 0, 0])
 
 
+def test_world_findings_go_with_the_model_that_holds_them(tmp_path: Path) -> None:
+    # provenance: reduced from gz-sim's examples/worlds/diff_drive.sdf (Apache-2.0): a URDF <origin>
+    # in the second vehicle's link, and a <sensor> straight under a third model
+    path = tmp_path / "world.sdf"
+    path.write_text("""<?xml version="1.0"?>
+<sdf version="1.9">
+  <world name="w">
+    <model name="ground"><static>true</static><link name="g"/></model>
+    <model name="blue">
+      <link name="chassis"><origin xyz="0 0 1"/></link>
+    </model>
+    <model name="camera"><link name="body"/><sensor name="cam" type="camera"/></model>
+    <bogus/>
+  </world>
+</sdf>
+""")
+    reports = check_file(str(path), CheckOptions(select=("S",)))
+    by_model = {r.robot: [(d.code, d.location.line) for d in r.diagnostics if d.location]
+                for r in reports}
+    assert ("S008", 6) in by_model["blue"]
+    assert ("S008", 8) in by_model["camera"]
+    assert ("S008", 9) in by_model["ground"]  # the world's own elements: the first model's report
+    assert not any(line in (6, 8) for _, line in by_model["ground"])
+
+
 def test_seed_world_include_resolves_the_map_with_its_include_pose() -> None:
     (loaded,) = read(str(SEEDS / "hyundai_ngv/m_robot_gazebo/worlds/m_robot.world"))
     robot = loaded.robot

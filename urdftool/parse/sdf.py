@@ -52,7 +52,8 @@ def read_sdf(path: str, resolver: PackageResolver) -> list[Loaded]:
         return [Loaded(path, "sdf", None, problems, [path])]
     version = _version(root, problems)
     problems.extend(check_document(root, version))
-    models = _read_models(root, version, path, resolver)
+    owners: list[tuple[etree._Element, Loaded]] = []
+    models = _read_models(root, version, path, resolver, owners)
     if not models and not _has_world(root):
         problems.append(
             SdfModelMissing.diagnostic(
@@ -61,12 +62,51 @@ def read_sdf(path: str, resolver: PackageResolver) -> list[Loaded]:
         )
     if not models:
         return [Loaded(path, "sdf", None, problems, [path])]
-    # File-level findings (version, XML quirks) go with the first model.
-    first = models[0]
-    first.diagnostics[:0] = problems
-    if first.robot is not None:
-        first.robot = dataclasses.replace(first.robot, diagnostics=tuple(first.diagnostics))
+    # A finding inside a model (or include) of a world goes with that model, so that a report names
+    # the model it is about; file-level findings (version, XML quirks, the world's own elements)
+    # go with the first model.
+    owned: dict[int, list[Diagnostic]] = {}
+    for problem in problems:
+        owner = _owner(problem, owners) or models[0]
+        owned.setdefault(id(owner), []).append(problem)
+    for model in models:
+        found = owned.get(id(model))
+        if found:
+            model.diagnostics[:0] = found
+            if model.robot is not None:
+                model.robot = dataclasses.replace(model.robot, diagnostics=tuple(model.diagnostics))
     return models
+
+
+def _owner(problem: Diagnostic, owners: list[tuple[etree._Element, Loaded]]) -> Loaded | None:
+    """The model whose element holds *problem*'s position: at or after the element's start tag and
+    before the next element that is not inside it."""
+    where = problem.location
+    if len(owners) < 2 or where is None or where.line is None:
+        return None
+    position = (where.line, where.column or 0)
+    for element, loaded in owners:
+        start = span_of(element)
+        if start is None or start.line is None or start.path != where.path or position < (start.line, start.column or 0):
+            continue
+        after = _following(element)
+        end = span_of(after) if after is not None else None
+        if end is None or end.line is None or position < (end.line, end.column or 0):
+            return loaded
+    return None
+
+
+def _following(element: etree._Element) -> etree._Element | None:
+    """The first element after *element* in document order that is not inside it."""
+    node: etree._Element | None = element
+    while node is not None:
+        after = node.getnext()
+        while after is not None and not isinstance(after.tag, str):  # a comment or processing instruction
+            after = after.getnext()
+        if after is not None:
+            return after
+        node = node.getparent()
+    return None
 
 
 def _has_world(root: etree._Element) -> bool:
@@ -98,7 +138,9 @@ def _version(root: etree._Element, problems: list[Diagnostic]) -> tuple[int, int
 
 
 def _read_models(root: etree._Element, version: tuple[int, int], path: str,
-                 resolver: PackageResolver) -> list[Loaded]:
+                 resolver: PackageResolver, owners: list[tuple[etree._Element, Loaded]]) -> list[Loaded]:
+    """The models of *root* and of its worlds, in file order; *owners* receives each model's
+    element (a ``<model>`` or ``<include>``) with its model."""
     out: list[Loaded] = []
     # one text index for the file: each model reader locates attributes in the same text, and
     # reading it once per model made a world of 3000 models take 40 s instead of 2
@@ -109,10 +151,12 @@ def _read_models(root: etree._Element, version: tuple[int, int], path: str,
         for child in container:
             if child.tag == "model":
                 out.append(_model(child, version, path, resolver, sources))
+                owners.append((child, out[-1]))
             elif child.tag == "include":
                 loaded = _included(child, path, resolver)
                 if loaded is not None:
                     out.append(loaded)
+                    owners.append((child, loaded))
         plugins = tuple(c for c in container if c.tag == "plugin") if container.tag == "world" else ()
         first = next((m for m in out[start:] if m.robot is not None), None)
         if plugins and first is not None and first.robot is not None:
