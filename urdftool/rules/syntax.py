@@ -150,8 +150,10 @@ class UndefinedMaterial(_Syntax):
     defined with a colour in another visual.
 
     ## Why it matters
-    The colour the author meant is lost: urdfdom logs an error and leaves the
-    visual without material, RViz and simulators draw it in a default colour.
+    The colour the author meant is lost: urdfdom 1.0.4 and later (ROS Noetic
+    and every ROS 2) logs "material '…' undefined" and leaves the visual
+    without material, so RViz and simulators draw it in a default colour.
+    Older urdfdom (ROS Melodic and before) refused the whole model on it.
     Gazebo material names (`Gazebo/Grey`) belong in a `<gazebo>` block, not in
     the URDF visual.
 
