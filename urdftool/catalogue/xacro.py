@@ -184,7 +184,10 @@ class XacroInUrdf(_Xacro):
     first of them, and reads the file through xacro, as ROS launch files that
     run `xacro` on it do. Commented-out xacro and a merely declared
     `xmlns:xacro` do not count, nor does a file whose name says it is xacro
-    (`robot.xacro.urdf`, as gz_ros2_control's demos name theirs).
+    (`robot.xacro.urdf`, as gz_ros2_control's demos name theirs). Such a file
+    is read through xacro, without a finding, also when it uses xacro only
+    through substitutions in attributes or text (`$(find pkg)` in a plugin's
+    `<parameters>`), so that the file those name is checked.
 
     ## Why it matters
     URDF loaders that read the file directly (urdfdom's `check_urdf`,

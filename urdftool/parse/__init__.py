@@ -116,19 +116,21 @@ def _finish(path: str, fmt: str, robot: Robot | None, diagnostics: list[Diagnost
 
 def _read_urdf(path: str, resolver: PackageResolver, args: Mapping[str, str]) -> Loaded:
     from urdftool.parse.urdf import UrdfReader
-    from urdftool.parse.xmlio import read_file, xacro_in_urdf
+    from urdftool.parse.xmlio import read_file, uses_substitution, xacro_in_urdf
 
     # Positions in a table, not stamped on every element: the reader walks the tree once.
     document, problems = read_file(path, table=True)
     if document is None:
         return Loaded(path, "urdf", None, problems, [path])
     needs_xacro = xacro_in_urdf(document.root, document.span) if document.may_use_xacro else None
-    if needs_xacro is not None:  # a xacro file under a .urdf name: read it as xacro does
+    # robot.xacro.urdf (gz_ros2_control's demos) says it is xacro, and its launch files run xacro
+    # on it: nobody is misled into reading it as plain URDF. Such a file may use xacro only through
+    # substitutions (`$(find pkg)` in a plugin's <parameters>), which xacro expands too.
+    named = ".xacro." in os.path.basename(path)
+    if needs_xacro is not None or (named and uses_substitution(document.root)):
+        # a xacro file under a .urdf name: read it as xacro does
         loaded = _read_xacro(path, args, resolver)
-        # robot.xacro.urdf (gz_ros2_control's demos) already says it is xacro, and its
-        # launch files run xacro on it: nobody is misled into reading it as plain URDF.
-        named = ".xacro." in os.path.basename(path)
-        found = [*problems, *([] if named else [needs_xacro]), *loaded.diagnostics]
+        found = [*problems, *([needs_xacro] if needs_xacro and not named else []), *loaded.diagnostics]
         return _finish(path, "xacro", loaded.robot, found, loaded.files)
     reader = UrdfReader(path, SourceIndex(), resolver, document=document)
     robot = reader.read(document.root)

@@ -518,3 +518,13 @@ def xacro_in_urdf(
 
 
 _XACRO_ELEMENT = etree.XPath("descendant-or-self::*[contains(namespace-uri(), 'wiki/xacro')][1]")
+
+
+def uses_substitution(root: etree._Element) -> bool:
+    """Whether an attribute or a text (not a comment) of *root*'s document holds a xacro
+    substitution, ``$(…)`` or ``${…}``."""
+    return bool(_SUBSTITUTION(root))
+
+
+_SUBSTITUTION = etree.XPath("(//@*[contains(., '$(') or contains(., '${')]"
+                            " | //text()[contains(., '$(') or contains(., '${')])[1]")
