@@ -87,7 +87,8 @@ def _owner(problem: Diagnostic, owners: list[tuple[etree._Element, Loaded]]) -> 
     position = (where.line, where.column or 0)
     for element, loaded in owners:
         start = span_of(element)
-        if start is None or start.line is None or start.path != where.path or position < (start.line, start.column or 0):
+        if (start is None or start.line is None or start.path != where.path
+                or position < (start.line, start.column or 0)):
             continue
         after = _following(element)
         end = span_of(after) if after is not None else None
