@@ -9,6 +9,8 @@ from __future__ import annotations
 import sys
 from pathlib import Path
 
+import pytest
+
 from tests.conftest import ROOT
 
 sys.path.insert(0, str(ROOT / "scripts"))
@@ -68,3 +70,16 @@ def test_an_srdf_and_controllers_the_discovery_cannot_pair_are_passed() -> None:
     assert argv[argv.index("--srdf") + 1] == "/corpus/arm_moveit_config/config/arm.srdf"
     assert argv[argv.index("--controllers") + 1] == "/corpus/arm/config/c.yaml"
     assert "--srdf" not in review_realworld.command(ENTRY, CORPUS, dynamics=True)
+
+
+
+def test_an_environment_the_upstream_setup_script_exports_is_set_and_labelled(
+        monkeypatch: pytest.MonkeyPatch) -> None:
+    # kinova-movo's xacro reads $(optenv MOVO_HAS_BODY false): the model depends on the shell
+    monkeypatch.delenv("MOVO_HAS_BODY", raising=False)
+    entry = {"path": "movo/urdf/movo.urdf.xacro", "env": {"MOVO_HAS_BODY": "true"}}
+    assert review_realworld.environment(entry)["MOVO_HAS_BODY"] == "true"
+    assert "MOVO_HAS_BODY" not in review_realworld.environment(ENTRY)
+    assert review_realworld.label(entry) == "movo/urdf/movo.urdf.xacro (env MOVO_HAS_BODY=true)"
+    assert review_realworld.label({**entry, "xacro_args": {"arm": "left"}}) == \
+        "movo/urdf/movo.urdf.xacro [arm:=left] (env MOVO_HAS_BODY=true)"

@@ -44,7 +44,7 @@ from urdftool.parse.locate import encode_src, span_of
 from urdftool.parse.packages import PackageResolver
 from urdftool.parse.xacro_args import KnownArgument, known_arguments, merge, misspelt_arguments
 from urdftool.parse.xacro_guard import guarded
-from urdftool.parse.xacro_hints import text_property_help
+from urdftool.parse.xacro_hints import text_property_help, undefined_property_help
 from urdftool.parse.xmlio import XmlDocument, parse_bytes, to_utf8
 from urdftool.records import record
 from urdftool.safe_files import read_up_to
@@ -272,7 +272,7 @@ def _error_help(message: str, read: list[str]) -> str | None:
     if args:
         name = args[0]
         return f'pass it with -a {name}:=VALUE, or declare <xacro:arg name="{name}" default="..."/>'
-    return text_property_help(message, reversed(read))
+    return text_property_help(message, reversed(read)) or undefined_property_help(message, reversed(read))
 
 
 def _error_location(
