@@ -75,6 +75,7 @@ SUMMARIES: dict[str, str] = {
     'N002': "A prismatic joint's travel is only plausible in millimetres or centimetres.",
     'N003': "A joint offset or a shape's size is only plausible in millimetres or centimetres.",
     'N004': "A link's mass is only plausible as grams for the link's volume.",
+    'N005': 'An `rpy` or `<pose>` angle is only plausible as degrees.',
     'N101': 'An `*_optical_frame` is not rotated by the optical transform from its camera frame.',
     'N102': '`base_footprint` is not the projection of `base_link` on the ground.',
     'N103': "A drive wheel turns about an axis other than the base's ±y.",

@@ -75,6 +75,7 @@ RULES: tuple[tuple[str, str, str, str, bool, str], ...] = (
     ('N002', 'travel-looks-like-millimetres', 'warning', 'model', True, 'urdftool.rules.intent_units'),
     ('N003', 'length-looks-like-millimetres', 'warning', 'model', True, 'urdftool.rules.intent_units'),
     ('N004', 'mass-looks-like-grams', 'warning', 'model', True, 'urdftool.rules.intent_units'),
+    ('N005', 'angle-looks-like-degrees', 'warning', 'reader', True, 'urdftool.catalogue.units'),
     ('N101', 'optical-frame-rotation', 'warning', 'model', True, 'urdftool.rules.intent_ros'),
     ('N102', 'base-footprint-off-ground', 'warning', 'model', True, 'urdftool.rules.intent_ros'),
     ('N103', 'wheel-axis-not-lateral', 'warning', 'model', False, 'urdftool.rules.intent_ros'),
