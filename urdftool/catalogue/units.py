@@ -89,7 +89,7 @@ class AngleLooksLikeDegrees(Rule):
             return None
         meant = " ".join(_text(math.radians(v)) if looks_like_degrees(v) else _text(v) for v in rpy)
         readings = ", ".join(f"{_text(v)} → {math.radians(v):.4f} rad" for v in slips)
-        worst = max(abs(v) for v in slips)
+        worst = max(slips, key=abs)
         where = "rpy" if not sdf else "roll pitch yaw"
         fix = (f"write radians: roll pitch yaw {meant}, or <pose degrees=\"true\"> in SDF 1.9+" if sdf
                else f'write radians: rpy="{meant}" (xacro: ${{radians(…)}})')
@@ -103,6 +103,7 @@ class AngleLooksLikeDegrees(Rule):
 
 
 def fmt_turns(angle: float) -> str:
-    """How far *angle* (rad) turns, in turns and the degrees it lands at (90 rad: 14.3 turns, 116.6°)."""
-    landed = math.degrees(angle) % 360.0
-    return f"{angle / (2 * math.pi):.1f} turns, landing at {landed:.1f}°"
+    """How far *angle* (rad) turns, in turns and the angle in (-180°, 180°] it lands at
+    (90 rad: 14.3 turns, landing at 116.6°)."""
+    landed = -((180.0 - math.degrees(angle)) % 360.0) + 180.0
+    return f"{abs(angle) / (2 * math.pi):.1f} turns, landing at {landed:.1f}°"
