@@ -15,6 +15,7 @@ a whole, per the declared version (see docs/sdf.md):
 * world frames and world joints (1.7+, 1.10+): names, attachments, cycles;
 * the root holds at most one model (``repeated-element``);
 * numbers the model reader does not read (world gravity, velocity decay, ...).
+* every ``<pose>``'s angles, which must not read as degrees (``angle-looks-like-degrees``).
 """
 
 from __future__ import annotations
@@ -34,6 +35,7 @@ from urdftool.catalogue.syntax import (
     UnknownElement,
 )
 from urdftool.diagnostics import Diagnostic, Severity
+from urdftool.parse.angles import degree_poses
 from urdftool.parse.locate import span_of
 from urdftool.parse.sdf_spec import ELEMENTS, fmt, versions_of
 from urdftool.parse.sdf_values import SdfValues
@@ -104,6 +106,7 @@ class SdfSemantics:
         for world in _elements(root, "world"):
             self._world(world)
         self._numbers(root)
+        self.out.extend(degree_poses(root, span_of))
         self.out.extend(self.values.diagnostics)
         return self.out
 

@@ -24,6 +24,7 @@ from urdftool.catalogue.syntax import (
     UnknownElement,
     VendorExtension,
 )
+from urdftool.catalogue.units import ONE_TURN, AngleLooksLikeDegrees
 from urdftool.diagnostics import Diagnostic, Severity
 from urdftool.model import (
     IDENTITY,
@@ -43,6 +44,7 @@ from urdftool.model import (
     Sphere,
     Visual,
 )
+from urdftool.parse.angles import degree_poses
 from urdftool.parse.locate import span_of
 from urdftool.parse.packages import PackageResolver
 from urdftool.parse.urdf_joints import JointParts
@@ -201,6 +203,11 @@ class UrdfReader(JointParts):
         self._check_attributes(origin, here)
         xyz = self.values.vector(origin, "xyz", here) or (0.0, 0.0, 0.0)
         rpy = self.values.vector(origin, "rpy", here) or (0.0, 0.0, 0.0)
+        if max(abs(rpy[0]), abs(rpy[1]), abs(rpy[2])) > ONE_TURN:  # rare: judged off the hot path
+            written = f'<origin rpy="{origin.get("rpy", "").strip()}">'
+            found = AngleLooksLikeDegrees.judge(rpy, self.values.attr_span(origin, "rpy"), here, written)
+            if found is not None:
+                self._report(found)
         return Pose((xyz[0], xyz[1], xyz[2]), (rpy[0], rpy[1], rpy[2]))
 
     # -- document ----------------------------------------------------------------
@@ -256,6 +263,8 @@ class UrdfReader(JointParts):
                         )
                     )
                 extensions.append(self._extension(child))
+                if tag == "gazebo":  # SDF inside: a sensor's or plugin's <pose> in degrees
+                    self.diagnostics.extend(degree_poses(child, self.span))
         self._report_vendor()
         return Robot(
             name=name,
