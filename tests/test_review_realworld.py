@@ -68,3 +68,12 @@ def test_an_srdf_and_controllers_the_discovery_cannot_pair_are_passed() -> None:
     assert argv[argv.index("--srdf") + 1] == "/corpus/arm_moveit_config/config/arm.srdf"
     assert argv[argv.index("--controllers") + 1] == "/corpus/arm/config/c.yaml"
     assert "--srdf" not in review_realworld.command(ENTRY, CORPUS, dynamics=True)
+
+
+def test_saved_report_names_stay_within_file_name_limits() -> None:
+    assert review_realworld.report_name(ENTRY) == "arm__urdf__arm.xacro_[gazebo:=true].json"
+    many = {**ENTRY, "xacro_args": {f"argument_{i}": "rotors_gazebo/resource/fixed_wing.yaml"
+                                    for i in range(12)}}
+    name = review_realworld.report_name(many)
+    assert len(name.encode("utf-8")) <= 255
+    assert name != review_realworld.report_name({**many, "xacro_args": {"other": "1"}})
