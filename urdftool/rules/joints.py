@@ -145,7 +145,9 @@ class ZeroEffortOrVelocity(_Joints):
 
     ## What it does
     Reports `effort` or `velocity` at or below zero on revolute, continuous
-    and prismatic joints.
+    and prismatic joints. A joint locked by equal limits (`lower == upper`,
+    RotorS' and UUV Simulator's sensor mounts) is left to `inverted-limits`,
+    which reports the lock: a joint that cannot move needs no actuator.
 
     ## Why it matters
     Gazebo, ros_control and MoveIt clamp commands to these limits: a zero
@@ -172,6 +174,8 @@ class ZeroEffortOrVelocity(_Joints):
             limit = joint.limit
             if limit is None or joint.type not in (*LIMITED, JointType.CONTINUOUS):
                 continue
+            if joint.type in LIMITED and (limit.lower or 0.0) == (limit.upper or 0.0):
+                continue  # locked: InvertedLimits says so once, and no effort moves it anyway
             bad = {
                 name: value
                 for name in ("effort", "velocity")
@@ -246,7 +250,9 @@ class InvertedLimits(_Joints):
                     "the joint cannot move",
                     limit.span or joint.span,
                     element=_where(joint, "limit"),
-                    help="make it a fixed joint, or write its real range",
+                    help="make it a fixed joint (Gazebo keeps a fixed joint's child link "
+                    "for its sensors and plugins with <preserveFixedJoint>true</preserveFixedJoint> "
+                    "in a <gazebo reference> block naming the joint), or write its real range",
                     data=data,
                     severity=Severity.WARNING,
                 )
