@@ -147,15 +147,23 @@ def _became(code: str, element: str, found: Sequence[Mapping[str, Any]]) -> str:
     return "gone"
 
 
+def report_name(entry: Mapping[str, Any]) -> str:
+    """The file name ``--save`` gives a model's JSON report: its label with ``/`` and spaces
+    replaced, shortened with a digest when it would pass the 255 bytes file systems allow (a
+    model with many xacro arguments, such as RotorS's fixed wing)."""
+    name = label(entry).replace("/", "__").replace(" ", "_")
+    if len(name.encode("utf-8")) > 200:
+        digest = hashlib.sha1(name.encode("utf-8")).hexdigest()[:12]
+        name = name.encode("utf-8")[:180].decode("utf-8", "ignore") + "_" + digest
+    return f"{name}.json"
+
+
 def check(entry: Mapping[str, Any], corpus: Path, dynamics: bool, save: Path | None) -> tuple[Review, list]:
     """Run urdftool on one model; its review and all its diagnostics."""
     run = subprocess.run(command(entry, corpus, dynamics), capture_output=True, text=True,
                          cwd=ROOT, env=environment(entry), check=False, timeout=1800)
     if save is not None:
-        name = label(entry).replace("/", "__").replace(" ", "_")
-        if len(name) > 150:  # a long environment: keep the name under the file system's limit
-            name = f"{name[:120]}_{hashlib.sha1(name.encode()).hexdigest()[:12]}"
-        (save / f"{name}.json").write_text(run.stdout)
+        (save / report_name(entry)).write_text(run.stdout)
     try:
         found = diagnostics(json.loads(run.stdout))
     except json.JSONDecodeError:

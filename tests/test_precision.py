@@ -61,6 +61,25 @@ def test_repeated_material_in_a_visual_is_a_warning_and_converts(tmp_path: Path)
     assert any(d.code == "S007" and d.severity is Severity.ERROR for d in urdftool.check(source).errors)
 
 
+def test_identical_repeated_element_is_a_warning() -> None:
+    # Summit XL TIX (robotnik_sensors' D435 macro): <child link="camera_link"/> written twice in a
+    # joint. Loaders that keep the first and those that keep the last build the same robot.
+    report = urdftool.check(RULES / "S007" / "bad_identical_child.urdf")
+    repeated = [d for d in report.diagnostics if d.code == "S007"]
+    assert [d.severity for d in repeated] == [Severity.WARNING] and report.ok
+    assert "a copy of the first one (line 14)" in repeated[0].message
+
+
+def test_joint_locked_by_equal_limits_gets_one_warning() -> None:
+    # RotorS and UUV Simulator mount every sensor on a revolute joint with lower = upper = effort =
+    # velocity = 0 (Gazebo classic would merge a fixed joint's link away): inverted-limits
+    # reports the lock, and zero-effort-or-velocity does not say it again.
+    report = urdftool.check(RULES / "J003" / "good_locked_sensor_joint.urdf")
+    found = [d for d in report.diagnostics if d.code in {"J003", "J004"}]
+    assert [d.code for d in found] == ["J004"] and report.ok
+    assert "preserveFixedJoint" in (found[0].help or "")
+
+
 def test_kinematics_only_model_gets_one_finding_and_one_refusal() -> None:
     path = RULES / "I011" / "bad.urdf"
     report = urdftool.check(path)

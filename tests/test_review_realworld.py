@@ -83,3 +83,12 @@ def test_an_environment_the_upstream_setup_script_exports_is_set_and_labelled(
     assert review_realworld.label(entry) == "movo/urdf/movo.urdf.xacro (env MOVO_HAS_BODY=true)"
     assert review_realworld.label({**entry, "xacro_args": {"arm": "left"}}) == \
         "movo/urdf/movo.urdf.xacro [arm:=left] (env MOVO_HAS_BODY=true)"
+
+
+def test_saved_report_names_stay_within_file_name_limits() -> None:
+    assert review_realworld.report_name(ENTRY) == "arm__urdf__arm.xacro_[gazebo:=true].json"
+    many = {**ENTRY, "xacro_args": {f"argument_{i}": "rotors_gazebo/resource/fixed_wing.yaml"
+                                    for i in range(12)}}
+    name = review_realworld.report_name(many)
+    assert len(name.encode("utf-8")) <= 255
+    assert name != review_realworld.report_name({**many, "xacro_args": {"other": "1"}})

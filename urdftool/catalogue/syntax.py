@@ -199,7 +199,10 @@ class RepeatedElement(_Syntax):
     Reports a second `<origin>`, `<axis>`, `<limit>`, `<inertial>`, `<mass>`,
     `<geometry>` and the like inside the same parent. A repeated `<material>`
     in a `<visual>` (CAD exporters write one per colour) is a warning: every
-    loader shows the first, and only the robot's look depends on it.
+    loader shows the first, and only the robot's look depends on it. So is an
+    exact copy of the first (the same attributes and children, such as a
+    joint's `<child link>` written twice): whichever copy a loader keeps, the
+    robot is the same.
 
     ## Why it matters
     Loaders keep either the first or the last copy, and they do not agree:
