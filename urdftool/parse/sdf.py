@@ -51,9 +51,11 @@ def read_sdf(path: str, resolver: PackageResolver) -> list[Loaded]:
         )
         return [Loaded(path, "sdf", None, problems, [path])]
     version = _version(root, problems)
-    problems.extend(check_document(root, version))
     owners: list[tuple[etree._Element, Loaded]] = []
     models = _read_models(root, version, path, resolver, owners)
+    # an <include> without <name> takes its model's name, known once the include is read
+    names = {id(e): m.robot.name for e, m in owners if e.tag == "include" and m.robot and m.robot.name}
+    problems.extend(check_document(root, version, names))
     if not models and not _has_world(root):
         problems.append(
             SdfModelMissing.diagnostic(
@@ -87,7 +89,8 @@ def _owner(problem: Diagnostic, owners: list[tuple[etree._Element, Loaded]]) -> 
     position = (where.line, where.column or 0)
     for element, loaded in owners:
         start = span_of(element)
-        if start is None or start.line is None or start.path != where.path or position < (start.line, start.column or 0):
+        if (start is None or start.line is None or start.path != where.path
+                or position < (start.line, start.column or 0)):
             continue
         after = _following(element)
         end = span_of(after) if after is not None else None

@@ -394,6 +394,9 @@ class SdfModelReader:
             else:
                 continue
             item_in_link = placed.item.origin.matrix
+            pose_el = self.values.child(child, "pose")
+            if raw.version >= (1, 7) and pose_el is not None and not pose_el.get("relative_to"):
+                placed.relative_to = None  # libsdformat 1.7+ ignores the old frame="…" (unknown-attribute)
             if placed.relative_to:
                 target = _scoped(_scope_of(raw.name), placed.relative_to)
                 if self.graph.check_reference(target, placed.pose_span, f"{where}/{child.tag}/pose"):  # type: ignore[arg-type]
