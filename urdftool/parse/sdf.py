@@ -164,6 +164,9 @@ def _read_models(root: etree._Element, version: tuple[int, int], path: str,
         first = next((m for m in out[start:] if m.robot is not None), None)
         if plugins and first is not None and first.robot is not None:
             first.robot = dataclasses.replace(first.robot, world_plugins=plugins)
+        for model in out[start:] if container.tag == "world" else ():
+            if model.robot is not None:
+                model.robot = dataclasses.replace(model.robot, world=container)
     return out
 
 

@@ -40,6 +40,8 @@ SUMMARIES: dict[str, str] = {
     'G304': 'A gz-sim system parameter that must be a number or a flag is not one.',
     'G305': 'The gz-sim Sensors system names a render engine gz-rendering does not know.',
     'G306': "A simulator's ros2_control plugin has no `<ros2_control>` block, or a block for the other simulator.",
+    'G307': 'A gz-sim world lists its systems but not the one that runs a sensor it holds.',
+    'G308': 'A Gazebo Classic plugin in a gz-sim world, or a gz-sim system in a Classic world.',
     'I001': 'A link that moves or collides has no `<inertial>`.',
     'I002': 'A link that moves or collides has zero mass.',
     'I003': 'A link has a negative mass.',

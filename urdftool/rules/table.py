@@ -40,6 +40,8 @@ RULES: tuple[tuple[str, str, str, str, bool, str], ...] = (
     ('G304', 'gz-system-parameter-invalid', 'error', 'model', True, 'urdftool.rules.gz_systems'),
     ('G305', 'gz-render-engine-unknown', 'error', 'model', True, 'urdftool.rules.gz_systems'),
     ('G306', 'gz-ros2-control-mismatch', 'error', 'model', True, 'urdftool.rules.gz_systems'),
+    ('G307', 'gz-sensor-system-missing', 'warning', 'model', True, 'urdftool.rules.gz_world'),
+    ('G308', 'gz-classic-plugin-mixed', 'error', 'model', True, 'urdftool.rules.gz_world'),
     ('I001', 'missing-inertial', 'error', 'model', True, 'urdftool.rules.inertia'),
     ('I002', 'zero-mass', 'error', 'model', True, 'urdftool.rules.inertia'),
     ('I003', 'negative-mass', 'error', 'model', True, 'urdftool.rules.inertia'),
