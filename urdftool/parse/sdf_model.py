@@ -32,7 +32,7 @@ from urdftool.model import Collision, Extension, Joint, JointType, Link, LoopClo
 from urdftool.model.pose import Matrix
 from urdftool.parse.locate import span_of
 from urdftool.parse.packages import PackageResolver
-from urdftool.parse.sdf_elements import LinkBodyReader, joint_details
+from urdftool.parse.sdf_elements import LinkBodyReader, joint_details, mimic
 from urdftool.parse.sdf_frames import MODEL_FRAME, WORLD_FRAME, FrameGraph, FrameNode
 from urdftool.parse.sdf_include import read_include
 from urdftool.parse.sdf_tree import spanning_tree
@@ -305,6 +305,9 @@ class SdfModelReader:
         axis = self._axis_in_model(details.axis, details.axis_frame, joint_frame, raw, where)
         axis2 = (self._axis_in_model(details.axis2, details.axis2_frame, joint_frame, raw, where)
                  if details.axis2 is not None else None)
+        follows = mimic(self.values, raw.element, where)
+        if follows is not None:  # the leader is named in the joint's own model scope (a::j below it)
+            follows = dataclasses.replace(follows, joint=_scoped(raw.scope, follows.joint))
         return Joint(
             name=raw.name, type=details.type, parent=parent, child=child,
             # provisional: the joint frame in the model frame and the axis in the
@@ -312,7 +315,7 @@ class SdfModelReader:
             origin=Pose.from_matrix(joint_frame), axis=axis,
             limit=details.limit, dynamics=details.dynamics, span=span_of(raw.element),
             axis_span=details.axis_span,  # type: ignore[arg-type]
-            axis2=axis2, limit2=details.limit2,
+            axis2=axis2, limit2=details.limit2, mimic=follows,
             extensions=tuple(_extension(c) for c in raw.element
                              if isinstance(c.tag, str) and c.tag not in _JOINT_PARTS
                              and not (c.tag == "axis2" and axis2 is not None)),

@@ -63,6 +63,7 @@ SUMMARIES: dict[str, str] = {
     'J008': 'A `<mimic>` names a joint that does not exist.',
     'J009': 'Mimic joints follow each other in a cycle.',
     'J010': "The robot's home configuration puts a joint outside its limits.",
+    'J011': "A joint's damping, friction or spring stiffness is negative.",
     'L001': 'The model has a closed kinematic chain; lists each loop with its links and joints.',
     'L002': 'A URDF link is the child of more than one joint.',
     'M001': 'A mesh URI names a ROS package or Gazebo model that cannot be found.',

@@ -63,6 +63,7 @@ RULES: tuple[tuple[str, str, str, str, bool, str], ...] = (
     ('J008', 'mimic-target-missing', 'error', 'model', True, 'urdftool.rules.joints'),
     ('J009', 'mimic-cycle', 'error', 'model', True, 'urdftool.rules.joints'),
     ('J010', 'home-outside-limits', 'warning', 'model', True, 'urdftool.rules.joints'),
+    ('J011', 'negative-joint-dynamics', 'error', 'model', True, 'urdftool.rules.joint_dynamics'),
     ('L001', 'closed-chain', 'info', 'model', True, 'urdftool.rules.loops'),
     ('L002', 'link-multiple-parents', 'error', 'model', True, 'urdftool.rules.loops'),
     ('M001', 'unresolved-package', 'error', 'model', True, 'urdftool.rules.meshes'),
