@@ -277,9 +277,11 @@ class SdfModelReader:
         self.extensions.extend(self._frame_extensions(frames))
         children = {j.child for j in tree}
         roots = {n: Pose.from_matrix(frames[n]) for n in names if n not in children and n in frames}
+        static_el = self.values.child(model, "static")
+        static_span = (span_of(static_el) if static_el is not None else span_of(model)) if static else None
         return Robot(name=name, links=tuple(links), joints=tuple(tree), extensions=tuple(self.extensions),
                      loop_closures=tuple(closures), path=self.path, format="sdf", span=span_of(model),
-                     root_poses=roots if len(roots) > 1 else None)
+                     root_poses=roots if len(roots) > 1 else None, static_span=static_span)
 
     def _weld_to_world(self, names: list[str], joints: list[Joint], model: etree._Element) -> list[Joint]:
         """Fixed joints from ``world`` to each free link of a static model."""

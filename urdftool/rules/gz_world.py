@@ -1,5 +1,5 @@
-"""What the world runs (G307, G308): sensors whose gz-sim system the world does not load, and
-plugins of one Gazebo in a file that the other Gazebo runs.
+"""What the world runs (G307-G309): sensors whose gz-sim system the world does not load, plugins
+of one Gazebo in a file that the other Gazebo runs, and static models that a plugin should move.
 
 gz-sim loads the systems a world lists in its own ``<plugin>`` elements; when the world lists
 none it loads a server configuration instead (``GZ_SIM_SERVER_CONFIG_PATH``, else the installed
@@ -19,7 +19,7 @@ from typing import Any
 from urdftool.catalogue.registry import Family, Rule, register
 from urdftool.diagnostics import Diagnostic, Severity
 from urdftool.facts.context import CheckContext
-from urdftool.model import Robot
+from urdftool.model import JointType, Robot
 from urdftool.parse.locate import span_of
 from urdftool.rules import gazebo_plugins as gz
 from urdftool.rules import gz_systems_known as known
@@ -258,4 +258,81 @@ class ClassicPluginInGzSim(_GzWorld):
             if runner == "gz-sim"
             else "use the Gazebo Classic plugin, or run the world in gz-sim",
             data={"filename": plugin.get("filename"), "simulator": runner},
+        )
+
+
+#: gz-sim systems that move a model's joints or the model itself.
+ACTUATING_SYSTEMS = frozenset({
+    "DiffDrive", "AckermannSteering", "MecanumDrive", "TrackedVehicle", "TrackController", "JointController",
+    "JointPositionController", "JointTrajectoryController", "ApplyJointForce", "MulticopterMotorModel",
+    "Thruster",
+})
+#: Gazebo Classic and ros2_control plugins (by library file) that do the same.
+_ACTUATING_FILES = re.compile(
+    r"diff_drive|skid_steer|ackermann|planar_move|ros2?_control|joint_pose_trajectory|joint_trajectory"
+)
+
+
+def actuating(plugin: Any) -> bool:
+    """Whether *plugin* drives the model (a drive, a joint controller, ros2_control)."""
+    system = known.read_system(plugin)
+    if system is not None and system.kind in ACTUATING_SYSTEMS:
+        return True
+    filename = (plugin.get("filename") or "").strip().rsplit("/", 1)[-1]
+    return bool(_ACTUATING_FILES.search(filename))
+
+
+@register
+class StaticModelActuated(_GzWorld):
+    """A `<static>` model has moving joints and a plugin that drives them.
+
+    ## What it does
+    Reports an SDF model marked `<static>true</static>` (by itself or by the
+    `<include>` that brings it in) that has a joint other than `fixed` and a
+    plugin that actuates it: a drive (DiffDrive, AckermannSteering,
+    MecanumDrive, `libgazebo_ros_diff_drive.so`, …), a joint controller
+    (JointController, JointPositionController, JointTrajectoryController,
+    ApplyJointForce) or ros2_control. Static props without joints, and static
+    scenery whose joints nothing drives, are left alone.
+
+    ## Why it matters
+    The SDFormat spec makes a static model immovable: the physics engine does
+    not simulate it, so its joints never move and the drive's or the
+    controller's commands do nothing, without a message. It is usually a
+    `<static>true</static>` left over from placing the model in a world.
+
+    ## Example
+    ```xml
+    <model name="vehicle"><static>true</static> …
+      <joint name="left_wheel_joint" type="revolute"> … </joint>
+      <plugin filename="gz-sim-diff-drive-system" name="gz::sim::systems::DiffDrive"> … </plugin>
+    </model>
+    ```
+
+    ## Fix
+    Remove `<static>true</static>` (or write `false`); to hold the base in place, fix it to the
+    world with a `fixed` joint to `world` instead.
+    """
+
+    code = "G309"
+    name = "static-model-actuated"
+    severity = Severity.WARNING
+
+    def check(self, ctx: CheckContext) -> Iterator[Diagnostic]:
+        span = ctx.robot.static_span
+        if span is None:
+            return
+        moving = [j for j in ctx.robot.joints if j.type is not JointType.FIXED]
+        drivers = [p for p in model_plugins(ctx.robot) if actuating(p)]
+        if not moving or not drivers:
+            return
+        plugin = drivers[0]
+        yield self.diagnostic(
+            f"model '{ctx.robot.name}' is static, so its {len(moving)} moving joint(s) "
+            f"('{moving[0].name}'{', …' if len(moving) > 1 else ''}) never move, and "
+            f"{gz.plugin_label(plugin)} drives nothing",
+            span,
+            element=f"model[{ctx.robot.name}]/static",
+            help="remove <static>true</static>; to hold the base still, fix it to 'world' with a fixed joint",
+            data={"joints": [j.name for j in moving], "plugin": plugin.get("filename")},
         )

@@ -42,6 +42,7 @@ SUMMARIES: dict[str, str] = {
     'G306': "A simulator's ros2_control plugin has no `<ros2_control>` block, or a block for the other simulator.",
     'G307': 'A gz-sim world lists its systems but not the one that runs a sensor it holds.',
     'G308': 'A Gazebo Classic plugin in a gz-sim world, or a gz-sim system in a Classic world.',
+    'G309': 'A `<static>` model has moving joints and a plugin that drives them.',
     'I001': 'A link that moves or collides has no `<inertial>`.',
     'I002': 'A link that moves or collides has zero mass.',
     'I003': 'A link has a negative mass.',

@@ -42,6 +42,7 @@ RULES: tuple[tuple[str, str, str, str, bool, str], ...] = (
     ('G306', 'gz-ros2-control-mismatch', 'error', 'model', True, 'urdftool.rules.gz_systems'),
     ('G307', 'gz-sensor-system-missing', 'warning', 'model', True, 'urdftool.rules.gz_world'),
     ('G308', 'gz-classic-plugin-mixed', 'error', 'model', True, 'urdftool.rules.gz_world'),
+    ('G309', 'static-model-actuated', 'warning', 'model', True, 'urdftool.rules.gz_world'),
     ('I001', 'missing-inertial', 'error', 'model', True, 'urdftool.rules.inertia'),
     ('I002', 'zero-mass', 'error', 'model', True, 'urdftool.rules.inertia'),
     ('I003', 'negative-mass', 'error', 'model', True, 'urdftool.rules.inertia'),
