@@ -34,6 +34,7 @@ SUMMARIES: dict[str, str] = {
     'G201': 'A controller in the controllers YAML names a joint that no ros2_control block declares.',
     'G202': 'A controller claims a command or state interface its joints do not export.',
     'G203': "A controller's `type` is not one of ros2_controllers' (a misspelling, or a vendor's controller).",
+    'G204': "A controller's own parameters and the controller manager's give it different types.",
     'G301': "A gz-sim plugin's `name` is not a class its library registers.",
     'G302': 'A gz-sim system names a link the model does not have, or one Gazebo merges away.',
     'G303': "A gz-sim system's topic is not a valid gz-transport topic name.",

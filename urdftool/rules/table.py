@@ -34,6 +34,7 @@ RULES: tuple[tuple[str, str, str, str, bool, str], ...] = (
     ('G201', 'controller-joint-unknown', 'error', 'model', True, 'urdftool.rules.controllers'),
     ('G202', 'controller-interface-unknown', 'error', 'model', True, 'urdftool.rules.controllers'),
     ('G203', 'controller-type-unknown', 'info', 'model', True, 'urdftool.rules.controllers'),
+    ('G204', 'controller-type-conflict', 'warning', 'model', True, 'urdftool.rules.controllers'),
     ('G301', 'gz-system-unknown', 'error', 'model', True, 'urdftool.rules.gz_systems'),
     ('G302', 'gz-system-link-missing', 'error', 'model', True, 'urdftool.rules.gz_systems'),
     ('G303', 'gz-system-topic-invalid', 'error', 'model', True, 'urdftool.rules.gz_systems'),
