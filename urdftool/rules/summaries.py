@@ -72,6 +72,7 @@ SUMMARIES: dict[str, str] = {
     'M006': 'A collision mesh has more triangles than collision checking should pay for.',
     'M007': 'A moving link has visual geometry but nothing to collide with.',
     'M008': 'A shape has a zero or negative size, a zero scale, or a collision mesh is flat.',
+    'M009': 'A URDF mesh path is relative to the file (`meshes/x.stl`), which ROS tools cannot load.',
     'N001': "A revolute joint's limits are only plausible as degrees.",
     'N002': "A prismatic joint's travel is only plausible in millimetres or centimetres.",
     'N003': "A joint offset or a shape's size is only plausible in millimetres or centimetres.",

@@ -72,6 +72,7 @@ RULES: tuple[tuple[str, str, str, str, bool, str], ...] = (
     ('M006', 'collision-mesh-too-complex', 'warning', 'model', True, 'urdftool.rules.mesh_contents'),
     ('M007', 'no-collision-geometry', 'warning', 'model', True, 'urdftool.rules.mesh_contents'),
     ('M008', 'degenerate-geometry', 'error', 'model', True, 'urdftool.rules.mesh_contents'),
+    ('M009', 'mesh-path-relative', 'info', 'model', True, 'urdftool.rules.meshes'),
     ('N001', 'limits-look-like-degrees', 'warning', 'model', True, 'urdftool.rules.intent_units'),
     ('N002', 'travel-looks-like-millimetres', 'warning', 'model', True, 'urdftool.rules.intent_units'),
     ('N003', 'length-looks-like-millimetres', 'warning', 'model', True, 'urdftool.rules.intent_units'),
