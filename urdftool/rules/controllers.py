@@ -121,7 +121,10 @@ class ControllerJointUnknown(_Controllers):
     Checks the joints each controller lists (`joints`, `joint`,
     `left_wheel_names`, `right_wheel_names`, …) against the joints of the
     robot's `<ros2_control>` blocks (or, for a robot without one, its URDF
-    joints), with the closest name. The finding is located in the YAML.
+    joints), with the closest name. The finding is located in the YAML. A
+    controller is any node whose `type` names a plugin, listed under
+    `controller_manager` or typed in its own `ros__parameters`
+    (docs/ros2_control.md).
 
     ## Why it matters
     The controller manager loads the controller, then fails to configure or
