@@ -49,6 +49,24 @@ def test_a_changed_xacro_property_moves_links_and_masses_exactly(tmp_path: Path)
     assert not result.link_renames and not result.joint_renames
 
 
+def test_the_text_of_totals_and_of_a_mass_from_nothing(tmp_path: Path) -> None:
+    # provenance: written anew; a massless tool link that gains 0.5 kg (found by a new user on iiwa7)
+    def robot(tool_mass: str) -> str:
+        inertial = (f'<inertial><mass value="{tool_mass}"/><inertia ixx="0.001" iyy="0.001" izz="0.001" '
+                    'ixy="0" ixz="0" iyz="0"/></inertial>') if tool_mass else ""
+        return ('<robot name="arm"><link name="base"><inertial><mass value="2"/><inertia ixx="0.01" '
+                'iyy="0.01" izz="0.01" ixy="0" ixz="0" iyz="0"/></inertial></link>'
+                f'<link name="tool">{inertial}</link><joint name="j" type="fixed"><parent link="base"/>'
+                '<child link="tool"/><origin xyz="0 0 0.3" rpy="1.5707963267948966 0 0"/></joint></robot>')
+    old, new = tmp_path / "old.urdf", tmp_path / "new.urdf"
+    old.write_text(robot(""))
+    new.write_text(robot("0.5"))
+    text = CliRunner().invoke(main, ["diff", str(old), str(new)]).output
+    assert "total mass of 'arm': 2 → 2.5" in text
+    assert "mass mass" not in text and "com of" not in text and "inf%" not in text
+    assert "e-17" not in text and "e-16" not in text
+
+
 def test_a_reformatted_reordered_file_diffs_as_empty(tmp_path: Path) -> None:
     assert PANDA is not None
     root = etree.parse(str(PANDA)).getroot()

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import math
 from collections.abc import Sequence
 from typing import Any
 
@@ -19,7 +20,8 @@ _TITLES = {
 
 def _number(value: Any) -> str:
     if isinstance(value, float):
-        return f"{value:.6g}"
+        # rounding noise of a pose composition (-2.3e-17 m) is a zero to the reader
+        return f"{0.0 if abs(value) < 1e-12 else value:.6g}"
     if isinstance(value, list):
         return "(" + " ".join(_number(v) for v in value) + ")"
     if isinstance(value, dict):
@@ -44,11 +46,13 @@ def describe(change: Change) -> str:
         text = change.new if kind == "finding-new" else change.old
         return f"{_TITLES[kind]}: {change.severity} {change.subject} {text}"
     size = ""
-    if change.size is not None:
+    if change.size is not None and math.isfinite(change.size):  # a change from zero has no percentage
         size = f" ({change.size:+.6g} {change.unit})" if change.unit != "%" else f" ({change.size:.6g}%)"
         if change.unit in ("mm", "kg·m²"):
             size = f" ({change.size:.6g} {change.unit})"
-    field = f" {change.field}" if change.field and change.field != kind else ""
+    # total-mass and total-com name their field already ("total mass", not "total mass mass")
+    named = change.field and change.field != kind and not kind.startswith("total-")
+    field = f" {change.field}" if named else ""
     owner = "joint" if kind == "joint" else "link" if kind in ("mass", "com", "inertia", "mesh") else ""
     subject = f"{owner} '{change.subject}'" if owner else f"'{change.subject}'"
     values = f"{_number(change.old)} → {_number(change.new)}"
