@@ -17,7 +17,7 @@ from collections.abc import Sequence
 from dataclasses import field
 from pathlib import Path
 
-from urdftool.catalogue.conversion import InertiaNotExportable, InertiaRepaired
+from urdftool.catalogue.conversion import InertiaNotExportable, SdfDefaultInertia
 from urdftool.diagnostics import Diagnostic, Severity
 from urdftool.export import ExportOptions, export_model
 from urdftool.export.graph import GraphOptions
@@ -131,7 +131,7 @@ def _sdf_defaults_written(robot: Robot, target: str) -> tuple[Robot, list[Diagno
     """*robot* with SDFormat's default inertial written on each SDF link that has none, and an
     info per link saying so."""
     notes = [
-        InertiaRepaired.diagnostic(
+        SdfDefaultInertia.diagnostic(
             f"link '{link.name}' has no <inertial>: written for {target} with SDFormat's default, "
             "1 kg and 1 kg·m² about each axis, which gz-sim and Gazebo give it",
             link.span, element=f"link[{link.name}]", severity=Severity.INFO,
