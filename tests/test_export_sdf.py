@@ -11,7 +11,7 @@ from click.testing import CliRunner
 import urdftool
 from tests.conftest import ERD, FIXTURES, erd_urdfs
 from urdftool.cli import main
-from urdftool.export import ExportOptions
+from urdftool.export import ExportOptions, export_model
 from urdftool.model import KinematicTree, Pose, Robot
 from urdftool.parse import read
 from urdftool.pipeline.convert import convert_robot
@@ -126,6 +126,26 @@ def test_gazebo_blocks_are_mapped_or_reported(tmp_path: Path) -> None:
     assert '<plugin name="drive" filename="libdrive.so"/>' in text and "urdftool-src" not in text
     dropped = {(d.code, d.location.line) for d in result.diagnostics}
     assert ("C001", 2) in dropped and ("C001", 4) in dropped  # <foo> and the transmission
+
+
+def test_gazebo_contact_settings_reach_every_collision(tmp_path: Path) -> None:
+    """kp, kd, minDepth, maxVel, fdir1, maxContacts and laserRetro go where libsdformat's URDF
+    reader puts them; none is reported as dropped (new-user report of 2026-11-26, problem 5)."""
+    from lxml import etree
+
+    robot = read(str(FIXTURES / "newuser" / "gazebo_friction_arm.urdf"))[0].robot
+    result = export_model(robot, "sdf", tmp_path / "arm.sdf", ExportOptions())
+    model = etree.fromstring(result.files["arm.sdf"]).find("model")
+    collision = model.find("link[@name='link_7']/collision")
+    assert collision.findtext("surface/friction/ode/mu") == "0.2"
+    assert collision.findtext("surface/friction/ode/mu2") == "0.3"
+    assert collision.findtext("surface/contact/ode/kp") == "1000000.0"
+    assert collision.findtext("surface/contact/ode/kd") == "1.0"
+    dropped = [d.element for d in result.diagnostics]
+    assert not [e for e in dropped if e and ("/kp" in e or "/kd" in e or "/mu" in e)], dropped
+    (tmp_path / "arm.sdf").write_bytes(result.files["arm.sdf"])
+    back = read(str(tmp_path / "arm.sdf"))[0]
+    assert back.robot is not None and not back.diagnostics
 
 
 FRAMES = FIXTURES / "newuser" / "massless_sensor_frames.urdf"

@@ -64,7 +64,14 @@ _SDF_TYPES = {
 #: <gazebo reference="link"> children copied into the SDF link, with their SDF name
 _LINK_ELEMENTS = {"sensor": "sensor", "selfCollide": "self_collide", "self_collide": "self_collide",
                   "gravity": "gravity", "kinematic": "kinematic", "velocity_decay": "velocity_decay"}
-_FRICTION = {"mu1": "mu", "mu2": "mu2"}
+#: <gazebo reference="link"> contact settings -> (block of the collision's ODE <surface>, SDF name),
+#: as libsdformat's URDF reader writes them into every collision of the link
+_SURFACE = {"mu1": ("friction", "mu"), "mu2": ("friction", "mu2"), "fdir1": ("friction", "fdir1"),
+            "kp": ("contact", "kp"), "kd": ("contact", "kd"), "minDepth": ("contact", "min_depth"),
+            "maxVel": ("contact", "max_vel")}
+#: <gazebo reference="link"> settings of each collision itself -> SDF name
+_COLLISION = {"maxContacts": "max_contacts", "laserRetro": "laser_retro"}
+_FRICTION = (*_SURFACE, *_COLLISION)  # what a link's collisions carry
 
 
 def pose_text(pose: Pose) -> str:
@@ -335,20 +342,31 @@ class SdfWriter:
         return element
 
     def friction(self, gazebo: list[etree._Element]) -> list[etree._Element]:
-        values = {}
+        """A collision's ``<max_contacts>``, ``<laser_retro>`` and ``<surface>`` from the link's
+        Gazebo contact settings (a later block's value wins, as Gazebo merges them)."""
+        values: dict[str, str] = {}
         for block in gazebo:
-            for urdf_name, sdf_name in _FRICTION.items():
+            for urdf_name in _FRICTION:
                 text = block.findtext(urdf_name)
-                if text:
-                    values[sdf_name] = text.strip()
-        if not values:
-            return []
-        surface = etree.Element("surface")
-        ode = etree.SubElement(etree.SubElement(surface, "friction"), "ode")
-        for key in ("mu", "mu2"):
-            if key in values:
-                etree.SubElement(ode, key).text = values[key]
-        return [surface]
+                if text and text.strip():
+                    values[urdf_name] = text.strip()
+        out = []
+        for urdf_name, sdf_name in _COLLISION.items():
+            if urdf_name in values:
+                element = etree.Element(sdf_name)
+                element.text = values[urdf_name]
+                out.append(element)
+        blocks = {part for name, (part, _) in _SURFACE.items() if name in values}
+        if blocks:
+            surface = etree.Element("surface")
+            for part in ("friction", "contact"):
+                if part in blocks:
+                    ode = etree.SubElement(etree.SubElement(surface, part), "ode")
+                    for urdf_name, (where, sdf_name) in _SURFACE.items():
+                        if where == part and urdf_name in values:
+                            etree.SubElement(ode, sdf_name).text = values[urdf_name]
+            out.append(surface)
+        return out
 
     def link_extras(self, link: Link, gazebo: list[etree._Element]) -> list[etree._Element]:
         out = []
