@@ -8,8 +8,10 @@ frame: a fixed joint to it stays a joint to ``world``, a floating one is left
 out (the model is free). ``continuous`` joints are written as revolute joints
 without position limits. What SDF 1.7 cannot hold (planar joints, mimic) is
 refused or reported; ``<gazebo>`` blocks are mapped where the mapping is
-obvious (plugins, sensors, self_collide, gravity, friction, Gazebo material
-names) and reported otherwise.
+obvious (plugins, sensors, self_collide, gravity, friction and contact settings,
+Gazebo material names) and reported otherwise. A massless link on a fixed joint
+is written as a ``<frame>`` (:mod:`urdftool.export.sdf_frames`), not as a link
+that SDF readers would give 1 kg.
 """
 
 from __future__ import annotations
