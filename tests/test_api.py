@@ -208,3 +208,52 @@ def test_public_names() -> None:
     for name in ("load", "check", "Report", "Diagnostic", "LoadError", "Robot", "Severity", "Span"):
         assert name in urdftool.__all__, name
     assert (Path(urdftool.__file__).parent / "py.typed").exists()
+
+
+COLLADA = FIXTURES / "newuser" / "collada_lidar.urdf"
+
+
+def test_to_mjcf_without_out_keeps_converted_meshes_where_the_text_points(
+        tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """The README's ``urdftool.to_mjcf(robot)`` on a robot with a COLLADA mesh: the text loads in
+    MuJoCo from a string, anywhere (new-user report of 2026-11-26, problem 6)."""
+    import mujoco
+    from lxml import etree
+
+    monkeypatch.setenv("URDFTOOL_CACHE_DIR", str(tmp_path / "cache"))
+    monkeypatch.chdir(tmp_path)
+    text = urdftool.to_mjcf(urdftool.load(COLLADA))
+    files = [m.get("file") for m in etree.fromstring(text.encode()).iter("mesh")]
+    assert files and all(Path(f).is_absolute() and Path(f).is_file() for f in files)
+    assert all(str(tmp_path / "cache") in f for f in files)
+    model = mujoco.MjModel.from_xml_string(text)
+    assert model.nmesh == len(files)
+    assert not (tmp_path / "assets").exists()  # nothing written in the working directory
+
+
+def test_pybullet_urdf_without_out_loads_from_anywhere(
+        tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    import pybullet
+
+    monkeypatch.setenv("URDFTOOL_CACHE_DIR", str(tmp_path / "cache"))
+    text = urdftool.to_urdf(COLLADA, flavor="pybullet")
+    elsewhere = tmp_path / "elsewhere" / "lidar.urdf"
+    elsewhere.parent.mkdir()
+    elsewhere.write_text(text)
+    client = pybullet.connect(pybullet.DIRECT)
+    try:
+        body = pybullet.loadURDF(str(elsewhere), physicsClientId=client)
+        shapes = pybullet.getVisualShapeData(body, physicsClientId=client)
+        meshes = [s[4].decode() for s in shapes if s[2] == pybullet.GEOM_MESH]
+        assert meshes and all(Path(m).is_file() and str(tmp_path / "cache") in m for m in meshes)
+    finally:
+        pybullet.disconnect(client)
+
+
+def test_to_mjcf_without_out_and_without_a_cache_refuses_clearly(
+        tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setenv("URDFTOOL_NO_CACHE", "1")
+    with pytest.raises(urdftool.ConversionRefused, match="pass out=PATH"):
+        urdftool.to_mjcf(COLLADA)
+    # a robot whose meshes MuJoCo reads as they are needs no folder
+    assert "<mujoco" in urdftool.to_mjcf(ARM)

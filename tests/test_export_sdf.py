@@ -11,8 +11,10 @@ from click.testing import CliRunner
 import urdftool
 from tests.conftest import ERD, FIXTURES, erd_urdfs
 from urdftool.cli import main
-from urdftool.model import KinematicTree, Robot
+from urdftool.export import ExportOptions, export_model
+from urdftool.model import KinematicTree, Pose, Robot
 from urdftool.parse import read
+from urdftool.pipeline.convert import convert_robot
 
 
 def _tree_shaped(path: str) -> bool:
@@ -55,15 +57,32 @@ def test_urdf_to_sdf_round_trip(path: str, tmp_path: Path) -> None:
     tree, tree_back = KinematicTree.of(source), KinematicTree.of(back)
     # a joint renamed for SDF's single namespace is found by its child link
     name_by_child = {j.child: j.name for j in back.joints}
+    # massless links on fixed joints come back as SDF frames (urdftool/export/sdf_frames.py)
+    frames = {e.attributes["name"]: e.attributes for e in back.extensions if e.tag == "frame"}
     for seed in (0, 1, 2):
         q = _configuration(source, tree, seed)
-        q_back = {name_by_child[source.joint(n).child]: v for n, v in q.items()}
+        q_back = {name_by_child[source.joint(n).child]: v for n, v in q.items() if source.joint(n).child
+                  not in frames}
         poses, poses_back = tree.forward_kinematics(q), tree_back.forward_kinematics(q_back)
-        assert set(poses) == set(poses_back)
+        assert set(poses) == set(poses_back) | set(frames)
+        # a massless root comes back as a frame: the SDF tree's root is the link under it, so
+        # poses are compared relative to a link both trees have
+        ref = tree_back.roots[0]
+        inv, inv_back = np.linalg.inv(poses[ref]), np.linalg.inv(poses_back[ref])
         for link, pose in poses.items():
-            np.testing.assert_allclose(poses_back[link], pose, atol=1e-9, rtol=0, err_msg=link)
+            if link in frames:
+                attached = frames[link]
+                in_link = Pose(tuple(map(float, attached["xyz"].split())),  # type: ignore[arg-type]
+                               tuple(map(float, attached["rpy"].split())))  # type: ignore[arg-type]
+                got = poses_back[attached["attached_to"]] @ in_link.matrix
+            else:
+                got = poses_back[link]
+            np.testing.assert_allclose(inv_back @ got, inv @ pose, atol=1e-9, rtol=0, err_msg=link)
     for link in source.links:
         other = back.link(link.name)
+        if link.name in frames:
+            assert other is None and (link.inertial is None or link.inertial.mass == 0)
+            continue
         assert other is not None
         if link.inertial is None:
             assert other.inertial is None
@@ -107,3 +126,77 @@ def test_gazebo_blocks_are_mapped_or_reported(tmp_path: Path) -> None:
     assert '<plugin name="drive" filename="libdrive.so"/>' in text and "urdftool-src" not in text
     dropped = {(d.code, d.location.line) for d in result.diagnostics}
     assert ("C001", 2) in dropped and ("C001", 4) in dropped  # <foo> and the transmission
+
+
+def test_gazebo_contact_settings_reach_every_collision(tmp_path: Path) -> None:
+    """kp, kd, minDepth, maxVel, fdir1, maxContacts and laserRetro go where libsdformat's URDF
+    reader puts them; none is reported as dropped (new-user report of 2026-11-26, problem 5)."""
+    from lxml import etree
+
+    robot = read(str(FIXTURES / "newuser" / "gazebo_friction_arm.urdf"))[0].robot
+    result = export_model(robot, "sdf", tmp_path / "arm.sdf", ExportOptions())
+    model = etree.fromstring(result.files["arm.sdf"]).find("model")
+    collision = model.find("link[@name='link_7']/collision")
+    assert collision.findtext("surface/friction/ode/mu") == "0.2"
+    assert collision.findtext("surface/friction/ode/mu2") == "0.3"
+    assert collision.findtext("surface/contact/ode/kp") == "1000000.0"
+    assert collision.findtext("surface/contact/ode/kd") == "1.0"
+    dropped = [d.element for d in result.diagnostics]
+    assert not [e for e in dropped if e and ("/kp" in e or "/kd" in e or "/mu" in e)], dropped
+    (tmp_path / "arm.sdf").write_bytes(result.files["arm.sdf"])
+    back = read(str(tmp_path / "arm.sdf"))[0]
+    assert back.robot is not None and not back.diagnostics
+
+
+FRAMES = FIXTURES / "newuser" / "massless_sensor_frames.urdf"
+
+
+def test_massless_links_on_fixed_joints_become_frames_and_weigh_nothing_in_drake(tmp_path: Path) -> None:
+    """Drake reads the SDF export with SDFormat's rules (libsdformat): the base_footprint root, the
+    lidar's scan frame, a mount and a flange become <frame>s (no 1 kg each); the link a plugin looks
+    up stays a link,
+    with its 1 kg reported (new-user report of 2026-11-26, problem 1)."""
+    pytest.importorskip("pydrake")
+    from pydrake.multibody.parsing import Parser
+    from pydrake.multibody.plant import MultibodyPlant
+
+    source = read(str(FRAMES))[0].robot
+    assert source is not None
+    out = tmp_path / "rover.sdf"
+    urdftool.to_sdf(source, out)
+    plant = MultibodyPlant(0.0)
+    Parser(plant).AddModels(str(out))
+    plant.Finalize()
+    context = plant.CreateDefaultContext()
+    declared = sum(link.inertial.mass for link in source.links if link.inertial is not None)
+    assert plant.CalcTotalMass(context) == pytest.approx(declared + 1.0)  # imu_link, reported
+    poses = KinematicTree.of(source).forward_kinematics({})
+    base = plant.GetFrameByName("base_footprint").CalcPoseInWorld(context).inverse()
+    for name, carrier in (("base_footprint", "base_link"), ("laser", "lidar_link"), ("mount", "base_link"),
+                          ("flange", "base_link")):
+        frame = plant.GetFrameByName(name)
+        assert frame.body().name() == carrier
+        np.testing.assert_allclose((base @ frame.CalcPoseInWorld(context)).GetAsMatrix4(),
+                                   poses[name], atol=1e-12)
+    tool = base @ plant.GetBodyByName("tool").EvalPoseInWorld(context)
+    np.testing.assert_allclose(tool.GetAsMatrix4(), poses["tool"], atol=1e-12)
+
+
+def test_frames_carry_their_visuals_and_sensors_into_the_link(tmp_path: Path) -> None:
+    from lxml import etree
+
+    source = read(str(FRAMES))[0].robot
+    assert source is not None
+    text = urdftool.to_sdf(source)
+    model = etree.fromstring(text.encode()).find("model")
+    assert model is not None
+    assert [f.get("name") for f in model.iter("frame")] == ["base_footprint", "laser", "mount", "flange"]
+    assert model.find("link[@name='base_link']/visual[@name='mount_visual']") is not None
+    sensor = model.find("link[@name='lidar_link']/sensor")
+    assert sensor is not None and sensor.findtext("pose").split()[:3] == ["-0.01", "0", "0.031"]
+    assert model.find("joint[@name='tool_joint']/parent").text == "base_link"
+    assert model.find("link[@name='tool']/pose").get("relative_to") == "flange"
+    assert model.find("joint[@name='lidar_to_laser']") is None
+    conversion_findings = convert_robot(source, "sdf", tmp_path / "r.sdf", ExportOptions()).diagnostics
+    kept = [d for d in conversion_findings if d.code == "C001"]
+    assert [d.element for d in kept] == ["link[imu_link]"] and "plugin 'imu_plugin'" in kept[0].message

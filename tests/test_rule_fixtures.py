@@ -26,7 +26,7 @@ _EXPECT_FILE = re.compile(r"<!--\s*expect-file:\s*([A-Z0-9, ]+?)\s*-->")
 
 #: Conversion rules fire on export, not on check: their fixtures (fixtures/rules/C*/)
 #: are run through the MJCF exporter by tests/test_mjcf_rules.py.
-EXPORT_ONLY = {"C001", "C002", "C003", "C004", "C005"}
+EXPORT_ONLY = {"C001", "C002", "C003", "C004", "C005", "C007"}
 #: collision-simplified is reported by `convert --collision`: tests/test_collision_convert.py.
 CONVERT_ONLY = {"C006"}
 #: Runtime rules fire only when the simulation runs, which `check` does not do by default:

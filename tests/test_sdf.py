@@ -281,4 +281,4 @@ def test_exports_write_sdformats_default_inertial_for_a_link_without_one(tmp_pat
 
     notes = convert_robot(urdftool.load(source), "pybullet", tmp_path / "r.urdf", ExportOptions()).diagnostics
     defaulted = [(d.code, d.severity.value) for d in notes if "SDFormat's default" in d.message]
-    assert defaulted == [("C002", "info")]
+    assert defaulted == [("C007", "info")]

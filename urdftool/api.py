@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import os
 from collections.abc import Iterable, Mapping
 from concurrent.futures import Executor
@@ -17,7 +18,14 @@ from urdftool.model import Robot
 from urdftool.parse import InputError
 from urdftool.pipeline import fixes
 from urdftool.pipeline.check import CheckOptions, check_file, run_rules
-from urdftool.pipeline.convert import Conversion, convert_robot, graph_findings, write_conversion
+from urdftool.pipeline.convert import (
+    Conversion,
+    convert_robot,
+    graph_findings,
+    keep_assets,
+    unwritten_output,
+    write_conversion,
+)
 from urdftool.pipeline.diff import DiffError, RobotDiff, compare, diff_files
 from urdftool.pipeline.load import NoSuchModel, load_one
 from urdftool.rules import Selection
@@ -241,13 +249,23 @@ def _converted(
     """
     if out is not None:
         _guard_output(out, inputs)
-    where = Path(out) if out is not None else Path(f"{robot.name or 'robot'}{suffix}")
+        where = Path(out)
+    else:
+        # nothing to write beside: every mesh by absolute path, converted ones kept in the cache
+        where = unwritten_output(f"{robot.name or 'robot'}{suffix}", target)
+        options = dataclasses.replace(options, absolute_mesh_paths=True)
     conversion: Conversion = convert_robot(robot, target, where, options, inputs)
     if conversion.refused:
         reasons = "; ".join(d.message for d in conversion.errors[:5])
         raise ConversionRefused(f"{robot.name}: not converted to {target}: {reasons}", conversion.diagnostics)
     if out is not None:
         write_conversion(conversion)
+    elif (problem := keep_assets(conversion)) is not None:
+        count = len(conversion.files) - 1
+        raise ConversionRefused(
+            f"{robot.name}: the {target} text refers to {count} converted mesh file(s) that must be written "
+            f"somewhere, and {problem}; pass out=PATH to write them beside the output",
+            conversion.diagnostics)
     return conversion.text
 
 
@@ -274,7 +292,8 @@ def to_urdf(
     mesh paths relative to *out* (converted meshes and, with *copy_assets*,
     all meshes are written to ``assets/`` beside it), an explicit inertial on
     every link, invalid inertia refused unless *repair_inertia*. Without *out*
-    paths are relative to the working directory and no asset is written.
+    mesh paths are absolute, converted meshes kept in the mesh cache's
+    ``exports/`` folder, as for :func:`to_mjcf`.
     *fuse_fixed* (PyBullet) merges links on fixed joints into the links that carry them.
     """
     if flavor not in ("urdf", "pybullet"):
@@ -320,8 +339,11 @@ def to_mjcf(
 
     With *out*, the file and its converted mesh assets (``assets/`` beside it)
     are written atomically, never over an input, and meshes are referenced
-    relative to *out*; without it nothing is written and meshes MuJoCo reads
-    are referenced by absolute path. Options as in ``urdftool convert``:
+    relative to *out*. Without it every mesh is referenced by absolute path, so
+    the text loads from anywhere (``mujoco.MjModel.from_xml_string``): meshes
+    MuJoCo reads where they are, meshes it cannot read (COLLADA) converted into
+    the mesh cache's ``exports/`` folder (content-addressed; ConversionRefused
+    when the cache is off). Options as in ``urdftool convert``:
     *floating_base* ``auto|free|fixed``, *actuators* ``none|position|velocity|motor|auto``,
     *repair_inertia*, *copy_assets*, *scene* (ground plane and light); see
     docs/mjcf.md. Raises :class:`ConversionRefused` with located diagnostics
@@ -329,7 +351,7 @@ def to_mjcf(
     """
     robot, inputs = _robot_and_inputs(robot_or_path, xacro_args, packages, package_paths, model)
     options = ExportOptions(floating_base=floating_base, actuators=actuators, repair_inertia=repair_inertia,
-                            copy_assets=copy_assets, scene=scene, absolute_mesh_paths=out is None)
+                            copy_assets=copy_assets, scene=scene)
     return _converted("mjcf", ".xml", robot, inputs, out, options)
 
 

@@ -15,7 +15,9 @@ checks faster, never different, and never makes them fail.
 
 Exports keep their mesh conversions there too (``converted/<kind>/``, by the
 source's content hash): a second ``urdftool convert`` of a robot with COLLADA
-meshes reads the converted bytes instead of converting again. Each kind is a
+meshes reads the converted bytes instead of converting again. ``exports/`` holds
+the files that ``urdftool.to_mjcf(robot)`` and ``to_urdf(robot, flavor="pybullet")``
+without an output file refer to by absolute path (:func:`export_folder`). Each kind is a
 folder of its own (``mjcf.stl``, ``mjcf.obj``, ``mjcf-colours1`` for a visual
 split by material colour), so a new kind needs no new :data:`SCHEMA`.
 """
@@ -86,8 +88,9 @@ def put(key: str, value: dict[str, Any]) -> None:
         _store(_entry(root, key), text.encode("utf-8"))
 
 
-def _store(target: Path, data: bytes) -> None:
-    """Write *data* to *target* through a temporary file and a rename; an error is ignored."""
+def _store(target: Path, data: bytes) -> bool:
+    """Write *data* to *target* through a temporary file and a rename; an error is ignored
+    (``False``)."""
     try:
         target.parent.mkdir(parents=True, exist_ok=True)
         fd, tmp = tempfile.mkstemp(prefix=".entry.", suffix=".tmp", dir=target.parent)
@@ -100,7 +103,8 @@ def _store(target: Path, data: bytes) -> None:
                 os.unlink(tmp)
             raise
     except OSError:
-        return
+        return False
+    return True
 
 
 def _blob_entry(root: Path, kind: str, key: str) -> Path:
@@ -123,3 +127,20 @@ def put_blob(kind: str, key: str, data: bytes) -> None:
     root = cache_root()
     if root is not None:
         _store(_blob_entry(root, kind, key), data)
+
+
+def export_folder() -> Path | None:
+    """Where an export without an output file keeps the files its text refers to (meshes
+    converted for MuJoCo or PyBullet, by content hash: ``assets/<stem>-<hash>.<ext>``), or
+    ``None`` when the cache is off."""
+    root = cache_root()
+    return None if root is None else root / "exports"
+
+
+def store_export_file(folder: Path, relative: str, data: bytes) -> bool:
+    """Write one such file (atomically; an existing file of that name holds the same bytes, its
+    name being their hash). ``False`` when it cannot be written."""
+    target = folder / relative
+    if target.is_file() and target.stat().st_size == len(data):
+        return True
+    return _store(target, data)

@@ -188,3 +188,45 @@ class EngineRejected(_Conversion):
     code = "C005"
     name = "engine-rejected"
     severity = Severity.ERROR
+
+
+@register
+class SdfDefaultInertia(_Conversion):
+    """An SDF link without `<inertial>` was exported with SDFormat's default, 1 kg and unit inertia.
+
+    ## What it does
+    Reports, once per link, each link of an SDF model that declares no
+    `<inertial>` and moves (it is not welded to the world) when it is
+    exported to a format without that default (MJCF, PyBullet's URDF, URDF):
+    the export writes 1 kg and 1 kg·m² about each axis of the link frame at the
+    link origin. `data` names the link and the mass written. A link welded to
+    the world (a static model's links, or links fixed to `world`) gets nothing:
+    its mass acts on nothing a simulation measures.
+
+    ## Why it matters
+    SDFormat's `<inertial>` defaults are `<mass>` 1 and `<ixx>`, `<iyy>`,
+    `<izz>` 1 (the specification's `inertial.sdf`), and libsdformat, gz-sim and
+    Gazebo classic use them for a link that has none, so the SDF robot weighs
+    that in its own simulator. MJCF (`inertiafromgeom="false"`) and URDF read
+    0 kg instead, so an export that left the link empty would simulate a
+    different robot. The export keeps the SDF robot's mass; this note says
+    that the mass is SDFormat's, not the author's (`missing-inertial` says it
+    on `check`). It is not a repair: `--repair-inertia` is not needed and does
+    not change it.
+
+    ## Example
+    ```xml
+    <link name="lidar">
+      <visual name="v"><geometry><sphere><radius>0.04</radius></sphere></geometry></visual>
+    </link>
+    ```
+    on a revolute joint, exported to MJCF: the body gets `mass="1"` and
+    `diaginertia="1 1 1"`.
+
+    ## Fix
+    Write the link's real `<inertial>` in the SDF file.
+    """
+
+    code = "C007"
+    name = "sdf-default-inertia"
+    severity = Severity.INFO

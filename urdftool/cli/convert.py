@@ -223,7 +223,9 @@ def _convert_one(loaded: Loaded, source: str, out: str, target: str, export_opti
     if not verify:
         return EXIT_OK
     try:
-        outcome = verify_model(loaded.robot, target, out, export_options)
+        # the robot as exported (SDFormat's default inertials written in), so that both sides
+        # weigh the same links
+        outcome = verify_model(conversion.robot, target, out, export_options)
     except UnknownTarget as exc:
         click.echo(f"urdftool: {exc}", err=True)
         return EXIT_USAGE

@@ -60,7 +60,9 @@ class ExportOptions:
     copy_assets: bool = False
     #: MJCF: add a ground plane and a light
     scene: bool = False
-    #: reference meshes by absolute path instead of relative to OUT (nothing is written beside OUT)
+    #: reference every mesh by absolute path instead of relative to OUT: source meshes where they
+    #: are, files the export writes (converted meshes) under OUT's folder (the Python API without
+    #: an output file plans OUT in the mesh cache's ``exports/`` folder and keeps them there)
     absolute_mesh_paths: bool = False
     #: anything target-specific (graph: rankdir, collapse_fixed, ...)
     extra: Mapping[str, Any] = field(default_factory=dict)

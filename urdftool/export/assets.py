@@ -66,6 +66,11 @@ def relative_reference(path: str, out_dir: Path | None) -> str:
         return Path(path).resolve().as_posix()
 
 
+def absolute_asset(reference: str, out_dir: Path | None) -> str:
+    """*reference* (``assets/...``, relative to OUT's folder) as an absolute path."""
+    return ((out_dir or Path.cwd()).resolve() / reference).as_posix()
+
+
 @record
 class MeshFile:
     """Where a source mesh went: the reference to write, and whether it was converted."""
@@ -91,6 +96,9 @@ class MeshFiles:
     convert: Callable[[str], bytes]
     converted_suffix: str
     copy: bool = False
+    #: every reference absolute: source meshes where they are, written files under *out_dir*
+    #: (the Python API without an OUT, whose text is loaded from anywhere)
+    absolute: bool = False
     files: dict[str, bytes] = field(default_factory=dict)
     _seen: dict[str, MeshFile] = field(default_factory=dict)
 
@@ -104,12 +112,14 @@ class MeshFiles:
             raise MeshUnavailable(f"cannot read '{path}' ({exc.strerror or exc})") from exc
         native = self.native(path, data)
         if native and not self.copy and not is_generated(path):
-            planned = MeshFile(relative_reference(path, self.out_dir), False, content_hash(data))
+            planned = MeshFile(relative_reference(path, None if self.absolute else self.out_dir), False,
+                               content_hash(data))
         else:
             payload = data if native else self.convert(path)
             suffix = Path(path).suffix.lower() if native else self.converted_suffix
             reference = asset_name(path, payload, suffix)
             self.files[reference] = payload
-            planned = MeshFile(reference, not native, content_hash(data))
+            planned = MeshFile(absolute_asset(reference, self.out_dir) if self.absolute else reference,
+                               not native, content_hash(data))
         self._seen[path] = planned
         return planned

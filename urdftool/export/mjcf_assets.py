@@ -35,6 +35,7 @@ from urdftool.backends.mesh_materials import COLOURED_SUFFIXES, RGBA8, coloured_
 from urdftool.backends.meshes import MeshError, load_trimesh
 from urdftool.export.assets import (
     MeshUnavailable,
+    absolute_asset,
     asset_name,
     content_hash,
     is_binary_stl,
@@ -196,6 +197,8 @@ class AssetPlan:
 
     out_dir: Path | None
     copy: bool = False
+    #: every ``file`` absolute: source meshes where they are, written files under *out_dir*
+    absolute: bool = False
     meshes: list[MeshAsset] = field(default_factory=list)
     files: dict[str, bytes] = field(default_factory=dict)
     #: ``<material>`` name -> rgba (0..1), for the colours of split COLLADA visuals
@@ -236,7 +239,7 @@ class AssetPlan:
             reference = asset_name(path, payload, suffix)
             self.files[reference] = payload
             base = f"{safe_stem(path)}-{content[:8]}_{number}"
-            name = self._named((f"{content}#{number}", _scale(mesh)), base, reference)
+            name = self._named((f"{content}#{number}", _scale(mesh)), base, self._written(reference))
             out.append(VisualPart(name, self._material(rgba) if rgba else None))
         return out
 
@@ -283,14 +286,19 @@ class AssetPlan:
             reference = self._reference(path)
         else:
             payload, out_suffix = (data, suffix) if native else _convert_cached(content, path)
-            reference = asset_name(path, payload, out_suffix)
-            self.files[reference] = payload
+            written = asset_name(path, payload, out_suffix)
+            self.files[written] = payload
+            reference = self._written(written)
         self._by_path[path] = (content, reference)
         return content, reference
 
+    def _written(self, reference: str) -> str:
+        """The ``file`` of an asset written at *reference* (relative to OUT's folder)."""
+        return absolute_asset(reference, self.out_dir) if self.absolute else reference
+
     def _reference(self, path: str) -> str:
         """*path* relative to OUT's folder (forward slashes), or absolute when there is no OUT."""
-        if self.out_dir is None:
+        if self.out_dir is None or self.absolute:
             return Path(path).resolve().as_posix()
         try:
             return Path(os.path.relpath(Path(path).resolve(), self.out_dir.resolve())).as_posix()

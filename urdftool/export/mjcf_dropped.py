@@ -1,7 +1,8 @@
 """The loss report: every source element MJCF does not carry, as ``conversion-dropped``.
 
 Dropped, one finding per element: each child of a ``<gazebo>`` block
-(plugins, sensors, friction and material settings), top-level ``<sensor>``
+(plugins, sensors, contact and material settings) except the ``<mu1>``/``<mu2>``
+written as geom friction (:func:`~urdftool.export.mjcf_geoms.carried_friction`), top-level ``<sensor>``
 elements, transmissions and ``ros2_control`` blocks whose joints get no
 actuator (all of them with ``--actuators none``), other top-level extensions,
 and SDF-only or simulator elements inside links and joints.
@@ -9,12 +10,13 @@ and SDF-only or simulator elements inside links and joints.
 
 from __future__ import annotations
 
-from collections.abc import Iterable, Iterator
+from collections.abc import Iterable, Iterator, Sequence
 
 from lxml import etree
 
 from urdftool.catalogue.conversion import ConversionDropped
 from urdftool.diagnostics import Diagnostic
+from urdftool.export.mjcf_geoms import carried_friction
 from urdftool.model import Extension, Robot
 from urdftool.parse.locate import span_of
 from urdftool.source import Span
@@ -35,13 +37,21 @@ def _drop(message: str, element: etree._Element | None, where: str, reason: str,
                                         data={"element": where, "reason": reason})
 
 
-def _gazebo(ext: Extension) -> Iterator[Diagnostic]:
+def _gazebo(ext: Extension, carried: Sequence[etree._Element]) -> Iterator[Diagnostic]:
     reference = ext.attributes.get("reference")
     block = f"gazebo[{reference}]" if reference else "gazebo"
     if ext.element is None:
         return
     for child in _children(ext.element):
+        if any(child is element for element in carried):
+            continue  # written as the link's geom friction (docs/mjcf.md, Mapping)
         tag = _tag(child)
+        if tag in ("mu1", "mu2") and reference:
+            yield _drop(f"{block}: <{tag}> {(child.text or child.get('value') or '').strip()!r} is not "
+                        "carried: MuJoCo's friction is isotropic and the export writes the smaller "
+                        "coefficient of mu1 and mu2 (or the value is no coefficient, or names no link)",
+                        child, f"{block}/{tag}", f"Gazebo <{tag}> is not exported")
+            continue
         label = child.get("name") or child.get("filename") or child.get("type")
         what = f"<{tag}{' ' + repr(label) if label else ''}>"
         yield _drop(f"{block}: {what} has no MJCF equivalent", child, f"{block}/{tag}",
@@ -68,9 +78,10 @@ def dropped_extensions(robot: Robot, actuated: Iterable[str]) -> list[Diagnostic
     """``conversion-dropped`` findings for everything outside links and joints proper."""
     actuated_set = set(actuated)
     found: list[Diagnostic] = []
+    carried = carried_friction(robot)
     for ext in robot.extensions:
         if ext.tag == "gazebo":
-            found.extend(_gazebo(ext))
+            found.extend(_gazebo(ext, carried))
         elif ext.tag in ("transmission", "ros2_control"):
             found.extend(_control(ext, actuated_set))
         else:

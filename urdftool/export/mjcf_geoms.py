@@ -90,29 +90,51 @@ def _degenerate(geometry: Geometry) -> bool:
 MU_MAX = 3.0
 
 
+def _friction_value(element: etree._Element) -> float | None:
+    """The number a ``<mu1>``/``<mu2>`` holds (text, or a ``value`` attribute), when it is a
+    friction coefficient (finite, not negative)."""
+    text = element.get("value") or element.text or ""
+    try:
+        value = float(text.strip())
+    except ValueError:
+        return None
+    return value if math.isfinite(value) and value >= 0.0 else None
+
+
+def gazebo_friction_elements(robot: Robot) -> dict[str, dict[str, etree._Element]]:
+    """Per link that exists, the ``<mu1>``/``<mu2>`` elements of its ``<gazebo reference="LINK">``
+    blocks that hold a coefficient (a later block's overrides an earlier one's)."""
+    found: dict[str, dict[str, etree._Element]] = {}
+    for extension in robot.extensions:
+        element = extension.element
+        reference = element.get("reference") if element is not None else None
+        if extension.tag != "gazebo" or not reference or robot.link(reference) is None:
+            continue
+        for tag in ("mu1", "mu2"):
+            child = element.find(tag)
+            if child is not None and _friction_value(child) is not None:
+                found.setdefault(reference, {})[tag] = child
+    return found
+
+
 def gazebo_friction(robot: Robot) -> dict[str, float]:
     """Sliding friction per link from ``<gazebo reference="LINK"><mu1>/<mu2>``: the smaller of the
     two (MuJoCo's friction is isotropic; Gazebo's ODE reads mu1 along ``fdir1`` and mu2 across it,
     so the smaller is the one a wheel or foot can rely on in every direction)."""
-    found: dict[str, float] = {}
-    for extension in robot.extensions:
-        element = extension.element
-        reference = element.get("reference") if element is not None else None
-        if extension.tag != "gazebo" or not reference:
-            continue
-        values = []
-        for tag in ("mu1", "mu2"):
-            child = element.find(tag)
-            text = (child.get("value") or child.text or "") if child is not None else ""
-            try:
-                value = float(text.strip())
-            except ValueError:
-                continue
-            if math.isfinite(value) and value >= 0.0:
-                values.append(value)
-        if values:
-            found[reference] = min(values)
-    return found
+    return {link: min(v for v in (_friction_value(e) for e in elements.values()) if v is not None)
+            for link, elements in gazebo_friction_elements(robot).items()}
+
+
+def carried_friction(robot: Robot) -> list[etree._Element]:
+    """Every ``<mu1>``/``<mu2>`` element whose value the export writes (the smaller of a link's
+    two, or both when they are equal); the others are lost, and reported. Compare with ``is``:
+    lxml hands out the same proxy for an element while one is alive, which this list keeps."""
+    carried: list[etree._Element] = []
+    for elements in gazebo_friction_elements(robot).values():
+        values = {tag: _friction_value(e) for tag, e in elements.items()}
+        least = min(v for v in values.values() if v is not None)
+        carried.extend(elements[tag] for tag, value in values.items() if value == least)
+    return carried
 
 
 class GeomWriter:

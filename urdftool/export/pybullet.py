@@ -187,7 +187,7 @@ def export(robot: Robot, out: Path, options: ExportOptions) -> ExportResult:
     if any(d.severity is Severity.ERROR for d in diagnostics):
         # Refused: converting meshes (seconds for large DAE files) would be wasted.
         return ExportResult({}, sorted(diagnostics, key=Diagnostic.sort_key))
-    meshes = MeshPlan.create(out.resolve().parent, options.copy_assets)
+    meshes = MeshPlan.create(out.resolve().parent, options.copy_assets, options.absolute_mesh_paths)
     prepared = meshes.carry(_prepared(robot, inertia))
     diagnostics += meshes.diagnostics
     root, dropped = robot_element(prepared, PyBulletFlavor(filenames=meshes.filenames))
@@ -324,7 +324,8 @@ def _mimic_reports(robot: Robot) -> list[Diagnostic]:
 
 def _header(robot: Robot, out: Path, inertia: PyBulletInertia, options: ExportOptions) -> str:
     """The comment at the top of OUT: where it came from and how to load it."""
-    source = relative_reference(robot.path, out.resolve().parent) if robot.path else "a robot model"
+    folder = None if options.absolute_mesh_paths else out.resolve().parent
+    source = relative_reference(robot.path, folder) if robot.path else "a robot model"
     base = (
         "base: floating (pass useFixedBase=True to fix it)"
         if inertia.base == "floating"

@@ -101,8 +101,8 @@ class MeshPlan:
     _colours: dict[str, RGBA | None] = field(default_factory=dict)
 
     @classmethod
-    def create(cls, out_dir: Path | None, copy: bool) -> MeshPlan:
-        return cls(MeshFiles(out_dir, reads_natively, convert_to_obj, ".obj", copy=copy))
+    def create(cls, out_dir: Path | None, copy: bool, absolute: bool = False) -> MeshPlan:
+        return cls(MeshFiles(out_dir, reads_natively, convert_to_obj, ".obj", copy=copy, absolute=absolute))
 
     def carry(self, robot: Robot) -> Robot:
         """*robot* with every visual of a converted mesh coloured; filenames and refusals recorded."""

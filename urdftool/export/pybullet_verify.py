@@ -161,9 +161,13 @@ def compare_inertia(
             mass.see(math.inf, where, span)
             continue
         source = expected[link.name]
-        mass.see(abs(built.mass - source.mass) / max(abs(source.mass), 1e-12), where, span)
+        # relative to the source's numbers; absolute (kg, kg·m²) where the source has none, where
+        # a ratio would print the rounding of a zero as 1e+12
+        mass.see(abs(built.mass - source.mass) / (max(abs(source.mass), 1e-12) if source.mass else 1.0),
+                 where, span)
         source_tensor = source.inertia_in_link_frame
-        scale = max(float(np.trace(source_tensor)), 1e-12)
+        trace = float(np.trace(source_tensor))
+        scale = max(trace, 1e-12) if trace > 0 else 1.0
         source_moments, _ = principal_moments(source_tensor)
         built_moments = np.sort(np.asarray(built.inertia_diagonal))
         moments.see(float(np.max(np.abs(built_moments - source_moments))) / scale, where, span)

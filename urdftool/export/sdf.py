@@ -8,14 +8,16 @@ frame: a fixed joint to it stays a joint to ``world``, a floating one is left
 out (the model is free). ``continuous`` joints are written as revolute joints
 without position limits. What SDF 1.7 cannot hold (planar joints, mimic) is
 refused or reported; ``<gazebo>`` blocks are mapped where the mapping is
-obvious (plugins, sensors, self_collide, gravity, friction, Gazebo material
-names) and reported otherwise.
+obvious (plugins, sensors, self_collide, gravity, friction and contact settings,
+Gazebo material names) and reported otherwise. A massless link on a fixed joint
+is written as a ``<frame>`` (:mod:`urdftool.export.sdf_frames`), not as a link
+that SDF readers would give 1 kg.
 """
 
 from __future__ import annotations
 
 from collections.abc import Iterable
-from dataclasses import field
+from dataclasses import field, replace
 from pathlib import Path
 
 from lxml import etree
@@ -24,6 +26,7 @@ from urdftool.catalogue.conversion import ConversionDropped
 from urdftool.diagnostics import Diagnostic, Severity
 from urdftool.export import ExportOptions, ExportResult
 from urdftool.export.numbers import num, vec
+from urdftool.export.sdf_frames import ON_COLLISIONS, ON_MASS, FramePlan, plan_frames
 from urdftool.export.urdf import clean_copy, to_bytes
 from urdftool.model import (
     Box,
@@ -63,11 +66,50 @@ _SDF_TYPES = {
 #: <gazebo reference="link"> children copied into the SDF link, with their SDF name
 _LINK_ELEMENTS = {"sensor": "sensor", "selfCollide": "self_collide", "self_collide": "self_collide",
                   "gravity": "gravity", "kinematic": "kinematic", "velocity_decay": "velocity_decay"}
-_FRICTION = {"mu1": "mu", "mu2": "mu2"}
+#: <gazebo reference="link"> contact settings -> (block of the collision's ODE <surface>, SDF name),
+#: as libsdformat's URDF reader writes them into every collision of the link
+_SURFACE = {"mu1": ("friction", "mu"), "mu2": ("friction", "mu2"), "fdir1": ("friction", "fdir1"),
+            "kp": ("contact", "kp"), "kd": ("contact", "kd"), "minDepth": ("contact", "min_depth"),
+            "maxVel": ("contact", "max_vel")}
+#: <gazebo reference="link"> settings of each collision itself -> SDF name
+_COLLISION = {"maxContacts": "max_contacts", "laserRetro": "laser_retro"}
+_FRICTION = (*_SURFACE, *_COLLISION)  # what a link's collisions carry
 
 
 def pose_text(pose: Pose) -> str:
     return vec((*pose.xyz, *pose.rpy))
+
+
+#: Below this (m, rad), a number of a composed pose is rounding (sin π = 1.2e-16), written as 0.
+ROUNDING = 1e-15
+
+
+def composed(outer: Pose, inner: Pose) -> Pose:
+    """``outer ∘ inner`` with rounding noise written as 0, so a frame turned by π does not leave
+    1.2e-18 in every pose it carries."""
+    pose = outer.compose(inner)
+    tidy = tuple(0.0 if abs(v) < ROUNDING else v for v in (*pose.xyz, *pose.rpy))
+    return Pose((tidy[0], tidy[1], tidy[2]), (tidy[3], tidy[4], tidy[5]))
+
+
+def _sensor_moved(sensor: etree._Element, offset: Pose) -> etree._Element:
+    """*sensor* with its ``<pose>`` (in the frame it was written in) composed with *offset*, the
+    frame's pose in the link that now carries it; a pose ``relative_to`` a named frame is kept."""
+    pose = sensor.find("pose")
+    if pose is not None and pose.get("relative_to"):
+        return sensor
+    try:
+        values = [float(v) for v in (pose.text or "").split()] if pose is not None else []
+    except ValueError:
+        return sensor  # not six numbers: left as written, for the SDF reader to report
+    if pose is not None and len(values) != 6:
+        return sensor
+    own = Pose((values[0], values[1], values[2]), (values[3], values[4], values[5])) if values else Pose()
+    if pose is None:
+        pose = etree.Element("pose")
+        sensor.insert(0, pose)
+    pose.text = pose_text(composed(offset, own))
+    return sensor
 
 
 def _world_root(robot: Robot, tree: KinematicTree) -> str | None:
@@ -103,6 +145,9 @@ class SdfWriter:
     robot: Robot
     tree: KinematicTree
     diagnostics: list[Diagnostic] = field(default_factory=list)
+    frames: FramePlan = field(default_factory=FramePlan)
+    #: names of the visuals and collisions of the link being written (unique per SDF link)
+    _names: set[str] = field(default_factory=set)
 
     def build(self) -> etree._Element:
         robot = self.robot
@@ -110,11 +155,19 @@ class SdfWriter:
         sdf = etree.Element("sdf", version=SDF_VERSION)
         model = etree.SubElement(sdf, "model", name=robot.name or "robot")
         gazebo = self._gazebo_by_reference()
+        self.frames = plan_frames(robot, self.tree, world, gazebo)
         for _, link, joint in self.tree.walk():
             if link.name == world:
                 continue
-            model.append(self.link(link, joint, world, gazebo.get(link.name, [])))
+            if link.name in self.frames.body:
+                model.append(self.frame(link, joint, gazebo.get(link.name, [])))
+                continue
+            element = self.link(link, joint, world, gazebo.get(link.name, []))
+            self.lump(element, link, gazebo)
+            model.append(element)
         for joint in self.tree.joints_in_order:
+            if joint.child in self.frames.body or self.frames.link_for(joint.parent) == joint.child:
+                continue  # written as the child's <frame>, or the root's frame hangs from its child
             element = self.joint(joint, world)
             if element is not None:
                 model.append(element)
@@ -159,7 +212,16 @@ class SdfWriter:
         elif joint is not None and joint.type.is_moving:
             self._drop(f"link '{link.name}' has no <inertial>; SDF readers give it 1 kg and unit inertia",
                        link.span, f"link[{link.name}]", "missing inertial", Severity.WARNING)
+        elif joint is None and link.name not in self.frames.kept:
+            self._drop(f"root link '{link.name}' has no <inertial> and no link with mass fixed under it "
+                       "to carry it as a <frame>; SDF readers give it 1 kg and unit inertia",
+                       link.span, f"link[{link.name}]", "missing inertial", Severity.WARNING)
+        elif link.name in self.frames.kept:
+            self._drop(f"link '{link.name}' has no <inertial> and stays an SDF link, not a <frame>, because "
+                       f"{self.frames.kept[link.name]}; SDF readers give it 1 kg and unit inertia",
+                       link.span, f"link[{link.name}]", "missing inertial", Severity.WARNING)
         names: set[str] = set()
+        self._names = names
         for index, visual in enumerate(link.visuals):
             item = self.shaped("visual", visual, link, index, names)
             if item is not None:
@@ -174,6 +236,57 @@ class SdfWriter:
                 element.append(item)
         element.extend(self.link_extras(link, gazebo))
         return element
+
+    # -- massless links on fixed joints: frames (urdftool/export/sdf_frames.py) ----------
+
+    def frame(self, link: Link, joint: Joint | None, gazebo: list[etree._Element]) -> etree._Element:
+        """``<frame name="LINK" attached_to="PARENT">`` at the joint's origin in PARENT; a root
+        at the model frame, attached to the link fixed under it."""
+        if joint is None:
+            element = etree.Element("frame", name=link.name, attached_to=self.frames.link_for(link.name))
+            etree.SubElement(element, "pose", relative_to="__model__").text = pose_text(Pose())
+        else:
+            element = etree.Element("frame", name=link.name, attached_to=joint.parent)
+            etree.SubElement(element, "pose", relative_to=joint.parent).text = pose_text(joint.origin)
+        for block in gazebo:  # what lump() does not carry into the link the frame moves with
+            for child in block:
+                if not isinstance(child.tag, str) or child.tag in (*_FRICTION, "material", "sensor"):
+                    continue
+                where = f"link[{link.name}]/gazebo/{child.tag}"
+                if child.tag in ON_MASS or child.tag in ON_COLLISIONS:
+                    self._drop(f"{where}: '{link.name}' is massless and written as a <frame>, with no mass "
+                               "or collision for it to act on; left out", span_of(child), where,
+                               "frame", Severity.INFO)
+                else:
+                    self._drop_element(child, where)
+        return element
+
+    def lump(self, element: etree._Element, link: Link, gazebo: dict[str, list[etree._Element]]) -> None:
+        """Into *link*'s element, the visuals, collisions and sensors of the frames it carries,
+        with their poses composed into *link*'s frame (Gazebo reads them there)."""
+        for name in self.frames.lumped(link.name):
+            frame = self.robot.link(name)
+            assert frame is not None
+            offset = self.frames.in_body[name]
+            blocks = gazebo.get(name, [])
+            for index, visual in enumerate(frame.visuals):
+                moved = replace(visual, origin=composed(offset, visual.origin))
+                item = self.shaped("visual", moved, frame, index, self._names)
+                if item is not None:
+                    material = self.material(visual.material, blocks)
+                    if material is not None:
+                        item.append(material)
+                    element.append(item)
+            for index, collision in enumerate(frame.collisions):
+                moved_collision = replace(collision, origin=composed(offset, collision.origin))
+                item = self.shaped("collision", moved_collision, frame, index, self._names)
+                if item is not None:
+                    item.extend(self.friction(blocks))
+                    element.append(item)
+            for block in blocks:
+                for child in block:
+                    if isinstance(child.tag, str) and child.tag == "sensor":
+                        element.append(_sensor_moved(clean_copy(child), offset))
 
     def shaped(self, tag: str, item: Visual | Collision, link: Link, index: int,
                names: set[str]) -> etree._Element | None:
@@ -231,20 +344,31 @@ class SdfWriter:
         return element
 
     def friction(self, gazebo: list[etree._Element]) -> list[etree._Element]:
-        values = {}
+        """A collision's ``<max_contacts>``, ``<laser_retro>`` and ``<surface>`` from the link's
+        Gazebo contact settings (a later block's value wins, as Gazebo merges them)."""
+        values: dict[str, str] = {}
         for block in gazebo:
-            for urdf_name, sdf_name in _FRICTION.items():
+            for urdf_name in _FRICTION:
                 text = block.findtext(urdf_name)
-                if text:
-                    values[sdf_name] = text.strip()
-        if not values:
-            return []
-        surface = etree.Element("surface")
-        ode = etree.SubElement(etree.SubElement(surface, "friction"), "ode")
-        for key in ("mu", "mu2"):
-            if key in values:
-                etree.SubElement(ode, key).text = values[key]
-        return [surface]
+                if text and text.strip():
+                    values[urdf_name] = text.strip()
+        out = []
+        for urdf_name, sdf_name in _COLLISION.items():
+            if urdf_name in values:
+                element = etree.Element(sdf_name)
+                element.text = values[urdf_name]
+                out.append(element)
+        blocks = {part for name, (part, _) in _SURFACE.items() if name in values}
+        if blocks:
+            surface = etree.Element("surface")
+            for part in ("friction", "contact"):
+                if part in blocks:
+                    ode = etree.SubElement(etree.SubElement(surface, part), "ode")
+                    for urdf_name, (where, sdf_name) in _SURFACE.items():
+                        if where == part and urdf_name in values:
+                            etree.SubElement(ode, sdf_name).text = values[urdf_name]
+            out.append(surface)
+        return out
 
     def link_extras(self, link: Link, gazebo: list[etree._Element]) -> list[etree._Element]:
         out = []
@@ -271,7 +395,9 @@ class SdfWriter:
                        joint.span, f"joint[{joint.name}]", "joint type", Severity.WARNING)
             return None
         element = etree.Element("joint", name=self.joint_name(joint), type=sdf_type)
-        etree.SubElement(element, "parent").text = "world" if joint.parent == world else joint.parent
+        # a joint hangs from a link (SDF 1.7); from a frame's, with the child posed relative_to the frame
+        parent = "world" if joint.parent == world else self.frames.link_for(joint.parent)
+        etree.SubElement(element, "parent").text = parent
         etree.SubElement(element, "child").text = joint.child
         if joint.type.is_moving:
             element.append(self.axis(joint))

@@ -7,6 +7,10 @@ The dynamics pass computes with it, and the exports to formats without that
 default (MJCF, PyBullet's URDF, URDF) write it out, so the exported robot weighs
 what the SDF robot weighs in its own simulator. ``missing-inertial`` still says
 the mass is not the author's.
+
+A link welded to the world (a static model's links, and every link joined to
+``world`` through fixed joints only) never moves, so its mass acts on nothing a
+simulation measures: it is not given the default, and an export writes none for it.
 """
 
 from __future__ import annotations
@@ -14,18 +18,39 @@ from __future__ import annotations
 from collections.abc import Iterable
 from dataclasses import replace
 
-from urdftool.model import Extension, Inertial, Link, Robot
+from urdftool.model import Extension, Inertial, JointType, Link, Robot
+
+#: The link an SDF reader makes for the world a static model or a joint to ``world`` is fixed to.
+WORLD = "world"
 
 #: SDFormat's ``<inertial>`` when a link has none: 1 kg, a unit inertia (kg·m²) at the link origin
 SDF_DEFAULT_INERTIAL = Inertial(1.0, ((1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, 1.0)))
 
 
+def welded_to_world(robot: Robot) -> set[str]:
+    """The links joined to the link ``world`` through fixed joints only (``world`` included)."""
+    if robot.link(WORLD) is None:
+        return set()
+    children: dict[str, list[str]] = {}
+    for joint in robot.joints:
+        if joint.type is JointType.FIXED:
+            children.setdefault(joint.parent, []).append(joint.child)
+    welded, stack = {WORLD}, [WORLD]
+    while stack:
+        for child in children.get(stack.pop(), []):
+            if child not in welded:
+                welded.add(child)
+                stack.append(child)
+    return welded
+
+
 def defaulted_links(robot: Robot) -> list[Link]:
     """The links of an SDF *robot* that take SDFormat's default inertial (none for other formats;
-    never ``world``, which is not a body)."""
+    never ``world``, which is not a body, nor a link welded to it, whose mass acts on nothing)."""
     if robot.format != "sdf":
         return []
-    return [link for link in robot.links if link.inertial is None and link.name != "world"]
+    welded = welded_to_world(robot)
+    return [link for link in robot.links if link.inertial is None and link.name not in welded]
 
 
 def sdf_default_inertials(robot: Robot) -> Robot:

@@ -17,7 +17,8 @@ from collections.abc import Sequence
 from dataclasses import field
 from pathlib import Path
 
-from urdftool.catalogue.conversion import InertiaNotExportable, InertiaRepaired
+from urdftool.backends.mesh_cache import export_folder, store_export_file
+from urdftool.catalogue.conversion import InertiaNotExportable, SdfDefaultInertia
 from urdftool.diagnostics import Diagnostic, Severity
 from urdftool.export import ExportOptions, export_model
 from urdftool.export.graph import GraphOptions
@@ -131,7 +132,7 @@ def _sdf_defaults_written(robot: Robot, target: str) -> tuple[Robot, list[Diagno
     """*robot* with SDFormat's default inertial written on each SDF link that has none, and an
     info per link saying so."""
     notes = [
-        InertiaRepaired.diagnostic(
+        SdfDefaultInertia.diagnostic(
             f"link '{link.name}' has no <inertial>: written for {target} with SDFormat's default, "
             "1 kg and 1 kg·m² about each axis, which gz-sim and Gazebo give it",
             link.span, element=f"link[{link.name}]", severity=Severity.INFO,
@@ -140,6 +141,33 @@ def _sdf_defaults_written(robot: Robot, target: str) -> tuple[Robot, list[Diagno
         for link in defaulted_links(robot)
     ]
     return sdf_default_inertials(robot), notes
+
+
+#: Targets whose text refers to files written beside it (meshes converted for the engine).
+WRITES_ASSETS = frozenset({"mjcf", "pybullet"})
+
+
+def unwritten_output(name: str, target: str) -> Path:
+    """Where an export that is not written (the Python API without *out*) is planned: in the
+    mesh cache's export folder for a target that may need converted meshes, whose files are kept
+    there and referred to by absolute path (:func:`keep_assets`); else *name* in the working
+    directory (nothing is written)."""
+    folder = export_folder() if target in WRITES_ASSETS else None
+    return (folder or Path.cwd()) / name
+
+
+def keep_assets(conversion: Conversion) -> str | None:
+    """Write the files the text of an unwritten export refers to (converted meshes) into the
+    mesh cache's export folder, where :func:`unwritten_output` planned them; ``None`` when they
+    are there (or there are none), else why they are not."""
+    assets = {rel: data for rel, data in conversion.files.items() if rel != conversion.out.name}
+    if not assets:
+        return None
+    folder = export_folder()
+    if folder is None or conversion.out.parent != folder:
+        return "the mesh cache is off (URDFTOOL_NO_CACHE), so there is no folder to write them to"
+    failed = [rel for rel, data in sorted(assets.items()) if not store_export_file(folder, rel, data)]
+    return f"{folder / failed[0]} cannot be written" if failed else None
 
 
 def distinct(diagnostics: Sequence[Diagnostic]) -> list[Diagnostic]:

@@ -53,12 +53,13 @@ def _init_export_assets_MeshFile(__defaults__, __factories__, __sentinel__, __se
 
 # urdftool.export.assets.MeshFiles
 def _init_export_assets_MeshFiles(__defaults__, __factories__, __sentinel__, __set__, __slot__):
-    def __init__(self, out_dir, native, convert, converted_suffix, copy=__defaults__['copy'], files=__sentinel__, _seen=__sentinel__):
+    def __init__(self, out_dir, native, convert, converted_suffix, copy=__defaults__['copy'], absolute=__defaults__['absolute'], files=__sentinel__, _seen=__sentinel__):
         self.out_dir = out_dir
         self.native = native
         self.convert = convert
         self.converted_suffix = converted_suffix
         self.copy = copy
+        self.absolute = absolute
         self.files = __factories__['files']() if files is __sentinel__ else files
         self._seen = __factories__['_seen']() if _seen is __sentinel__ else _seen
     return __init__
@@ -196,10 +197,22 @@ def _init_export_pybullet_verify_Worst(__defaults__, __factories__, __sentinel__
 
 # urdftool.export.sdf.SdfWriter
 def _init_export_sdf_SdfWriter(__defaults__, __factories__, __sentinel__, __set__, __slot__):
-    def __init__(self, robot, tree, diagnostics=__sentinel__):
+    def __init__(self, robot, tree, diagnostics=__sentinel__, frames=__sentinel__, _names=__sentinel__):
         self.robot = robot
         self.tree = tree
         self.diagnostics = __factories__['diagnostics']() if diagnostics is __sentinel__ else diagnostics
+        self.frames = __factories__['frames']() if frames is __sentinel__ else frames
+        self._names = __factories__['_names']() if _names is __sentinel__ else _names
+    return __init__
+
+
+# urdftool.export.sdf_frames.FramePlan
+def _init_export_sdf_frames_FramePlan(__defaults__, __factories__, __sentinel__, __set__, __slot__):
+    def __init__(self, body=__sentinel__, in_body=__sentinel__, kept=__sentinel__, root=__defaults__['root']):
+        self.body = __factories__['body']() if body is __sentinel__ else body
+        self.in_body = __factories__['in_body']() if in_body is __sentinel__ else in_body
+        self.kept = __factories__['kept']() if kept is __sentinel__ else kept
+        self.root = root
     return __init__
 
 
@@ -227,7 +240,7 @@ COMPILED = {
     'urdftool.export.ExportResult': ('files*,diagnostics*|plain', _init_export_ExportResult),
     'urdftool.export.VerifyResult': ('ok,rows*,diagnostics*|plain', _init_export_VerifyResult),
     'urdftool.export.assets.MeshFile': ('reference,converted,source_hash|slots', _init_export_assets_MeshFile),
-    'urdftool.export.assets.MeshFiles': ('out_dir,native,convert,converted_suffix,copy=,files*,_seen*|plain', _init_export_assets_MeshFiles),
+    'urdftool.export.assets.MeshFiles': ('out_dir,native,convert,converted_suffix,copy=,absolute=,files*,_seen*|plain', _init_export_assets_MeshFiles),
     'urdftool.export.graph.GraphOptions': ('rankdir=,collapse_fixed=,diagnostics=,select=,ignore=|post_init|slots', _init_export_graph_GraphOptions),
     'urdftool.export.graph.build.GraphSettings': ('rankdir=,collapse_fixed=|slots', _init_export_graph_build_GraphSettings),
     'urdftool.export.graph.findings.Findings': ('links*,joints*,other*|plain', _init_export_graph_findings_Findings),
@@ -241,7 +254,8 @@ COMPILED = {
     'urdftool.export.pybullet_meshes.MeshPlan': ('files,filenames*,diagnostics*,_colours*|plain', _init_export_pybullet_meshes_MeshPlan),
     'urdftool.export.pybullet_verify.Comparison': ('robot,rows*|plain', _init_export_pybullet_verify_Comparison),
     'urdftool.export.pybullet_verify.Worst': ('quantity,tolerance=,error=,element=,span=|plain', _init_export_pybullet_verify_Worst),
-    'urdftool.export.sdf.SdfWriter': ('robot,tree,diagnostics*|plain', _init_export_sdf_SdfWriter),
+    'urdftool.export.sdf.SdfWriter': ('robot,tree,diagnostics*,frames*,_names*|plain', _init_export_sdf_SdfWriter),
+    'urdftool.export.sdf_frames.FramePlan': ('body*,in_body*,kept*,root=|plain', _init_export_sdf_frames_FramePlan),
     'urdftool.export.urdf.UrdfFlavor': ('name=,joint_types*,extra_shapes=|slots', _init_export_urdf_UrdfFlavor),
     'urdftool.export.urdf.UrdfWriter': ('robot,flavor=,diagnostics*|plain', _init_export_urdf_UrdfWriter),
 }

@@ -20,9 +20,10 @@ def _init_export_mjcf_actuators_Drive(__defaults__, __factories__, __sentinel__,
 
 # urdftool.export.mjcf_assets.AssetPlan
 def _init_export_mjcf_assets_AssetPlan(__defaults__, __factories__, __sentinel__, __set__, __slot__):
-    def __init__(self, out_dir, copy=__defaults__['copy'], meshes=__sentinel__, files=__sentinel__, materials=__sentinel__, _by_content=__sentinel__, _by_path=__sentinel__, _hashes=__sentinel__):
+    def __init__(self, out_dir, copy=__defaults__['copy'], absolute=__defaults__['absolute'], meshes=__sentinel__, files=__sentinel__, materials=__sentinel__, _by_content=__sentinel__, _by_path=__sentinel__, _hashes=__sentinel__):
         self.out_dir = out_dir
         self.copy = copy
+        self.absolute = absolute
         self.meshes = __factories__['meshes']() if meshes is __sentinel__ else meshes
         self.files = __factories__['files']() if files is __sentinel__ else files
         self.materials = __factories__['materials']() if materials is __sentinel__ else materials
@@ -115,7 +116,7 @@ def _init_export_mjcf_verify_JointMap(__defaults__, __factories__, __sentinel__,
 
 COMPILED = {
     'urdftool.export.mjcf_actuators.Drive': ('interface=,reduction=,rotor_inertia=|slots', _init_export_mjcf_actuators_Drive),
-    'urdftool.export.mjcf_assets.AssetPlan': ('out_dir,copy=,meshes*,files*,materials*,_by_content*,_by_path*,_hashes*|plain', _init_export_mjcf_assets_AssetPlan),
+    'urdftool.export.mjcf_assets.AssetPlan': ('out_dir,copy=,absolute=,meshes*,files*,materials*,_by_content*,_by_path*,_hashes*|plain', _init_export_mjcf_assets_AssetPlan),
     'urdftool.export.mjcf_assets.MeshAsset': ('name,file,scale|slots', _init_export_mjcf_assets_MeshAsset),
     'urdftool.export.mjcf_assets.VisualPart': ('mesh,material|slots', _init_export_mjcf_assets_VisualPart),
     'urdftool.export.mjcf_bodies.BodyTree': ('joints*,diagnostics*|plain', _init_export_mjcf_bodies_BodyTree),

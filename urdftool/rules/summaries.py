@@ -11,6 +11,7 @@ SUMMARIES: dict[str, str] = {
     'C004': 'A mesh was left out of the export: its file was not found or cannot be read.',
     'C005': "The target engine refused the exported file; the message is the engine's, mapped to the source.",
     'C006': '`convert --collision` replaced a collision mesh; the note gives the volume error.',
+    'C007': "An SDF link without `<inertial>` was exported with SDFormat's default, 1 kg and unit inertia.",
     'D001': 'Some motion of the robot moves no mass: the joint-space mass matrix is singular.',
     'D002': 'The joint-space mass matrix is ill-conditioned in some sampled pose.',
     'D003': 'A joint of a fixed-base robot cannot hold its links against gravity.',

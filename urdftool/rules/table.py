@@ -11,6 +11,7 @@ RULES: tuple[tuple[str, str, str, str, bool, str], ...] = (
     ('C004', 'mesh-not-exportable', 'warning', 'reader', True, 'urdftool.catalogue.conversion'),
     ('C005', 'engine-rejected', 'error', 'reader', True, 'urdftool.catalogue.conversion'),
     ('C006', 'collision-simplified', 'info', 'reader', True, 'urdftool.catalogue.collision'),
+    ('C007', 'sdf-default-inertia', 'info', 'reader', True, 'urdftool.catalogue.conversion'),
     ('D001', 'mass-matrix-singular', 'error', 'model', True, 'urdftool.rules.dynamics'),
     ('D002', 'mass-matrix-ill-conditioned', 'warning', 'model', True, 'urdftool.rules.dynamics'),
     ('D003', 'gravity-torque-exceeds-effort', 'warning', 'model', True, 'urdftool.rules.dynamics'),
