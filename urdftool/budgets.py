@@ -21,7 +21,6 @@ budget with ``--budget NAME=VALUE`` (repeatable) or ``budgets = {NAME = VALUE}``
 from __future__ import annotations
 
 import contextlib
-import difflib
 from collections.abc import Iterator, Mapping
 
 #: name -> default value
@@ -92,6 +91,8 @@ def checked(values: Mapping[str, object]) -> dict[str, float]:
     out: dict[str, float] = {}
     for name, value in values.items():
         if name not in DEFAULT_BUDGETS:
+            import difflib  # only for a misspelt name: a structural check's cold start never needs it
+
             close = difflib.get_close_matches(name, NAMES, n=1)
             hint = f"; did you mean '{close[0]}'?" if close else f" (budgets: {', '.join(NAMES)})"
             raise BudgetError(f"unknown budget '{name}'{hint}")
