@@ -7,6 +7,7 @@ from collections.abc import Sequence
 
 import click
 
+from urdftool.catalogue.xacro import CHANGES_THE_ROBOT
 from urdftool.cli.common import (
     EXIT_FINDINGS,
     EXIT_OK,
@@ -163,6 +164,8 @@ def _convert_one(loaded: Loaded, source: str, out: str, target: str, export_opti
     if loaded.robot is None:
         _emit(loaded.diagnostics)
         return EXIT_FINDINGS
+    if not quiet:
+        _emit([d for d in loaded.diagnostics if d.code in CHANGES_THE_ROBOT])
     inputs = model_inputs(loaded.robot, loaded.files or [source])
     _refuse_output(out, inputs)  # an included xacro file or a mesh
     simplified = _simplify(loaded.robot, collision, quiet, target in CAPSULE_TARGETS)
