@@ -57,7 +57,9 @@ def _files() -> list[tuple[str, dict[str, Any]]]:
             if path.is_file():
                 files.append((str(path), {
                     "package_paths": tuple(str(CORPUS / p) for p in entry.get("package_paths", ())),
-                    "xacro_args": {k: str(v) for k, v in (entry.get("xacro_args") or {}).items()}}))
+                    "xacro_args": {k: str(v) for k, v in (entry.get("xacro_args") or {}).items()},
+                    # what the upstream's setup script exports for xacro's $(optenv ...)
+                    "env": {k: str(v) for k, v in (entry.get("env") or {}).items()}}))
     return files
 
 
@@ -104,12 +106,23 @@ def main() -> int:
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         for path, keywords in _files():
+            env = keywords.pop("env", None) or {}
             arguments = keywords.get("xacro_args")
-            key = _relative(path) + (json.dumps(arguments) if arguments else "")
-            snapshot[key] = {
-                "structural": _findings(path, CheckOptions(select=("S", "X"), **keywords)),
-                "default": _findings(path, CheckOptions(rule_options={"dynamics": False}, **keywords)),
-            }
+            key = (_relative(path) + (json.dumps(arguments) if arguments else "")
+                   + (json.dumps(env, sort_keys=True) if env else ""))
+            saved = {name: os.environ.get(name) for name in env}
+            os.environ.update(env)
+            try:
+                snapshot[key] = {
+                    "structural": _findings(path, CheckOptions(select=("S", "X"), **keywords)),
+                    "default": _findings(path, CheckOptions(rule_options={"dynamics": False}, **keywords)),
+                }
+            finally:
+                for name, value in saved.items():
+                    if value is None:
+                        os.environ.pop(name, None)
+                    else:
+                        os.environ[name] = value
     with open(out, "w", encoding="utf-8") as handle:
         json.dump(snapshot, handle, indent=1, sort_keys=True)
     total = sum(len(v["default"]) for v in snapshot.values())

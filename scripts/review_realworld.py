@@ -7,8 +7,9 @@ The corpus (docs/realworld.md) is not in the repository: it lives beside the wor
 and ``fixtures/realworld`` points at it. Models of docs/realworld-manifest.yaml that are not
 on disk are skipped and counted. Each model is checked the way a user checks it, with
 ``urdftool check --format json --isolated``, the manifest's ``package_paths`` as
-``--package-path`` and its ``xacro_args`` as ``-a``; one process per model, so a crash in
-one model does not hide the others.
+``--package-path``, its ``xacro_args`` as ``-a`` and its ``env`` (what the upstream's setup
+script exports for xacro's ``$(optenv …)``) in the environment; one process per model, so a
+crash in one model does not hide the others.
 
 Every error finding is then sorted into:
 
@@ -28,6 +29,7 @@ finding is unexpected or a model could not be checked.
 from __future__ import annotations
 
 import argparse
+import hashlib
 import json
 import os
 import subprocess
@@ -63,9 +65,15 @@ class Review:
 
 
 def label(entry: Mapping[str, Any]) -> str:
-    """The model's path with its xacro arguments, as docs/realworld.md writes it."""
+    """The model's path with its xacro arguments and environment, as docs/realworld.md writes it."""
     args = " ".join(f"{k}:={v}" for k, v in (entry.get("xacro_args") or {}).items())
-    return f"{entry['path']} [{args}]" if args else str(entry["path"])
+    env = " ".join(f"{k}={v}" for k, v in (entry.get("env") or {}).items())
+    return str(entry["path"]) + (f" [{args}]" if args else "") + (f" (env {env})" if env else "")
+
+
+def environment(entry: Mapping[str, Any]) -> dict[str, str]:
+    """The environment to check one model in: this process's, plus the entry's ``env``."""
+    return {**os.environ, **{str(k): str(v) for k, v in (entry.get("env") or {}).items()}}
 
 
 def command(entry: Mapping[str, Any], corpus: Path, dynamics: bool) -> list[str]:
@@ -139,13 +147,23 @@ def _became(code: str, element: str, found: Sequence[Mapping[str, Any]]) -> str:
     return "gone"
 
 
+def report_name(entry: Mapping[str, Any]) -> str:
+    """The file name ``--save`` gives a model's JSON report: its label with ``/`` and spaces
+    replaced, shortened with a digest when it would pass the 255 bytes file systems allow (a
+    model with many xacro arguments, such as RotorS's fixed wing)."""
+    name = label(entry).replace("/", "__").replace(" ", "_")
+    if len(name.encode("utf-8")) > 200:
+        digest = hashlib.sha1(name.encode("utf-8")).hexdigest()[:12]
+        name = name.encode("utf-8")[:180].decode("utf-8", "ignore") + "_" + digest
+    return f"{name}.json"
+
+
 def check(entry: Mapping[str, Any], corpus: Path, dynamics: bool, save: Path | None) -> tuple[Review, list]:
     """Run urdftool on one model; its review and all its diagnostics."""
     run = subprocess.run(command(entry, corpus, dynamics), capture_output=True, text=True,
-                         cwd=ROOT, check=False, timeout=1800)
+                         cwd=ROOT, env=environment(entry), check=False, timeout=1800)
     if save is not None:
-        name = label(entry).replace("/", "__").replace(" ", "_")
-        (save / f"{name}.json").write_text(run.stdout)
+        (save / report_name(entry)).write_text(run.stdout)
     try:
         found = diagnostics(json.loads(run.stdout))
     except json.JSONDecodeError:

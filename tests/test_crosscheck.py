@@ -36,7 +36,6 @@ EXCLUDED = {
     "biped/biped2d_pybullet.urdf": "error",
     "husky/husky.urdf": "error",
     "quadruped/microtaur/microtaur.urdf": "error",
-    "quadruped/spirit40newer.urdf": "error",
     "racecar/racecar_differential.urdf": "error",
     # PyBullet's spherical joints: urdfdom and yourdfpy refuse them
     "humanoid/humanoid.urdf": "spherical",

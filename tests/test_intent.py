@@ -104,8 +104,12 @@ def test_extend_select_adds_a_default_off_rule_to_the_default_set() -> None:
 def test_thresholds_are_rule_options() -> None:
     good = str(FIXTURES / "rules" / "N001" / "good.urdf")
     assert not [d for d in _intent(good) if d.code == "N001"]
-    strict = _intent(good, rule_options={"intent": {"degree_turns": 1}})
-    assert [d.data["upper"] for d in strict if d.code == "N001"] == [10.0]
+    # read to four decimals, radians written to a few decimals are "degree" numbers; placeholders stay quiet
+    strict = _intent(good, rule_options={"intent": {"degree_step": 0.0001}})
+    assert [d.data["upper"] for d in strict if d.code == "N001"] == [25.1327, 9.42, 6.2832]
+    bad = str(FIXTURES / "rules" / "N001" / "bad.urdf")
+    lenient = _intent(bad, rule_options={"intent": {"degree_turns": 3}})
+    assert [d.data["upper"] for d in lenient if d.code == "N001"] == [90.0, 180.0, 170.0, 166.0, 215.0]
 
 
 def test_symmetry_findings_carry_the_other_member() -> None:

@@ -61,6 +61,25 @@ def test_repeated_material_in_a_visual_is_a_warning_and_converts(tmp_path: Path)
     assert any(d.code == "S007" and d.severity is Severity.ERROR for d in urdftool.check(source).errors)
 
 
+def test_identical_repeated_element_is_a_warning() -> None:
+    # Summit XL TIX (robotnik_sensors' D435 macro): <child link="camera_link"/> written twice in a
+    # joint. Loaders that keep the first and those that keep the last build the same robot.
+    report = urdftool.check(RULES / "S007" / "bad_identical_child.urdf")
+    repeated = [d for d in report.diagnostics if d.code == "S007"]
+    assert [d.severity for d in repeated] == [Severity.WARNING] and report.ok
+    assert "a copy of the first one (line 14)" in repeated[0].message
+
+
+def test_joint_locked_by_equal_limits_gets_one_warning() -> None:
+    # RotorS and UUV Simulator mount every sensor on a revolute joint with lower = upper = effort =
+    # velocity = 0 (Gazebo classic would merge a fixed joint's link away): inverted-limits
+    # reports the lock, and zero-effort-or-velocity does not say it again.
+    report = urdftool.check(RULES / "J003" / "good_locked_sensor_joint.urdf")
+    found = [d for d in report.diagnostics if d.code in {"J003", "J004"}]
+    assert [d.code for d in found] == ["J004"] and report.ok
+    assert "preserveFixedJoint" in (found[0].help or "")
+
+
 def test_kinematics_only_model_gets_one_finding_and_one_refusal() -> None:
     path = RULES / "I011" / "bad.urdf"
     report = urdftool.check(path)
@@ -440,3 +459,60 @@ def test_gltf_mesh_in_an_sdf_model_is_a_note_not_a_warning(tmp_path: Path) -> No
                     "</geometry></visual></link></robot>")
     assert [d.severity for d in urdftool.check(sdf).diagnostics if d.code == "M004"] == [Severity.INFO]
     assert [d.severity for d in urdftool.check(urdf).diagnostics if d.code == "M004"] == [Severity.WARNING]
+
+
+def _solidworks_export(root: Path, names: tuple[str, str], on_disk: tuple[str, str]) -> Path:
+    """A CAD export laid out as Poppy Humanoid's: ``robots/robot.URDF`` naming its meshes
+    ``package://meshes/NAME`` (no package; the folder ``meshes/`` sits beside ``robots/``)."""
+    import trimesh
+
+    (root / "robots").mkdir(parents=True)
+    (root / "meshes").mkdir()
+    for name in on_disk:
+        trimesh.creation.box(extents=(0.05, 0.05, 0.05)).export(str(root / "meshes" / name))
+    inertial = ('<inertial><mass value="0.1"/><inertia ixx="4e-5" ixy="0" ixz="0" iyy="4e-5" iyz="0"'
+                ' izz="4e-5"/></inertial>')
+    links = "".join(f'<link name="l{i}">{inertial}<collision><geometry><mesh filename="package://meshes/'
+                    f'{name}"/></geometry></collision></link>' for i, name in enumerate(names))
+    joint = ('<joint name="j" type="revolute"><parent link="l0"/><child link="l1"/><axis xyz="0 0 1"/>'
+             '<limit lower="-1" upper="1" effort="1" velocity="1"/></joint>')
+    model = root / "robots" / "robot.URDF"
+    model.write_text(f'<robot name="cad">{links}{joint}</robot>')
+    return model
+
+
+def _loads_in_pybullet(model: Path) -> bool | None:
+    try:
+        import pybullet
+    except ImportError:
+        return None
+    client = pybullet.connect(pybullet.DIRECT)
+    try:
+        pybullet.loadURDF(str(model), physicsClientId=client)
+    except pybullet.error:
+        return False
+    finally:
+        pybullet.disconnect(client)
+    return True
+
+
+def test_package_less_mesh_uri_pybullet_finds_one_folder_up_is_a_warning(tmp_path: Path) -> None:
+    """Poppy Humanoid (poppy-project/poppy-humanoid) writes `package://meshes/pelvis_visual.STL`
+    in `robots/Poppy_Humanoid.URDF`: no ROS package is called `meshes`, but PyBullet drops the
+    scheme and looks in the file's folder and every folder above, where `meshes/` is. M001 was
+    an error: urdftool looked beside the file only."""
+    model = _solidworks_export(tmp_path / "URDF", ("base.STL", "arm.STL"), ("base.STL", "arm.STL"))
+    found = [d for d in urdftool.check(model).diagnostics if d.code == "M001"]
+    assert [d.severity for d in found] == [Severity.WARNING]
+    assert found[0].data["pybullet_finds"] == str(tmp_path / "URDF" / "meshes" / "base.STL")
+    assert _loads_in_pybullet(model) in (True, None)
+
+
+def test_package_less_mesh_uri_with_one_file_pybullet_misses_stays_an_error(tmp_path: Path) -> None:
+    """Poppy's URDF names ten meshes `*.STL` whose files are `*.stl`: PyBullet finds the other 42,
+    misses these on a case-sensitive file system and refuses the whole robot."""
+    model = _solidworks_export(tmp_path / "URDF", ("base.STL", "arm.STL"), ("base.STL", "arm.stl"))
+    found = [d for d in urdftool.check(model).diagnostics if d.code == "M001"]
+    assert [d.severity for d in found] == [Severity.ERROR]
+    assert "PyBullet finds 1 of these 2 meshes but not 'package://meshes/arm.STL'" in (found[0].help or "")
+    assert _loads_in_pybullet(model) in (False, None)

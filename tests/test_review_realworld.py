@@ -9,6 +9,8 @@ from __future__ import annotations
 import sys
 from pathlib import Path
 
+import pytest
+
 from tests.conftest import ROOT
 
 sys.path.insert(0, str(ROOT / "scripts"))
@@ -68,3 +70,25 @@ def test_an_srdf_and_controllers_the_discovery_cannot_pair_are_passed() -> None:
     assert argv[argv.index("--srdf") + 1] == "/corpus/arm_moveit_config/config/arm.srdf"
     assert argv[argv.index("--controllers") + 1] == "/corpus/arm/config/c.yaml"
     assert "--srdf" not in review_realworld.command(ENTRY, CORPUS, dynamics=True)
+
+
+
+def test_an_environment_the_upstream_setup_script_exports_is_set_and_labelled(
+        monkeypatch: pytest.MonkeyPatch) -> None:
+    # kinova-movo's xacro reads $(optenv MOVO_HAS_BODY false): the model depends on the shell
+    monkeypatch.delenv("MOVO_HAS_BODY", raising=False)
+    entry = {"path": "movo/urdf/movo.urdf.xacro", "env": {"MOVO_HAS_BODY": "true"}}
+    assert review_realworld.environment(entry)["MOVO_HAS_BODY"] == "true"
+    assert "MOVO_HAS_BODY" not in review_realworld.environment(ENTRY)
+    assert review_realworld.label(entry) == "movo/urdf/movo.urdf.xacro (env MOVO_HAS_BODY=true)"
+    assert review_realworld.label({**entry, "xacro_args": {"arm": "left"}}) == \
+        "movo/urdf/movo.urdf.xacro [arm:=left] (env MOVO_HAS_BODY=true)"
+
+
+def test_saved_report_names_stay_within_file_name_limits() -> None:
+    assert review_realworld.report_name(ENTRY) == "arm__urdf__arm.xacro_[gazebo:=true].json"
+    many = {**ENTRY, "xacro_args": {f"argument_{i}": "rotors_gazebo/resource/fixed_wing.yaml"
+                                    for i in range(12)}}
+    name = review_realworld.report_name(many)
+    assert len(name.encode("utf-8")) <= 255
+    assert name != review_realworld.report_name({**many, "xacro_args": {"other": "1"}})

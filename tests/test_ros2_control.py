@@ -199,6 +199,64 @@ def test_namespaced_node_names(tmp_path: Path) -> None:
     assert config.controllers[0].param("joints") is not None
 
 
+def _read(tmp_path: Path, text: str) -> list[tuple[str, str, str | None, str | None, list[str]]]:
+    path = tmp_path / "c.yaml"
+    path.write_text(text)
+    return [
+        (c.namespace, c.name, c.type.text() if c.type else None,
+         c.listed_type.text() if c.listed_type else None, sorted(c.params))
+        for c in read_controllers(str(path)).controllers
+    ]
+
+
+def test_type_in_the_controllers_own_parameters(tmp_path: Path) -> None:
+    # ros2_control PR 1502: the manager lists nothing; the controller's node holds its type
+    assert _read(tmp_path, (
+        "controller_manager:\n  ros__parameters:\n    update_rate: 100\n"
+        "fwd:\n  ros__parameters:\n    type: velocity_controllers/JointGroupVelocityController\n"
+        "    joints: [j1]\n"
+    )) == [("", "fwd", "velocity_controllers/JointGroupVelocityController", None, ["joints", "type"])]
+
+
+def test_both_layouts_own_type_wins_and_manager_type_is_kept(tmp_path: Path) -> None:
+    assert _read(tmp_path, (
+        "controller_manager:\n  ros__parameters:\n    arm:\n      type: a/B\n"
+        "arm:\n  ros__parameters:\n    type: c/D\n"
+    )) == [("", "arm", "c/D", "a/B", ["type"])]
+
+
+def test_a_node_whose_type_names_no_plugin_is_no_controller(tmp_path: Path) -> None:
+    # crazyswarm2's motion_capture_tracking: `type: optitrack`
+    assert _read(tmp_path, "/mocap:\n  ros__parameters:\n    type: optitrack\n    joint: x\n") == []
+
+
+def test_nested_keys_are_namespaces_and_wildcards_reach_every_node(tmp_path: Path) -> None:
+    found = _read(tmp_path, (
+        "/**:\n  ros__parameters:\n    use_sim_time: true\n"
+        "/**/arm:\n  ros__parameters:\n    type: a/B\n    interface_name: position\n"
+        "r1:\n  arm:\n    ros__parameters:\n      joints: [r1_j]\n"
+        "/r2/arm:\n  ros__parameters:\n    joints: [r2_j]\n"
+        "/r3/*:\n  ros__parameters:\n    state_publish_rate: 10.0\n"
+    ))
+    assert found == [
+        ("/r1", "arm", "a/B", None, ["interface_name", "joints", "type", "use_sim_time"]),
+        ("/r2", "arm", "a/B", None, ["interface_name", "joints", "type", "use_sim_time"]),
+    ]
+
+
+def test_a_file_for_several_robots_is_checked_in_the_models_namespace(tmp_path: Path) -> None:
+    path = tmp_path / "c.yaml"
+    path.write_text(
+        "/**/fwd:\n  ros__parameters:\n    type: position_controllers/JointGroupPositionController\n"
+        "/other/fwd:\n  ros__parameters:\n    joints: [other_joint1, other_joint2]\n"
+        "/mine/fwd:\n  ros__parameters:\n    joints: [joint1, joint_2]\n"
+    )
+    found = _check(PACKAGES, ARM, controllers=str(path))
+    assert [(d.code, d.location.line, d.data["joint"]) for d in found if d.location] == [
+        ("G201", 9, "joint_2")
+    ]
+
+
 def test_controllers_option_checks_every_model(tmp_path: Path) -> None:
     path = tmp_path / "c.yaml"
     path.write_text(

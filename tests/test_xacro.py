@@ -362,6 +362,40 @@ def test_unknown_macro_is_located_at_the_call(tmp_path: Path) -> None:
     assert (Path(found.location.path), found.location.line) == (top, 5)
 
 
+
+def test_property_without_the_xacro_prefix_is_named_in_the_help(tmp_path: Path) -> None:
+    # reduced from Kinovarobotics/kinova-movo jaco_7dof.urdf.xacro (BSD-3): Kinetic's xacro read
+    # <property> with a deprecation warning; Noetic and ROS 2 leave it as plain XML
+    top = tmp_path / "arm.urdf.xacro"
+    top.write_text(
+        '<?xml version="1.0"?>\n<robot name="arm" xmlns:xacro="http://www.ros.org/wiki/xacro">\n'
+        '  <property name="shoulder_rpy" value="0 3.14 0"/>\n  <link name="base"/>\n'
+        '  <link name="shoulder"/>\n  <joint name="j" type="fixed"><parent link="base"/>'
+        '<child link="shoulder"/><origin rpy="${shoulder_rpy}"/></joint>\n</robot>\n',
+        encoding="utf-8",
+    )
+    (found,) = [d for d in findings(top) if d.name == "xacro-error"]
+    assert "name 'shoulder_rpy' is not defined" in found.message
+    assert found.help == ("'shoulder_rpy' is written <property> (arm.urdf.xacro:3), without the xacro: "
+                          "prefix, which xacro reads only before ROS Noetic: write <xacro:property>")
+
+
+def test_property_defined_after_its_use_is_named_in_the_help(tmp_path: Path) -> None:
+    # reduced from OrebroUniversity/yumi yumi.urdf.xacro (BSD-2): the whole-document xacro of
+    # Indigo collected properties first; in-order xacro (Melodic and later) stops at the use
+    top = tmp_path / "dual.urdf.xacro"
+    top.write_text(
+        '<?xml version="1.0"?>\n<robot name="dual" xmlns:xacro="http://www.ros.org/wiki/xacro">\n'
+        '  <link name="${parent_link}"/>\n  <xacro:property name="parent_link" value="world"/>\n'
+        "</robot>\n",
+        encoding="utf-8",
+    )
+    (found,) = [d for d in findings(top) if d.name == "xacro-error"]
+    assert (Path(found.location.path), found.location.line) == (top, 3)
+    assert found.help is not None and found.help.startswith(
+        "'parent_link' is defined at dual.urdf.xacro:4, after its use or in another macro's scope")
+
+
 # -- the seed corpus ---------------------------------------------------------------------
 
 KINECT = "uos_tools/uos_common_urdf/urdf/kinect.urdf.xacro"

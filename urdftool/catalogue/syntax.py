@@ -199,7 +199,10 @@ class RepeatedElement(_Syntax):
     Reports a second `<origin>`, `<axis>`, `<limit>`, `<inertial>`, `<mass>`,
     `<geometry>` and the like inside the same parent. A repeated `<material>`
     in a `<visual>` (CAD exporters write one per colour) is a warning: every
-    loader shows the first, and only the robot's look depends on it.
+    loader shows the first, and only the robot's look depends on it. So is an
+    exact copy of the first (the same attributes and children, such as a
+    joint's `<child link>` written twice): whichever copy a loader keeps, the
+    robot is the same.
 
     ## Why it matters
     Loaders keep either the first or the last copy, and they do not agree:
@@ -261,11 +264,18 @@ class UnknownAttribute(_Syntax):
 
     ## What it does
     Reports attributes URDF does not define on that element: `<limit
-    lowwer="…">`, `<origin xzy="…">`, `<mass val="…">`.
+    lowwer="…">`, `<origin xzy="…">`, `<mass val="…">`. In SDF files of
+    version 1.7 and later it reports `<pose frame="…">`, the attribute 1.7
+    replaced by `relative_to`: an error when it names a frame, a warning when
+    it is empty (`frame=""`, as `gz sdf -p` writes for 1.5 and 1.6 files, where
+    it is valid).
 
     ## Why it matters
     Misspelt attributes are ignored by every loader: the value the author meant
-    never reaches the simulator.
+    never reaches the simulator. libsdformat drops a 1.7 file's `pose@frame`
+    with only a console warning ("XML Attribute[frame] in element[pose] not
+    defined in SDF, ignoring", sdformat#178), so the element is placed in the
+    default frame (the model's, for a link), not in the frame named.
 
     ## Example
     ```xml
@@ -291,11 +301,17 @@ class MissingAttribute(_Syntax):
     Reports required attributes that are absent (`name` on links and joints,
     `type` on joints, `value` on `<mass>`, `filename` on `<mesh>`, the sizes
     of shapes, the six inertia components, `name` on a top-level material).
-    Missing child elements are reported by `missing-element`.
+    In SDF: `filename` on every `<plugin>` (its `name` is optional in
+    libsdformat's spec), `name` and `type` on every `<sensor>`; a plugin's own
+    content is not checked. Missing child elements are reported by
+    `missing-element`.
 
     ## Why it matters
     urdfdom refuses the model; permissive loaders fill in zeros, which for a
-    mass or an inertia makes the link physically impossible.
+    mass or an inertia makes the link physically impossible. libsdformat
+    refuses an SDF file with a missing required attribute ("Required
+    attribute[filename] in element[plugin] is not specified in SDF"), so
+    gz-sim does not load it.
 
     ## Example
     ```xml

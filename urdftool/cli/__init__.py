@@ -11,6 +11,7 @@ import importlib
 
 import click
 
+from urdftool.budgets import set_budgets
 from urdftool.cli.suggest import unknown_command
 from urdftool.safe_files import DEFAULT_LIMITS, set_limits
 from urdftool.version import __version__
@@ -69,8 +70,13 @@ def main(ctx: click.Context) -> None:
     """
     # --max-file-size sets the read caps for this invocation only: a program (or a test) that
     # runs several commands in one process must not inherit the last one's caps.
+    _defaults()
+    ctx.call_on_close(_defaults)
+
+
+def _defaults() -> None:
     set_limits(DEFAULT_LIMITS)
-    ctx.call_on_close(lambda: set_limits(DEFAULT_LIMITS))
+    set_budgets({})
 
 
 __all__ = ["COMMANDS", "main"]

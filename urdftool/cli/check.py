@@ -11,6 +11,7 @@ from typing import TYPE_CHECKING
 import click
 from click.core import ParameterSource
 
+from urdftool.budgets import command_line
 from urdftool.cli.common import (
     EXIT_OK,
     InputProblem,
@@ -212,7 +213,7 @@ def _group_options(settings: Settings, options: CheckOptions) -> CheckOptions:
     return dataclasses.replace(
         options, select=settings.select, ignore=settings.ignore, xacro_args=dict(settings.xacro_args),
         packages=dict(settings.packages), package_paths=settings.package_paths,
-        severity=dict(settings.severity),
+        severity=dict(settings.severity), budgets={**settings.budgets, **command_line()},
     )
 
 

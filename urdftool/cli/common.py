@@ -11,6 +11,7 @@ from typing import Any, TypeVar
 
 import click
 
+from urdftool.budgets import NAMES, BudgetError, budgets, parse_budgets, set_budgets
 from urdftool.parse import InputError, Loaded
 from urdftool.pipeline.check import CheckOptions
 from urdftool.pipeline.load import no_such_model
@@ -50,8 +51,24 @@ def _set_file_limits(ctx: click.Context, param: click.Parameter, values: Sequenc
         raise click.BadParameter(str(exc), ctx=ctx, param=param) from exc
 
 
+def _set_budgets(ctx: click.Context, param: click.Parameter, values: Sequence[str]) -> None:
+    try:
+        set_budgets(parse_budgets(list(values)))
+    except BudgetError as exc:
+        raise click.BadParameter(str(exc), ctx=ctx, param=param) from exc
+
+
 def model_options(func: F) -> F:
-    """``-a/--xacro-arg``, ``--package``, ``--package-path``, ``--max-file-size``."""
+    """``-a/--xacro-arg``, ``--package``, ``--package-path``, ``--max-file-size``, ``--budget``."""
+    func = click.option(
+        "--budget",
+        multiple=True,
+        metavar="NAME=VALUE",
+        expose_value=False,
+        callback=_set_budgets,
+        help=f"Raise (or lower) a stage's budget: {', '.join(NAMES)} (docs/robustness.md); "
+        "e.g. --budget xacro-seconds=120; repeatable.",
+    )(func)
     func = click.option(
         "--max-file-size",
         multiple=True,
@@ -112,6 +129,7 @@ def build_options(
         package_paths=tuple(os.path.abspath(p) for p in package_paths),
         rule_options=rule_options,
         file_limits=limits(),
+        budgets=budgets(),
     )
     try:
         options.selection()

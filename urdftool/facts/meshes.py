@@ -226,3 +226,22 @@ def mesh_extents(path: str, scale: tuple[float, float, float]) -> tuple[float, f
         return None
     x, y, z = (float(v) for v in info.extents)
     return (x, y, z)
+
+
+def in_ros_package(ctx: CheckContext, path: str) -> bool:
+    """Whether the file at *path* sits in a ROS package: a ``package.xml`` in its folder or one
+    above it (ROS tools reach its files by ``package://``). Memoised per folder."""
+    folder = os.path.dirname(os.path.abspath(path))
+    key = ("in-ros-package", folder)
+    if key not in ctx.cache:
+        here, found = folder, False
+        while True:
+            if os.path.isfile(os.path.join(here, "package.xml")):
+                found = True
+                break
+            parent = os.path.dirname(here)
+            if parent == here:
+                break
+            here = parent
+        ctx.cache[key] = found
+    return bool(ctx.cache[key])

@@ -17,7 +17,7 @@ from dataclasses import field
 from typing import Any
 
 from urdftool.facts.context import CONTROLLERS_OPTION, CheckContext
-from urdftool.parse.controllers import Controllers
+from urdftool.parse.controllers import Controller, Controllers, Value
 from urdftool.records import record
 
 #: Key of the run's options that holds the :class:`Controllers`.
@@ -105,6 +105,52 @@ class Block:
 def controllers(ctx: CheckContext) -> Controllers | None:
     value = ctx.options.get(OPTION)
     return value if isinstance(value, Controllers) else None
+
+
+def controller_list(ctx: CheckContext) -> list[Controller]:
+    """The controllers of the model's controllers YAML files that can run on this robot.
+
+    One file may hold the controllers of several robots, each in its controller manager's
+    namespace (ros2_control_demos example 15: `/rrbot_1/forward_position_controller` and
+    `/rrbot_2/forward_position_controller`, whose joints carry each robot's prefix). Which
+    namespace the model is started in is the launch file's choice, so when a file places
+    controllers in two or more namespaces only those of the namespaces whose parameters name the
+    most joints of this robot are kept (all of them when none names any); controllers under a
+    wildcard namespace run in any namespace and are always kept.
+    """
+    key = ("ros2_control-controllers",)
+    if key not in ctx.cache:
+        found = controllers(ctx)
+        joints = {joint.name for joint in ctx.robot.joints}
+        ctx.cache[key] = [
+            controller
+            for config in (found.configs if found else [])
+            for controller in _for_robot(config.controllers, joints)
+        ]
+    return ctx.cache[key]  # type: ignore[no-any-return]
+
+
+def _names(value: Value) -> Iterator[str]:
+    """Every string a parameter value holds (a scalar, or the items of a list)."""
+    if isinstance(value.value, list):
+        for item in value.value:
+            yield from _names(item)
+    elif isinstance(value.value, str):
+        yield value.value
+
+
+def _for_robot(found: list[Controller], joints: set[str]) -> list[Controller]:
+    spaces = {c.namespace for c in found if "*" not in c.namespace}
+    if len(spaces) < 2:
+        return found
+    fit = dict.fromkeys(spaces, 0)
+    for controller in found:
+        if controller.namespace in fit:
+            fit[controller.namespace] += sum(
+                name in joints for value in controller.params.values() for name in _names(value)
+            )
+    best = max(fit.values())
+    return [c for c in found if best == 0 or fit.get(c.namespace, best) == best]
 
 
 def _text(element: Any) -> str:

@@ -277,6 +277,12 @@ class Robot:
     #: The ``<plugin>`` elements of the SDF world, kept on the world's first model: systems such
     #: as gz-sim's Sensors belong to the world, and a rule reads them once per world.
     world_plugins: tuple[Any, ...] = field(default=(), compare=False, repr=False)
+    #: The ``<world>`` element (lxml) the model is in, on every model of an SDF world, for rules
+    #: that ask what the world loads (which gz-sim systems run); ``None`` for a model read alone.
+    world: Any = field(default=None, compare=False, repr=False)
+    #: Where an SDF model is marked ``<static>true</static>`` (its ``<static>``, else the model: an
+    #: include made it static); ``None`` for a model that moves.
+    static_span: Span | None = field(default=None, compare=False)
 
     def link(self, name: str) -> Link | None:
         """The first link of that name (as urdfdom keeps the first of a duplicate), in O(1)."""

@@ -51,9 +51,11 @@ def read_sdf(path: str, resolver: PackageResolver) -> list[Loaded]:
         )
         return [Loaded(path, "sdf", None, problems, [path])]
     version = _version(root, problems)
-    problems.extend(check_document(root, version))
     owners: list[tuple[etree._Element, Loaded]] = []
     models = _read_models(root, version, path, resolver, owners)
+    # an <include> without <name> takes its model's name, known once the include is read
+    names = {id(e): m.robot.name for e, m in owners if e.tag == "include" and m.robot and m.robot.name}
+    problems.extend(check_document(root, version, names))
     if not models and not _has_world(root):
         problems.append(
             SdfModelMissing.diagnostic(
@@ -162,6 +164,9 @@ def _read_models(root: etree._Element, version: tuple[int, int], path: str,
         first = next((m for m in out[start:] if m.robot is not None), None)
         if plugins and first is not None and first.robot is not None:
             first.robot = dataclasses.replace(first.robot, world_plugins=plugins)
+        for model in out[start:] if container.tag == "world" else ():
+            if model.robot is not None:
+                model.robot = dataclasses.replace(model.robot, world=container)
     return out
 
 

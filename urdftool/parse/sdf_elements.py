@@ -30,6 +30,7 @@ from urdftool.model import (
     Limit,
     Material,
     Mesh,
+    Mimic,
     Plane,
     Sphere,
     Visual,
@@ -343,8 +344,26 @@ def _dynamics(values: SdfValues, axis: etree._Element | None, where: str) -> Dyn
     stiffness = values.text_number(element, "spring_stiffness", here, 0.0)
     reference = values.text_number(element, "spring_reference", here, 0.0)
     return Dynamics(damping or 0.0, friction or 0.0, span_of(element),
-                    spring_stiffness=stiffness if stiffness and stiffness > 0 else 0.0,
+                    spring_stiffness=stiffness or 0.0,  # a negative one is kept for the rule (J011)
                     spring_reference=reference or 0.0)
+
+
+def mimic(values: SdfValues, joint: etree._Element, where: str) -> Mimic | None:
+    """The joint's ``<axis><mimic joint="…">`` (SDFormat 1.11), leader as written (unscoped).
+
+    SDF's follower position is ``multiplier · (leader − reference) + offset``; the model's
+    :class:`Mimic` is ``multiplier · leader + offset``, so the reference is folded into the offset.
+    """
+    element = values.child(values.child(joint, "axis"), "mimic")
+    leader = (element.get("joint") or "").strip() if element is not None else ""
+    if element is None or not leader:
+        return None  # libsdformat requires the attribute; missing-attribute is the file pass's
+    here = f"{where}/axis/mimic"
+    multiplier = values.text_number(element, "multiplier", here, 1.0)
+    offset = values.text_number(element, "offset", here, 0.0)
+    reference = values.text_number(element, "reference", here, 0.0)
+    factor = 1.0 if multiplier is None else multiplier
+    return Mimic(leader, factor, (offset or 0.0) - factor * (reference or 0.0), span_of(element))
 
 
 def _custom_tag(tag: str) -> bool:

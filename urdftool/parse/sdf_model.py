@@ -32,7 +32,7 @@ from urdftool.model import Collision, Extension, Joint, JointType, Link, LoopClo
 from urdftool.model.pose import Matrix
 from urdftool.parse.locate import span_of
 from urdftool.parse.packages import PackageResolver
-from urdftool.parse.sdf_elements import LinkBodyReader, joint_details
+from urdftool.parse.sdf_elements import LinkBodyReader, joint_details, mimic
 from urdftool.parse.sdf_frames import MODEL_FRAME, WORLD_FRAME, FrameGraph, FrameNode
 from urdftool.parse.sdf_include import read_include
 from urdftool.parse.sdf_tree import spanning_tree
@@ -277,9 +277,11 @@ class SdfModelReader:
         self.extensions.extend(self._frame_extensions(frames))
         children = {j.child for j in tree}
         roots = {n: Pose.from_matrix(frames[n]) for n in names if n not in children and n in frames}
+        static_el = self.values.child(model, "static")
+        static_span = (span_of(static_el) if static_el is not None else span_of(model)) if static else None
         return Robot(name=name, links=tuple(links), joints=tuple(tree), extensions=tuple(self.extensions),
                      loop_closures=tuple(closures), path=self.path, format="sdf", span=span_of(model),
-                     root_poses=roots if len(roots) > 1 else None)
+                     root_poses=roots if len(roots) > 1 else None, static_span=static_span)
 
     def _weld_to_world(self, names: list[str], joints: list[Joint], model: etree._Element) -> list[Joint]:
         """Fixed joints from ``world`` to each free link of a static model."""
@@ -305,6 +307,9 @@ class SdfModelReader:
         axis = self._axis_in_model(details.axis, details.axis_frame, joint_frame, raw, where)
         axis2 = (self._axis_in_model(details.axis2, details.axis2_frame, joint_frame, raw, where)
                  if details.axis2 is not None else None)
+        follows = mimic(self.values, raw.element, where)
+        if follows is not None:  # the leader is named in the joint's own model scope (a::j below it)
+            follows = dataclasses.replace(follows, joint=_scoped(raw.scope, follows.joint))
         return Joint(
             name=raw.name, type=details.type, parent=parent, child=child,
             # provisional: the joint frame in the model frame and the axis in the
@@ -312,7 +317,7 @@ class SdfModelReader:
             origin=Pose.from_matrix(joint_frame), axis=axis,
             limit=details.limit, dynamics=details.dynamics, span=span_of(raw.element),
             axis_span=details.axis_span,  # type: ignore[arg-type]
-            axis2=axis2, limit2=details.limit2,
+            axis2=axis2, limit2=details.limit2, mimic=follows,
             extensions=tuple(_extension(c) for c in raw.element
                              if isinstance(c.tag, str) and c.tag not in _JOINT_PARTS
                              and not (c.tag == "axis2" and axis2 is not None)),
@@ -394,6 +399,9 @@ class SdfModelReader:
             else:
                 continue
             item_in_link = placed.item.origin.matrix
+            pose_el = self.values.child(child, "pose")
+            if raw.version >= (1, 7) and pose_el is not None and not pose_el.get("relative_to"):
+                placed.relative_to = None  # libsdformat 1.7+ ignores the old frame="…" (unknown-attribute)
             if placed.relative_to:
                 target = _scoped(_scope_of(raw.name), placed.relative_to)
                 if self.graph.check_reference(target, placed.pose_span, f"{where}/{child.tag}/pose"):  # type: ignore[arg-type]

@@ -15,11 +15,12 @@ a whole, per the declared version (see docs/sdf.md):
 * world frames and world joints (1.7+, 1.10+): names, attachments, cycles;
 * the root holds at most one model (``repeated-element``);
 * numbers the model reader does not read (world gravity, velocity decay, ...).
+* every ``<pose>``'s angles, which must not read as degrees (``angle-looks-like-degrees``).
 """
 
 from __future__ import annotations
 
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from dataclasses import field
 
 from lxml import etree
@@ -31,10 +32,13 @@ from urdftool.catalogue.syntax import (
     MissingAttribute,
     RepeatedElement,
     SelfLoopJoint,
+    UnknownAttribute,
     UnknownElement,
 )
 from urdftool.diagnostics import Diagnostic, Severity
+from urdftool.parse.angles import degree_poses
 from urdftool.parse.locate import span_of
+from urdftool.parse.sdf_include import include_uri, standard_model
 from urdftool.parse.sdf_spec import ELEMENTS, fmt, versions_of
 from urdftool.parse.sdf_state import in_state, state_findings
 from urdftool.parse.sdf_values import SdfValues
@@ -90,6 +94,8 @@ class SdfSemantics:
     version: Version
     values: SdfValues = field(default_factory=lambda: SdfValues(SourceIndex()))
     out: list[Diagnostic] = field(default_factory=list)
+    #: id of a world ``<include>`` element -> the name of the model it brought in (the reader's)
+    include_names: dict[int, str] = field(default_factory=dict)
 
     def check(self, root: etree._Element) -> list[Diagnostic]:
         self._versions(root)
@@ -107,8 +113,59 @@ class SdfSemantics:
         for world in _elements(root, "world"):
             self._world(world)
         self._numbers(root)
+        self.out.extend(degree_poses(root, span_of))
+        self._attributes(root)
         self.out.extend(self.values.diagnostics)
         return self.out
+
+    # -- attributes --------------------------------------------------------------
+
+    def _attributes(self, root: etree._Element) -> None:
+        """Attributes the spec requires (``plugin@filename``, ``sensor@name``/``@type``), and the
+        ``frame`` of a ``<pose>`` that SDFormat 1.7 replaced by ``relative_to``. A plugin's own
+        content is the plugin's, not SDFormat's, and is not walked."""
+        stack = [root]
+        while stack:
+            element = stack.pop()
+            for child in element:
+                if not isinstance(child.tag, str) or _custom(child.tag):
+                    continue
+                if child.tag == "plugin":
+                    self._required(child, ("filename",))
+                    continue
+                if child.tag == "sensor":
+                    self._required(child, ("name", "type"))
+                elif child.tag == "pose" and self.version >= (1, 7) and child.get("frame") is not None:
+                    self._pose_frame(child)
+                stack.append(child)
+
+    def _required(self, element: etree._Element, attributes: tuple[str, ...]) -> None:
+        for attribute in attributes:
+            if (element.get(attribute) or "").strip():
+                continue
+            label = f" '{element.get('name')}'" if element.get("name") else ""
+            self.out.append(MissingAttribute.diagnostic(
+                f"<{element.tag}>{label} has no '{attribute}' attribute, which SDFormat requires; "
+                "libsdformat refuses the file",
+                span_of(element), element=str(element.tag),
+                help=("name the library to load, e.g. filename=\"gz-sim-diff-drive-system\""
+                      if attribute == "filename" else f"write {attribute}=\"…\""),
+                data={"attribute": attribute}))
+
+    def _pose_frame(self, pose: etree._Element) -> None:
+        """``<pose frame="…">`` in a 1.7+ file: libsdformat drops the attribute with a warning, so
+        the pose is read in the default frame, not in the one named (an error unless empty)."""
+        frame = (pose.get("frame") or "").strip()
+        owner = pose.getparent()
+        where = f"{owner.tag}[{owner.get('name') or ''}]/pose" if owner is not None else "pose"
+        self.out.append(UnknownAttribute.diagnostic(
+            f"{where}: 'frame' is not an attribute of <pose> in SDFormat {fmt(self.version)} "
+            "(1.7 replaced it by 'relative_to'); libsdformat ignores it"
+            + (f", so the pose is not relative to '{frame}'" if frame else ""),
+            self.values.attr_span(pose, "frame"), element=where,
+            severity=Severity.ERROR if frame else None,
+            help=(f'write <pose relative_to="{frame}">' if frame else 'remove frame=""'),
+            data={"attribute": "frame", "frame": frame}))
 
     # -- versions ----------------------------------------------------------------
 
@@ -153,11 +210,25 @@ class SdfSemantics:
             return (element.findtext("name") or "").strip()
         return element.get("name") or ""
 
-    def _unique(self, elements: list[etree._Element], what: str, where: str, always: bool) -> None:
-        """Report elements of *elements* sharing a name (an error from 1.7, or *always*)."""
+    def _effective_name(self, element: etree._Element) -> str:
+        """The name an element takes in its scope. An ``<include>`` without ``<name>`` takes the
+        included model's (as the reader found it, else the NAME of its ``model://NAME`` URI; ``""``
+        when unknown); a merged include (1.9+) brings no name of its own."""
+        name = self._name(element)
+        if name or element.tag != "include" or _merged(element):
+            return name
+        if id(element) in self.include_names:
+            return self.include_names[id(element)]
+        last = include_uri(element).rstrip("/").rpartition("/")[2]
+        return "" if "." in last else last
+
+    def _unique(self, elements: list[etree._Element], what: str, where: str, always: bool,
+                pairs: Callable[[etree._Element, etree._Element], bool] | None = None) -> None:
+        """Report elements of *elements* sharing a name (an error from 1.7, or *always*); only the
+        pairs *pairs* accepts (first, later) when it is given."""
         seen: dict[str, etree._Element] = {}
         for element in elements:
-            name = self._name(element)
+            name = self._effective_name(element)
             if not name:
                 continue
             first = seen.get(name)
@@ -166,14 +237,19 @@ class SdfSemantics:
                 continue
             if first.tag == element.tag and element.tag in ("link", "joint"):
                 continue  # duplicate-link-name / duplicate-joint-name
+            if pairs is not None and not pairs(first, element):
+                continue
             error = always or self.version >= (1, 7)
             self.out.append(SdfNameCollision.diagnostic(
-                f"<{element.tag} name=\"{name}\"> in {where} has the name of the <{first.tag}> before it"
+                f"{_described(element, name)} in {where} has the name of the <{first.tag}>"
+                + (f" of '{include_uri(first)}'" if first.tag == "include" else "")
+                + f" on line {_line(first)}"
                 + ("" if error else " (allowed before SDFormat 1.7; libsdformat warns)"),
                 span_of(element), element=where,
                 severity=None if error else Severity.WARNING,
-                help=f"{what} names must be unique" + (" in one namespace since SDFormat 1.7"
-                                                        if not always else ""),
+                help=(f"{what} names must be unique" + (" in one namespace since SDFormat 1.7"
+                                                         if not always else ""))
+                + ("; give each <include> its own <name>" if element.tag == "include" else ""),
                 data={"name": name}))
 
     def _reserved(self, elements: list[etree._Element], where: str) -> None:
@@ -258,11 +334,17 @@ class SdfSemantics:
             self.out.append(MissingAttribute.diagnostic(
                 "<world> needs a 'name' attribute", span_of(world), element="world"))
         where = f"world '{name or ''}'"
-        models = _elements(world, "model", "include")
+        models = [c for c in _elements(world, "model", "include") if not _sun(c)]
         self._unique(models, "model", where, always=True)
         frames = _elements(world, "frame")
         joints = _elements(world, "joint") if self.version >= (1, 10) else []
-        self._unique([*models, *frames, *joints], "model, frame and joint", where, always=False)
+        # two models are the error above; a model against a frame or joint is this one's
+        self._unique([*models, *frames, *joints], "model, frame and joint", where, always=False,
+                     pairs=lambda first, later: not (_model_like(first) and _model_like(later)))
+        # Lights are unique among lights (libsdformat: "light with name[…] already exists");
+        # model://sun brings the light "sun".
+        self._unique([c for c in _elements(world, "light", "include") if c.tag == "light" or _sun(c)],
+                     "light", where, always=True)
         self._reserved([*_elements(world, "model"), *frames, *joints], where)
         for model in _elements(world, "model"):
             self._model(model, top=False)
@@ -377,6 +459,32 @@ class SdfSemantics:
                 self.values.text_numbers(element, f"{parent.tag}/{element.tag}", (count,))
 
 
+def _sun(element: etree._Element) -> bool:
+    """An ``<include>`` of Gazebo's standard ``model://sun``, which is a light."""
+    return element.tag == "include" and standard_model(include_uri(element)) == "sun"
+
+
+def _model_like(element: etree._Element) -> bool:
+    return element.tag in ("model", "include")
+
+
+def _merged(include: etree._Element) -> bool:
+    return (include.get("merge") or "").strip().lower() in {"true", "1"}
+
+
+def _described(element: etree._Element, name: str) -> str:
+    if element.tag == "include":
+        if (element.findtext("name") or "").strip():
+            return f"<include> of '{include_uri(element)}' named '{name}'"
+        return f"<include> of '{include_uri(element)}' (model '{name}', no <name>)"
+    return f'<{element.tag} name="{name}">'
+
+
+def _line(element: etree._Element) -> str:
+    span = span_of(element)
+    return str(span.line) if span is not None and span.line is not None else "?"
+
+
 def _step(frame: etree._Element, via: str) -> str | None:
     """The frame that *frame* names through *via* (``attached_to``, or its pose's ``relative_to``)."""
     pose = frame.find("pose")
@@ -391,6 +499,8 @@ def _opaque(name: str, local: dict[str, set[str]]) -> bool:
     return any(name.startswith(prefix + "::") for prefix in local["opaque"])
 
 
-def check_document(root: etree._Element, version: Version) -> Iterator[Diagnostic]:
-    """File-level SDFormat findings of the document whose root is *root* (an ``<sdf>``)."""
-    yield from SdfSemantics(version).check(root)
+def check_document(root: etree._Element, version: Version,
+                   include_names: dict[int, str] | None = None) -> Iterator[Diagnostic]:
+    """File-level SDFormat findings of the document whose root is *root* (an ``<sdf>``);
+    *include_names* gives the model name each world ``<include>`` brought in (by element id)."""
+    yield from SdfSemantics(version, include_names=dict(include_names or {})).check(root)

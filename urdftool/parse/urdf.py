@@ -24,6 +24,7 @@ from urdftool.catalogue.syntax import (
     UnknownElement,
     VendorExtension,
 )
+from urdftool.catalogue.units import ONE_TURN, AngleLooksLikeDegrees
 from urdftool.diagnostics import Diagnostic, Severity
 from urdftool.model import (
     IDENTITY,
@@ -43,6 +44,7 @@ from urdftool.model import (
     Sphere,
     Visual,
 )
+from urdftool.parse.angles import degree_poses
 from urdftool.parse.locate import span_of
 from urdftool.parse.packages import PackageResolver
 from urdftool.parse.urdf_joints import JointParts
@@ -145,15 +147,22 @@ class UrdfReader(JointParts):
                 if not allowed[tag] and len(items) > 1:
                     first = getattr(self.span(items[0]), "line", None) or "?"
                     for extra in items[1:]:
+                        # A copy of the first says what the first says: loaders that keep the
+                        # first and those that keep the last build the same robot.
+                        copy = _same_element(items[0], extra)
                         self._report(
                             RepeatedElement.diagnostic(
+                                f"{where}: <{tag}> is repeated, a copy of the first one (line "
+                                f"{first}): whichever a loader keeps, the robot is the same"
+                                if copy else
                                 f"{where}: <{tag}> is repeated; the first one (line "
                                 f"{first}) is used and this one ignored",
                                 self.span(extra),
                                 element=f"{where}/{tag}",
                                 # CAD exporters write several colours per visual; every loader
                                 # shows the first, and nothing but the look depends on it.
-                                severity=Severity.WARNING if tag in COSMETIC_REPEATS else None,
+                                severity=Severity.WARNING
+                                if copy or tag in COSMETIC_REPEATS else None,
                             )
                         )
             elif (element.tag, tag) in VENDOR_ELEMENTS:
@@ -201,6 +210,11 @@ class UrdfReader(JointParts):
         self._check_attributes(origin, here)
         xyz = self.values.vector(origin, "xyz", here) or (0.0, 0.0, 0.0)
         rpy = self.values.vector(origin, "rpy", here) or (0.0, 0.0, 0.0)
+        if max(abs(rpy[0]), abs(rpy[1]), abs(rpy[2])) > ONE_TURN:  # rare: judged off the hot path
+            written = f'<origin rpy="{origin.get("rpy", "").strip()}">'
+            found = AngleLooksLikeDegrees.judge(rpy, self.values.attr_span(origin, "rpy"), here, written)
+            if found is not None:
+                self._report(found)
         return Pose((xyz[0], xyz[1], xyz[2]), (rpy[0], rpy[1], rpy[2]))
 
     # -- document ----------------------------------------------------------------
@@ -256,6 +270,8 @@ class UrdfReader(JointParts):
                         )
                     )
                 extensions.append(self._extension(child))
+                if tag == "gazebo":  # SDF inside: a sensor's or plugin's <pose> in degrees
+                    self.diagnostics.extend(degree_poses(child, self.span))
         self._report_vendor()
         return Robot(
             name=name,
@@ -501,6 +517,19 @@ class UrdfReader(JointParts):
                 for item in items
             ),
         )
+
+
+def _same_element(first: etree._Element, other: etree._Element) -> bool:
+    """Whether two elements say the same: tag, attributes (but the position stamp), text and
+    child elements alike, whitespace and comments aside."""
+    if first.tag != other.tag or (first.text or "").strip() != (other.text or "").strip():
+        return False
+    attributes = {k: v for k, v in first.attrib.items() if k != SRC_ATTRIBUTE}
+    if attributes != {k: v for k, v in other.attrib.items() if k != SRC_ATTRIBUTE}:
+        return False
+    children = [c for c in first if isinstance(c.tag, str)]
+    others = [c for c in other if isinstance(c.tag, str)]
+    return len(children) == len(others) and all(map(_same_element, children, others))
 
 
 def iter_elements(root: etree._Element) -> Iterator[etree._Element]:

@@ -43,7 +43,8 @@ from urdftool.parse.ament import installed_at
 from urdftool.parse.locate import encode_src, span_of
 from urdftool.parse.packages import PackageResolver
 from urdftool.parse.xacro_args import KnownArgument, known_arguments, merge, misspelt_arguments
-from urdftool.parse.xacro_hints import text_property_help
+from urdftool.parse.xacro_guard import guarded
+from urdftool.parse.xacro_hints import text_property_help, undefined_property_help
 from urdftool.parse.xmlio import XmlDocument, parse_bytes, to_utf8
 from urdftool.records import record
 from urdftool.safe_files import read_up_to
@@ -271,7 +272,7 @@ def _error_help(message: str, read: list[str]) -> str | None:
     if args:
         name = args[0]
         return f'pass it with -a {name}:=VALUE, or declare <xacro:arg name="{name}" default="..."/>'
-    return text_property_help(message, reversed(read))
+    return text_property_help(message, reversed(read)) or undefined_property_help(message, reversed(read))
 
 
 def _error_location(
@@ -309,7 +310,8 @@ def expand(
     session = _Session(resolver, top)
     stderr = io.StringIO()
     stack: list[str | None] = []
-    with _LOCK, _patched(session), contextlib.redirect_stderr(stderr), contextlib.redirect_stdout(stderr):
+    with (_LOCK, _patched(session), guarded(xacro), contextlib.redirect_stderr(stderr),
+          contextlib.redirect_stdout(stderr)):
         try:
             xacro.all_includes = []
             doc = xacro.process_file(top, mappings=dict(args or {}), verbosity=1)

@@ -9,6 +9,7 @@ from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import field
 from typing import TYPE_CHECKING, Any
 
+from urdftool.budgets import stage_budgets
 from urdftool.catalogue.syntax import InternalError
 from urdftool.collector import collector_paused
 from urdftool.diagnostics import Diagnostic, FileReport, Report, Severity
@@ -46,6 +47,8 @@ class CheckOptions:
     rule_options: Mapping[str, Any] = field(default_factory=dict)
     #: size caps by file kind (``model``, ``include``, ``mesh``) over the defaults; see safe_files
     file_limits: Mapping[str, int] = field(default_factory=dict)
+    #: stage budgets (:mod:`urdftool.budgets`) that differ from the defaults
+    budgets: Mapping[str, float] = field(default_factory=dict)
     #: honour ``<!-- urdftool: ignore[...] -->`` comments (``--no-suppressions`` turns them off)
     suppressions: bool = True
     #: rule code or name -> severity it is reported at (the configuration's ``severity`` table)
@@ -132,7 +135,7 @@ def report_for(loaded: Loaded, selection: Selection, options: Mapping[str, Any] 
 
 def check_file(path: str, options: CheckOptions) -> list[FileReport]:
     """Check every model in one file. Raises :class:`~urdftool.parse.InputError`."""
-    with file_limits(options.file_limits), collector_paused():
+    with file_limits(options.file_limits), stage_budgets(options.budgets), collector_paused():
         # The models are freed when _check_models returns, before the collector resumes: it then
         # has the reports to look at, not every object of the robots it would otherwise walk.
         return _check_models(path, options)

@@ -20,6 +20,7 @@ from dataclasses import field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
+from urdftool.budgets import BudgetError, checked
 from urdftool.catalogue.registry import Family
 from urdftool.catalogue.suggest import did_you_mean
 from urdftool.diagnostics import Severity
@@ -300,9 +301,19 @@ def resolve(path: str | os.PathLike[str], overrides: Overrides | None = None) ->
     return Settings(
         select=select, ignore=ignore, severity=severity, strict=strict, package_paths=package_paths,
         packages=packages, xacro_args=xacro_args, target=tuple(from_file("target") or ()),
-        budgets=dict(from_file("budgets") or {}), format=fmt, config=config.path if config else None,
+        budgets=_budgets(from_file("budgets") or {}, label), format=fmt,
+        config=config.path if config else None,
         sources=sources,
     )
+
+
+def _budgets(values: Mapping[str, Any], label: str) -> dict[str, float]:
+    """The ``budgets`` table, its names and values checked (an unknown name is an error with
+    did-you-mean, as an unknown key is)."""
+    try:
+        return checked(values)
+    except BudgetError as exc:
+        raise SettingsError(f"{label}: {exc}") from exc
 
 
 def _relative(path: str | os.PathLike[str], folder: Path) -> str:

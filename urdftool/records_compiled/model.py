@@ -239,7 +239,7 @@ def _init_model_robot_Mimic(__defaults__, __factories__, __sentinel__, __set__, 
 
 # urdftool.model.robot.Robot
 def _init_model_robot_Robot(__defaults__, __factories__, __sentinel__, __set__, __slot__):
-    def __init__(self, name, links=__defaults__['links'], joints=__defaults__['joints'], materials=__defaults__['materials'], extensions=__defaults__['extensions'], loop_closures=__defaults__['loop_closures'], path=__defaults__['path'], format=__defaults__['format'], span=__defaults__['span'], diagnostics=__defaults__['diagnostics'], home=__defaults__['home'], root_poses=__defaults__['root_poses'], world_plugins=__defaults__['world_plugins']):
+    def __init__(self, name, links=__defaults__['links'], joints=__defaults__['joints'], materials=__defaults__['materials'], extensions=__defaults__['extensions'], loop_closures=__defaults__['loop_closures'], path=__defaults__['path'], format=__defaults__['format'], span=__defaults__['span'], diagnostics=__defaults__['diagnostics'], home=__defaults__['home'], root_poses=__defaults__['root_poses'], world_plugins=__defaults__['world_plugins'], world=__defaults__['world'], static_span=__defaults__['static_span']):
         __set__(self, 'name', name)
         __set__(self, 'links', links)
         __set__(self, 'joints', joints)
@@ -253,6 +253,8 @@ def _init_model_robot_Robot(__defaults__, __factories__, __sentinel__, __set__, 
         __set__(self, 'home', home)
         __set__(self, 'root_poses', root_poses)
         __set__(self, 'world_plugins', world_plugins)
+        __set__(self, 'world', world)
+        __set__(self, 'static_span', static_span)
     return __init__
 
 
@@ -311,7 +313,7 @@ COMPILED = {
     'urdftool.model.robot.LoopClosure': ('joint,parent_anchor,child_anchor|slots', _init_model_robot_LoopClosure),
     'urdftool.model.robot.Material': ('name,color=,texture=,span=|slots', _init_model_robot_Material),
     'urdftool.model.robot.Mimic': ('joint,multiplier=,offset=,span=|slots', _init_model_robot_Mimic),
-    'urdftool.model.robot.Robot': ('name,links=,joints=,materials=,extensions=,loop_closures=,path=,format=,span=,diagnostics=,home=,root_poses=,world_plugins=|frozen', _init_model_robot_Robot),
+    'urdftool.model.robot.Robot': ('name,links=,joints=,materials=,extensions=,loop_closures=,path=,format=,span=,diagnostics=,home=,root_poses=,world_plugins=,world=,static_span=|frozen', _init_model_robot_Robot),
     'urdftool.model.robot.SafetyController': ('k_velocity,k_position=,soft_lower_limit=,soft_upper_limit=,span=|slots', _init_model_robot_SafetyController),
     'urdftool.model.robot.Visual': ('geometry,origin=,name=,material=,span=|slots', _init_model_robot_Visual),
     'urdftool.model.tree.KinematicTree': ('robot,parent_joint*,child_joints*,cycle_joints*|plain', _init_model_tree_KinematicTree),

@@ -24,12 +24,14 @@ def _init_parse_Loaded(__defaults__, __factories__, __sentinel__, __set__, __slo
 
 # urdftool.parse.controllers.Controller
 def _init_parse_controllers_Controller(__defaults__, __factories__, __sentinel__, __set__, __slot__):
-    (_set_name, _set_span, _set_type, _set_params,) = map(__slot__, ('name', 'span', 'type', 'params'))
-    def __init__(self, name, span, type=__defaults__['type'], params=__sentinel__):
+    (_set_name, _set_span, _set_type, _set_params, _set_listed_type, _set_namespace,) = map(__slot__, ('name', 'span', 'type', 'params', 'listed_type', 'namespace'))
+    def __init__(self, name, span, type=__defaults__['type'], params=__sentinel__, listed_type=__defaults__['listed_type'], namespace=__defaults__['namespace']):
         _set_name(self, name)
         _set_span(self, span)
         _set_type(self, type)
         _set_params(self, __factories__['params']() if params is __sentinel__ else params)
+        _set_listed_type(self, listed_type)
+        _set_namespace(self, namespace)
     return __init__
 
 
@@ -169,7 +171,7 @@ def _init_parse_xmlio_XmlDocument(__defaults__, __factories__, __sentinel__, __s
 
 COMPILED = {
     'urdftool.parse.Loaded': ('path,format,robot,diagnostics*,files*,srdf=,controllers=,without_suppressions=|plain', _init_parse_Loaded),
-    'urdftool.parse.controllers.Controller': ('name,span,type=,params*|slots', _init_parse_controllers_Controller),
+    'urdftool.parse.controllers.Controller': ('name,span,type=,params*,listed_type=,namespace=|slots', _init_parse_controllers_Controller),
     'urdftool.parse.controllers.ControllerConfig': ('path,controllers*,diagnostics*|plain', _init_parse_controllers_ControllerConfig),
     'urdftool.parse.controllers.Controllers': ('configs*,missing*,given=|plain', _init_parse_controllers_Controllers),
     'urdftool.parse.controllers.Value': ('value,span|slots', _init_parse_controllers_Value),

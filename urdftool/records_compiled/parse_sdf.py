@@ -126,10 +126,11 @@ def _init_parse_sdf_model__RawLink(__defaults__, __factories__, __sentinel__, __
 
 # urdftool.parse.sdf_semantics.SdfSemantics
 def _init_parse_sdf_semantics_SdfSemantics(__defaults__, __factories__, __sentinel__, __set__, __slot__):
-    def __init__(self, version, values=__sentinel__, out=__sentinel__):
+    def __init__(self, version, values=__sentinel__, out=__sentinel__, include_names=__sentinel__):
         self.version = version
         self.values = __factories__['values']() if values is __sentinel__ else values
         self.out = __factories__['out']() if out is __sentinel__ else out
+        self.include_names = __factories__['include_names']() if include_names is __sentinel__ else include_names
     return __init__
 
 
@@ -153,6 +154,6 @@ COMPILED = {
     'urdftool.parse.sdf_model._RawFrame': ('name,element|plain', _init_parse_sdf_model__RawFrame),
     'urdftool.parse.sdf_model._RawJoint': ('name,element,parent,child,scope,version,key=,model_frame=|plain', _init_parse_sdf_model__RawJoint),
     'urdftool.parse.sdf_model._RawLink': ('name,element,version|plain', _init_parse_sdf_model__RawLink),
-    'urdftool.parse.sdf_semantics.SdfSemantics': ('version,values*,out*|plain', _init_parse_sdf_semantics_SdfSemantics),
+    'urdftool.parse.sdf_semantics.SdfSemantics': ('version,values*,out*,include_names*|plain', _init_parse_sdf_semantics_SdfSemantics),
     'urdftool.parse.sdf_semantics._Scope': ('names*,opaque*,canonical*|plain', _init_parse_sdf_semantics__Scope),
 }

@@ -10,8 +10,8 @@ entry maps a record to the shape of its fields and a function that builds its ``
 
 # urdftool.targets.Target
 def _init_targets_Target(__defaults__, __factories__, __sentinel__, __set__, __slot__):
-    (_set_name, _set_label, _set_verified, _set_engine_tested, _set_missing_inertial, _set_massless_stops, _set_floating_root, _set_fixed_joints, _set_hulls_collision_meshes, _set_mimic, _set_joint_types, _set_collision_formats, _set_unread_format_fails, _set_face_budget, _set_hull_vertex_limit, _set_root_inertia_ignored, _set_inertia_from_collision, _set_needs_srdf, _set_keep_fixed,) = map(__slot__, ('name', 'label', 'verified', 'engine_tested', 'missing_inertial', 'massless_stops', 'floating_root', 'fixed_joints', 'hulls_collision_meshes', 'mimic', 'joint_types', 'collision_formats', 'unread_format_fails', 'face_budget', 'hull_vertex_limit', 'root_inertia_ignored', 'inertia_from_collision', 'needs_srdf', 'keep_fixed'))
-    def __init__(self, name, label, verified, engine_tested=__defaults__['engine_tested'], missing_inertial=__defaults__['missing_inertial'], massless_stops=__defaults__['massless_stops'], floating_root=__defaults__['floating_root'], fixed_joints=__defaults__['fixed_joints'], hulls_collision_meshes=__defaults__['hulls_collision_meshes'], mimic=__defaults__['mimic'], joint_types=__sentinel__, collision_formats=__defaults__['collision_formats'], unread_format_fails=__defaults__['unread_format_fails'], face_budget=__defaults__['face_budget'], hull_vertex_limit=__defaults__['hull_vertex_limit'], root_inertia_ignored=__defaults__['root_inertia_ignored'], inertia_from_collision=__defaults__['inertia_from_collision'], needs_srdf=__defaults__['needs_srdf'], keep_fixed=__defaults__['keep_fixed']):
+    (_set_name, _set_label, _set_verified, _set_engine_tested, _set_missing_inertial, _set_massless_stops, _set_floating_root, _set_fixed_joints, _set_hulls_collision_meshes, _set_mimic, _set_joint_types, _set_collision_formats, _set_unread_format_fails, _set_face_budget, _set_hull_vertex_limit, _set_root_inertia_ignored, _set_inertia_from_collision, _set_needs_srdf, _set_relative_mesh, _set_keep_fixed,) = map(__slot__, ('name', 'label', 'verified', 'engine_tested', 'missing_inertial', 'massless_stops', 'floating_root', 'fixed_joints', 'hulls_collision_meshes', 'mimic', 'joint_types', 'collision_formats', 'unread_format_fails', 'face_budget', 'hull_vertex_limit', 'root_inertia_ignored', 'inertia_from_collision', 'needs_srdf', 'relative_mesh', 'keep_fixed'))
+    def __init__(self, name, label, verified, engine_tested=__defaults__['engine_tested'], missing_inertial=__defaults__['missing_inertial'], massless_stops=__defaults__['massless_stops'], floating_root=__defaults__['floating_root'], fixed_joints=__defaults__['fixed_joints'], hulls_collision_meshes=__defaults__['hulls_collision_meshes'], mimic=__defaults__['mimic'], joint_types=__sentinel__, collision_formats=__defaults__['collision_formats'], unread_format_fails=__defaults__['unread_format_fails'], face_budget=__defaults__['face_budget'], hull_vertex_limit=__defaults__['hull_vertex_limit'], root_inertia_ignored=__defaults__['root_inertia_ignored'], inertia_from_collision=__defaults__['inertia_from_collision'], needs_srdf=__defaults__['needs_srdf'], relative_mesh=__defaults__['relative_mesh'], keep_fixed=__defaults__['keep_fixed']):
         _set_name(self, name)
         _set_label(self, label)
         _set_verified(self, verified)
@@ -30,10 +30,11 @@ def _init_targets_Target(__defaults__, __factories__, __sentinel__, __set__, __s
         _set_root_inertia_ignored(self, root_inertia_ignored)
         _set_inertia_from_collision(self, inertia_from_collision)
         _set_needs_srdf(self, needs_srdf)
+        _set_relative_mesh(self, relative_mesh)
         _set_keep_fixed(self, keep_fixed)
     return __init__
 
 
 COMPILED = {
-    'urdftool.targets.Target': ('name,label,verified,engine_tested=,missing_inertial=,massless_stops=,floating_root=,fixed_joints=,hulls_collision_meshes=,mimic=,joint_types*,collision_formats=,unread_format_fails=,face_budget=,hull_vertex_limit=,root_inertia_ignored=,inertia_from_collision=,needs_srdf=,keep_fixed=|slots', _init_targets_Target),
+    'urdftool.targets.Target': ('name,label,verified,engine_tested=,missing_inertial=,massless_stops=,floating_root=,fixed_joints=,hulls_collision_meshes=,mimic=,joint_types*,collision_formats=,unread_format_fails=,face_budget=,hull_vertex_limit=,root_inertia_ignored=,inertia_from_collision=,needs_srdf=,relative_mesh=,keep_fixed=|slots', _init_targets_Target),
 }

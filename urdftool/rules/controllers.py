@@ -10,11 +10,12 @@ checked by ``drive-geometry-mismatch`` (G004). Decisions are in
 
 from __future__ import annotations
 
+import dataclasses
 from collections.abc import Iterator
 
 from urdftool.catalogue.registry import Family, Rule, register
 from urdftool.catalogue.suggest import closest, did_you_mean
-from urdftool.diagnostics import Diagnostic, Severity
+from urdftool.diagnostics import Diagnostic, Related, Severity
 from urdftool.facts import ros2_control as rc
 from urdftool.facts.context import CheckContext
 from urdftool.parse.controllers import Controller, Value
@@ -80,9 +81,7 @@ class _Controllers(Rule):
 
 
 def _all(ctx: CheckContext) -> Iterator[Controller]:
-    found = rc.controllers(ctx)
-    for config in found.configs if found else []:
-        yield from config.controllers
+    yield from rc.controller_list(ctx)
 
 
 def _type(controller: Controller) -> str:
@@ -122,7 +121,10 @@ class ControllerJointUnknown(_Controllers):
     Checks the joints each controller lists (`joints`, `joint`,
     `left_wheel_names`, `right_wheel_names`, …) against the joints of the
     robot's `<ros2_control>` blocks (or, for a robot without one, its URDF
-    joints), with the closest name. The finding is located in the YAML.
+    joints), with the closest name. The finding is located in the YAML. A
+    controller is any node whose `type` names a plugin, listed under
+    `controller_manager` or typed in its own `ros__parameters`
+    (docs/ros2_control.md).
 
     ## Why it matters
     The controller manager loads the controller, then fails to configure or
@@ -317,25 +319,97 @@ class ControllerTypeUnknown(_Controllers):
 
     def check(self, ctx: CheckContext) -> Iterator[Diagnostic]:
         for controller in _all(ctx):
-            declared = _type(controller)
-            if not declared or declared in KNOWN_TYPES or controller.type is None:
+            # both types when the two layouts disagree (type-conflict reports that): each is
+            # loaded by one way of starting the controller
+            types = [controller.type, controller.listed_type]
+            for value in types[: 1 if _same(controller.type, controller.listed_type) else 2]:
+                yield from self._type(controller, value)
+
+    def _type(self, controller: Controller, value: Value | None) -> Iterator[Diagnostic]:
+        declared = (value.text() or "") if value is not None else ""
+        if not declared or declared in KNOWN_TYPES or value is None:
+            return
+        suggestion = _likely_meant(declared)
+        if suggestion is not None:
+            yield self.diagnostic(
+                f"controller '{controller.name}' has type '{declared}'; did you mean '{suggestion}'?",
+                value.span,
+                severity=Severity.WARNING,
+                element=f"{controller.name}/type",
+                help=f"write type: {suggestion}",
+                data={"type": declared, "suggestion": suggestion},
+            )
+        else:
+            yield self.diagnostic(
+                f"controller '{controller.name}' has type '{declared}', which is not one of "
+                "ros2_controllers'; its package must be installed",
+                value.span,
+                element=f"{controller.name}/type",
+                help="nothing to do if the package provides it",
+                data={"type": declared},
+            )
+
+
+def _same(a: Value | None, b: Value | None) -> bool:
+    return a is None or b is None or a.text() == b.text()
+
+
+@register
+class ControllerTypeConflict(_Controllers):
+    """A controller's own parameters and the controller manager's give it different types.
+
+    ## What it does
+    Compares a controller's `type` written in its own `ros__parameters` (the
+    layout ros2_control_demos and gz_ros2_control's demos use since
+    ros2_control PR 1502) with the `type` the `controller_manager`'s
+    parameters list it with, when the file holds both. Located at the
+    controller's own `type`, with the manager's as a related location.
+
+    ## Why it matters
+    Which one is loaded depends on how the controller is started. The
+    spawner given the file with `--param-file` reads the type from the
+    controller's own parameters and sets it on the controller manager,
+    replacing the listed one; a controller loaded without it (the spawner
+    without `--param-file`, `ros2 control load_controller`, the manager's
+    own start-up list) gets the manager's type. The same file then runs a
+    different controller, with other interfaces, in simulation and on the
+    robot, or after a launch file is edited.
+
+    ## Example
+    ```yaml
+    controller_manager:
+      ros__parameters:
+        arm_controller:
+          type: position_controllers/JointGroupPositionController
+    arm_controller:
+      ros__parameters:
+        type: joint_trajectory_controller/JointTrajectoryController
+        joints: [joint1, joint2]
+    ```
+
+    ## Fix
+    Declare the type once, in the controller's own parameters, and delete
+    the other.
+    """
+
+    code = "G204"
+    name = "controller-type-conflict"
+    severity = Severity.WARNING
+
+    def check(self, ctx: CheckContext) -> Iterator[Diagnostic]:
+        for controller in _all(ctx):
+            own, listed = controller.type, controller.listed_type
+            if own is None or listed is None or own is listed or _same(own, listed):
                 continue
-            suggestion = _likely_meant(declared)
-            if suggestion is not None:
-                yield self.diagnostic(
-                    f"controller '{controller.name}' has type '{declared}'; did you mean '{suggestion}'?",
-                    controller.type.span,
-                    severity=Severity.WARNING,
+            yield dataclasses.replace(
+                self.diagnostic(
+                    f"controller '{controller.name}' has type '{own.text()}' in its own parameters, "
+                    f"but the controller manager's parameters list it as '{listed.text()}'",
+                    own.span,
                     element=f"{controller.name}/type",
-                    help=f"write type: {suggestion}",
-                    data={"type": declared, "suggestion": suggestion},
-                )
-            else:
-                yield self.diagnostic(
-                    f"controller '{controller.name}' has type '{declared}', which is not one of "
-                    "ros2_controllers'; its package must be installed",
-                    controller.type.span,
-                    element=f"{controller.name}/type",
-                    help="nothing to do if the package provides it",
-                    data={"type": declared},
-                )
+                    help="declare the type once, in the controller's own parameters: the spawner "
+                    "with --param-file loads this one, any other way of loading it the manager's",
+                    data={"type": own.text(), "listed_type": listed.text()},
+                ),
+                related=(Related(listed.span, "the type under controller_manager"),),
+            )

@@ -12,12 +12,12 @@ from __future__ import annotations
 from collections.abc import Iterator
 from typing import Any
 
+from urdftool.budgets import budget, how_to_raise
 from urdftool.catalogue.registry import Family, Rule, register
 from urdftool.diagnostics import Diagnostic, Severity
 from urdftool.facts.context import CheckContext
 from urdftool.facts.dynamics.analysis import GRAVITY, Conditioning, DynamicsAnalysis, GravityLoad
 from urdftool.facts.dynamics.configurations import rounded
-from urdftool.facts.dynamics.linear import DENSE_DOF
 from urdftool.facts.dynamics.run import Skipped, dynamics_of
 from urdftool.model import JointType
 from urdftool.physics.describe import fmt
@@ -282,12 +282,14 @@ class DynamicsNotChecked(_Dynamics):
         elif isinstance(result, DynamicsAnalysis) and not result.dense:
             done = "gravity loads checked with the linear-time pass" if result.gravity_computed else \
                 "nothing else computed"
+            limit = int(budget("dynamics-dof"))
             yield self.diagnostic(
                 f"mass-matrix conditioning not checked: {result.dof} moving degrees of freedom, over the "
-                f"{DENSE_DOF} the dense pass handles; {done}",
+                f"{limit} the dense pass handles; {done}",
                 ctx.robot.span,
                 element="robot",
-                data={"reason": "size", "dof": result.dof, "limit": DENSE_DOF},
+                help=how_to_raise("dynamics-dof") + " (the dense pass's memory grows about as DOF³)",
+                data={"reason": "size", "dof": result.dof, "limit": limit},
             )
         elif isinstance(result, DynamicsAnalysis) and not result.floating and ctx.robot.loop_closures \
                 and result.dof:

@@ -297,8 +297,7 @@ class DriveGeometryMismatch(_Gazebo):
 
     def _controllers(self, ctx: CheckContext) -> Iterator[Diagnostic]:
         """``diff_drive_controller`` entries of the controllers YAML, located in the YAML."""
-        found = rc.controllers(ctx)
-        drives = [c for config in (found.configs if found else []) for c in config.controllers
+        drives = [c for c in rc.controller_list(ctx)
                   if c.type is not None and c.type.text() == "diff_drive_controller/DiffDriveController"]
         if not drives:
             return

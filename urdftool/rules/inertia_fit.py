@@ -25,7 +25,7 @@ from urdftool.facts import link_mass
 from urdftool.facts.context import CheckContext
 from urdftool.model import Link
 from urdftool.model.pose import rotate_tensor
-from urdftool.physics.bodies import MIN_VALUE
+from urdftool.physics.bodies import MIN_VALUE, RigidBody
 from urdftool.physics.describe import (
     fmt,
     fmt_tensor,
@@ -456,6 +456,21 @@ def _typical_mass(ctx: CheckContext) -> float:
     return real[len(real) // 2] if real else 1.0
 
 
+def _suspect(body: RigidBody, parent: RigidBody, typical: float) -> tuple[RigidBody, str]:
+    """Which of a joint's two bodies has the mass to check, and why (the message's words). A
+    placeholder (a gram or less) against a real body is the placeholder: RexROV's 1 g sensors
+    outnumber its real bodies, so the median is 1 g and the 1.86 t hull looked out of line.
+    Otherwise the one out of line with the robot's typical body (_typical_mass): a link made 1e4
+    times heavier, not its neighbours."""
+    light = [b for b in (body, parent) if b.mass <= PLACEHOLDER_MASS]
+    if len(light) == 1:
+        placeholder = light[0]
+        return placeholder, (f"'{placeholder.head}' is the one to check: {fmt(placeholder.mass)} kg "
+                             "reads as a placeholder")
+    suspect = max((body, parent), key=lambda b: abs(math.log(b.mass / typical)))
+    return suspect, f"'{suspect.head}' is the one out of line with the robot's typical {fmt(typical)} kg body"
+
+
 @register
 class ExtremeMassRatio(_Inertia):
     """A moving body is 1000× lighter or heavier than the body it hangs from.
@@ -501,17 +516,13 @@ class ExtremeMassRatio(_Inertia):
                 continue
             lighter = "lighter" if ratio < 1 else "heavier"
             factor = 1 / ratio if ratio < 1 else ratio
-            # The finding points at the mass that is out of line with the robot's typical body
-            # (_typical_mass): a link made 1e4 times heavier is the one to check, not its neighbours.
-            suspect = max((body, parent), key=lambda b: abs(math.log(b.mass / typical)))
+            suspect, why = _suspect(body, parent, typical)
             link = ctx.robot.link(suspect.head)
             inertial = link.inertial if link is not None else None
             location = (inertial.mass_span or inertial.span) if inertial is not None else None
             finding = self.diagnostic(
                 f"joint '{joint.name}' carries {fmt(body.mass)} kg ('{body.head}'), {fmt(factor)}× "
-                f"{lighter} than the {fmt(parent.mass)} kg it hangs from ('{parent.head}'); "
-                f"'{suspect.head}' is the one out of line with the robot's typical "
-                f"{fmt(typical)} kg body",
+                f"{lighter} than the {fmt(parent.mass)} kg it hangs from ('{parent.head}'); {why}",
                 location or joint.span,
                 element=f"joint[{joint.name}]",
                 help=f"check the mass of '{suspect.head}'",

@@ -26,8 +26,8 @@ from urdftool.model.pose import Matrix, vector_norm
 #: Defaults of every intent threshold, by option name (docs/intent.md explains each).
 DEFAULTS: dict[str, float] = {
     # units: angles
-    "degree_turns": 3.0,  # a limit beyond this many turns (2π·k rad) is not meant as radians
-    "degree_step": 5.0,  # ... and is a multiple of this many degrees
+    "degree_turns": 1.0,  # a limit beyond this many turns (2π·k rad) is not meant as radians
+    "degree_step": 0.5,  # ... when it is a multiple of this many degrees (whole or half degrees)
     # units: lengths
     "length_factor": 20.0,  # a travel or size this many times the robot's extent is suspect
     "length_min": 2.0,  # ... and longer than this (m)

@@ -41,28 +41,34 @@ class LimitsLookLikeDegrees(IntentRule):
     """A revolute joint's limits are only plausible as degrees.
 
     ## What it does
-    Reports a `revolute` joint whose `lower` or `upper` lies beyond
-    three turns (6π ≈ 18.85 rad; option `degree_turns`) while every non-zero limit is a whole
-    multiple of 5 (option `degree_step`) and at most 3600: `-90`/`90`,
-    `0`/`180`, `-170`/`170`. Placeholders for "unlimited" such as `±10`
-    stay quiet (below three turns). The message gives the radian reading
+    Reports a `revolute` joint (and either axis of a `universal` or
+    `revolute2` joint) whose `lower` or `upper` lies beyond one turn (2π ≈
+    6.28 rad; option `degree_turns`) while every non-zero limit is a whole or
+    half number (option `degree_step`, 0.5) of at most 3600: `-90`/`90`,
+    `0`/`180`, Franka's `-166`/`166` and `-1`/`215`. The placeholders authors
+    write for "unlimited" stay quiet: symmetric powers of ten (`±10` as in
+    solo and bolt, `±100`, `±1000`) and anything beyond 3600 (`±1e16`,
+    `±3.4e38`). So do radian values written to a few decimals (ANYmal's
+    `±9.42`), and `continuous` joints. The message gives the radian reading
     (`90 → 1.5708 rad`).
 
     ## Why it matters
-    URDF and SDF angles are radians (REP 103). A limit of 90 rad is more than
-    fourteen turns: the joint is effectively unlimited, so planners send it
-    through the robot and simulators never stop it. Multi-turn joints exist,
-    but their limits are not round degree numbers.
+    URDF and SDF angles are radians (REP 103; urdfdom, MoveIt, Gazebo and the
+    SDFormat specification read `lower`/`upper` in rad). A limit of 166 rad is
+    more than 26 turns: the joint is effectively unlimited, so planners send it
+    through the robot and simulators never stop it (a degree/radian slip:
+    kth-ros-pkg/yumi#10). Multi-turn joints exist, but their limits are not
+    whole degree numbers.
 
     ## Example
     ```xml
     <joint name="elbow" type="revolute">
-      <limit lower="-90" upper="90" effort="10" velocity="1"/>
+      <limit lower="-166" upper="166" effort="87" velocity="2.175"/>
     </joint>
     ```
 
     ## Fix
-    Write radians (`lower="-1.5708" upper="1.5708"`, or `${radians(90)}` in
+    Write radians (`lower="-2.8973" upper="2.8973"`, or `${radians(166)}` in
     xacro). If the joint really turns many times, write the radian values
     or make it `continuous`. Silence one joint with
     `<!-- urdftool: ignore[limits-look-like-degrees] -->`.
@@ -76,30 +82,45 @@ class LimitsLookLikeDegrees(IntentRule):
         turns = option(ctx, "degree_turns")
         step = option(ctx, "degree_step")
         for joint in ctx.robot.joints:
-            limit = joint.limit
-            if joint.type is not JointType.REVOLUTE or limit is None:
+            if joint.type not in _ROTARY:
                 continue
-            values = [v for v in (limit.lower, limit.upper) if v is not None]
-            nonzero = [v for v in values if v != 0]
-            if not nonzero or max(abs(v) for v in nonzero) <= 2 * math.pi * turns:
-                continue
-            if not all(abs(v) <= DEGREES_MAX and _multiple(v, step) for v in nonzero):
-                continue
-            readings = ", ".join(f"{written(v)} → {math.radians(v):.4f} rad" for v in values)
-            yield self.diagnostic(
-                f"joint '{joint.name}': limits {_range(limit.lower, limit.upper)} look like degrees: "
-                f"{readings}",
-                limit.span or joint.span,
-                element=where_joint(joint, "limit"),
-                help=f"as radians this joint turns over {fmt(max(abs(v) for v in nonzero) / (2 * math.pi))} "
-                "turns; write radians (xacro: ${radians(…)})",
-                data={
-                    "lower": limit.lower,
-                    "upper": limit.upper,
-                    "lower_rad": None if limit.lower is None else math.radians(limit.lower),
-                    "upper_rad": None if limit.upper is None else math.radians(limit.upper),
-                },
-            )
+            for limit, axis in ((joint.limit, ""), (joint.limit2, "axis2 ")):
+                if limit is None or not _degree_limits(limit.lower, limit.upper, turns, step):
+                    continue
+                values = [v for v in (limit.lower, limit.upper) if v is not None]
+                widest = max(abs(v) for v in values)
+                readings = ", ".join(f"{written(v)} → {math.radians(v):.4f} rad" for v in values)
+                yield self.diagnostic(
+                    f"joint '{joint.name}': {axis}limits {_range(limit.lower, limit.upper)} look like "
+                    f"degrees: {readings}",
+                    limit.span or joint.span,
+                    element=where_joint(joint, "limit2" if axis else "limit"),
+                    help=f"as radians this joint turns over {fmt(widest / (2 * math.pi))} "
+                    "turns; write radians (xacro: ${radians(…)})",
+                    data={
+                        "lower": limit.lower,
+                        "upper": limit.upper,
+                        "lower_rad": None if limit.lower is None else math.radians(limit.lower),
+                        "upper_rad": None if limit.upper is None else math.radians(limit.upper),
+                    },
+                )
+
+
+#: Joints whose limits are angles (rad).
+_ROTARY = frozenset({JointType.REVOLUTE, JointType.UNIVERSAL, JointType.REVOLUTE2})
+#: Symmetric limits authors write for "unlimited" (solo and bolt write ±10): never read as degrees.
+_PLACEHOLDERS = frozenset({10.0, 100.0, 1000.0})
+
+
+def _degree_limits(lower: float | None, upper: float | None, turns: float, step: float) -> bool:
+    """*lower* and *upper* (rad as written) read as degrees: one of them beyond *turns* turns, every
+    non-zero one a multiple of *step* of at most :data:`DEGREES_MAX`, and not a placeholder."""
+    nonzero = [v for v in (lower, upper) if v is not None and v != 0]
+    if not nonzero or max(abs(v) for v in nonzero) <= 2 * math.pi * turns:
+        return False
+    if not all(abs(v) <= DEGREES_MAX and _multiple(v, step) for v in nonzero):
+        return False
+    return not (lower is not None and upper is not None and lower == -upper and upper in _PLACEHOLDERS)
 
 
 def _multiple(value: float, step: float) -> bool:

@@ -14,7 +14,7 @@ from urdftool.catalogue.registry import Family, Rule, register
 from urdftool.catalogue.suggest import did_you_mean
 from urdftool.diagnostics import Diagnostic, Severity
 from urdftool.facts.context import CheckContext
-from urdftool.model import Joint, JointType, Robot
+from urdftool.model import Joint, JointType, Limit, Robot
 from urdftool.physics.describe import fmt
 
 #: Joint types whose position is bounded by ``lower``/``upper``.
@@ -139,13 +139,23 @@ class LimitMissingEffortOrVelocity(_Joints):
             )
 
 
+def _bounds(ctx: CheckContext, limit: Limit) -> tuple[float, float] | None:
+    """(lower, upper) as loaders read them: a bound a URDF leaves out is 0 (urdfdom); an SDF one
+    is no bound (±1e16, kept as None by the reader), so there is no range to judge (None)."""
+    if ctx.robot.format == "sdf" and (limit.lower is None or limit.upper is None):
+        return None
+    return (limit.lower or 0.0, limit.upper or 0.0)
+
+
 @register
 class ZeroEffortOrVelocity(_Joints):
     """A moving joint's `effort` or `velocity` limit is zero or negative.
 
     ## What it does
     Reports `effort` or `velocity` at or below zero on revolute, continuous
-    and prismatic joints.
+    and prismatic joints. A joint locked by equal limits (`lower == upper`,
+    RotorS' and UUV Simulator's sensor mounts) is left to `inverted-limits`,
+    which reports the lock: a joint that cannot move needs no actuator.
 
     ## Why it matters
     Gazebo, ros_control and MoveIt clamp commands to these limits: a zero
@@ -172,6 +182,9 @@ class ZeroEffortOrVelocity(_Joints):
             limit = joint.limit
             if limit is None or joint.type not in (*LIMITED, JointType.CONTINUOUS):
                 continue
+            bounds = _bounds(ctx, limit) if joint.type in LIMITED else None
+            if bounds is not None and bounds[0] == bounds[1]:
+                continue  # locked: InvertedLimits says so once, and no effort moves it anyway
             bad = {
                 name: value
                 for name in ("effort", "velocity")
@@ -195,7 +208,8 @@ class InvertedLimits(_Joints):
 
     ## What it does
     Reports revolute and prismatic joints with `lower > upper` (error), and
-    with `lower == upper` (warning: the joint cannot move).
+    with `lower == upper` (warning: the joint cannot move). In SDF a bound
+    left out (or ±1e16) is no bound, not 0.
 
     ## Why it matters
     An empty range has no valid position: planners reject every state,
@@ -222,10 +236,10 @@ class InvertedLimits(_Joints):
     def check(self, ctx: CheckContext) -> Iterator[Diagnostic]:
         for joint in ctx.robot.joints:
             limit = joint.limit
-            if limit is None or joint.type not in LIMITED:
+            bounds = _bounds(ctx, limit) if limit is not None and joint.type in LIMITED else None
+            if limit is None or bounds is None:
                 continue
-            lower = 0.0 if limit.lower is None else limit.lower
-            upper = 0.0 if limit.upper is None else limit.upper
+            lower, upper = bounds
             if lower < upper:
                 continue
             unit = _unit(joint)
@@ -242,11 +256,12 @@ class InvertedLimits(_Joints):
             else:
                 yield self.diagnostic(
                     f"joint '{joint.name}': lower and upper limits are both {fmt(lower)} {unit}, "
-                    "so "
-                    "the joint cannot move",
+                    "so the joint cannot move",
                     limit.span or joint.span,
                     element=_where(joint, "limit"),
-                    help="make it a fixed joint, or write its real range",
+                    help="make it a fixed joint (Gazebo keeps a fixed joint's child link "
+                    "for its sensors and plugins with <preserveFixedJoint>true</preserveFixedJoint> "
+                    "in a <gazebo reference> block naming the joint), or write its real range",
                     data=data,
                     severity=Severity.WARNING,
                 )
@@ -544,12 +559,10 @@ class HomeOutsideLimits(_Joints):
         named = ctx.robot.home is not None
         for joint in ctx.robot.joints:
             limit = joint.limit
-            if joint.type not in LIMITED or limit is None:
-                continue
-            lower = 0.0 if limit.lower is None else limit.lower
-            upper = 0.0 if limit.upper is None else limit.upper
-            if lower > upper:
-                continue  # inverted-limits reports it
+            bounds = _bounds(ctx, limit) if limit is not None and joint.type in LIMITED else None
+            if limit is None or bounds is None or bounds[0] > bounds[1]:
+                continue  # no range (SDF), or inverted-limits reports it
+            lower, upper = bounds
             position = home_position(ctx.robot, joint)
             if lower - LIMIT_TOLERANCE <= position <= upper + LIMIT_TOLERANCE:
                 continue
@@ -563,13 +576,8 @@ class HomeOutsideLimits(_Joints):
                 element=_where(joint, "limit"),
                 help=f"the nearest position within the limits is {fmt(nearest)} {unit}; shift the "
                 "joint's zero or give the robot a home pose inside the limits",
-                data={
-                    "position": position,
-                    "lower": lower,
-                    "upper": upper,
-                    "nearest": nearest,
-                    "named_home": named,
-                },
+                data={"position": position, "lower": lower, "upper": upper, "nearest": nearest,
+                      "named_home": named},
             )
 
 

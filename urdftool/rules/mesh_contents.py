@@ -15,6 +15,7 @@ else:
     # NumPy is imported on first use: a structural check must not pay for it.
     from urdftool.lazy import numpy as np
 
+from urdftool.budgets import budget
 from urdftool.catalogue.registry import register
 from urdftool.diagnostics import Diagnostic, Severity
 from urdftool.facts import meshes as survey
@@ -220,22 +221,24 @@ class CollisionMeshTooComplex(_Meshes):
     def check(self, ctx: CheckContext) -> Iterator[Diagnostic]:
 
         contents = survey.contents(ctx)
+        limit = int(budget("collision-faces"))
         for path, uses in survey.by_file(ctx, role="collision").items():
             facts = contents.get(path)
-            if facts is None or isinstance(facts, MeshError) or facts.faces <= FACE_BUDGET:
+            if facts is None or isinstance(facts, MeshError) or facts.faces <= limit:
                 continue
             first = uses[0]
             yield self.diagnostic(
-                f"{first.describe} has {facts.faces} triangles, {_fmt(facts.faces / FACE_BUDGET)}× "
-                f"the collision budget of {FACE_BUDGET}",
+                f"{first.describe} has {facts.faces} triangles, {_fmt(facts.faces / limit)}× "
+                f"the collision budget of {limit}",
                 first.location,
                 element=first.element,
                 help="use a convex hull, a decimated copy (a few thousand triangles at most) or "
-                f"primitive shapes for <collision>{survey.other_places(uses)}",
+                f"primitive shapes for <collision>{survey.other_places(uses)}"
+                + ("" if limit == FACE_BUDGET else f" (the collision-faces budget is {limit})"),
                 data={
                     "uri": first.mesh.filename,
                     "faces": facts.faces,
-                    "budget": FACE_BUDGET,
+                    "budget": limit,
                     "uses": len(uses),
                 },
             )

@@ -16,6 +16,7 @@ else:
     # NumPy is imported on first use: a structural check must not pay for it.
     from urdftool.lazy import numpy as np
 
+from urdftool.budgets import DEFAULT_BUDGETS
 from urdftool.facts.context import CheckContext
 from urdftool.facts.home import home_poses
 from urdftool.model import (
@@ -34,10 +35,11 @@ from urdftool.model import (
 )
 from urdftool.model.tree import KinematicTree
 
-#: Triangles a collision mesh may have before ``collision-mesh-too-complex``.
-#: Hand-made collision meshes and convex decompositions stay in the hundreds to
-#: low thousands; meshes above 10000 are CAD or scan resolution used as-is.
-FACE_BUDGET = 10_000
+#: Triangles a collision mesh may have before ``collision-mesh-too-complex``, by default (the
+#: ``collision-faces`` budget, :mod:`urdftool.budgets`, changes it). Hand-made collision meshes
+#: and convex decompositions stay in the hundreds to low thousands; meshes above 10000 are CAD or
+#: scan resolution used as-is.
+FACE_BUDGET = int(DEFAULT_BUDGETS["collision-faces"])
 
 #: Bounds on a mesh's size relative to the robot's (see :func:`robot_size`) beyond
 #: which ``mesh-units-suspect`` fires. On example-robot-data and pybullet_data

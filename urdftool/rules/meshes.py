@@ -10,6 +10,7 @@ Thresholds and their calibration on the corpora are in ``docs/meshes.md``.
 from __future__ import annotations
 
 import os
+import re
 from collections.abc import Iterator, Sequence
 from typing import TYPE_CHECKING
 
@@ -24,6 +25,7 @@ from urdftool.diagnostics import Diagnostic, Severity
 from urdftool.facts import meshes as survey
 from urdftool.facts.context import CheckContext
 from urdftool.facts.meshes import ENGINE_NAMES, MeshError, describe_path, engines_refusing, read_head
+from urdftool.targets import TARGETS
 
 
 class _Meshes(Rule):
@@ -49,10 +51,12 @@ class UnresolvedPackage(_Meshes):
     way ROS and Gazebo would, without a ROS installation: `--package`,
     `--package-path`, `ROS_PACKAGE_PATH`, ament and cmeel prefixes, Gazebo
     resource paths and the folders around the file. Reports each package that
-    is found nowhere, once, listing the places searched. When the file
-    exists where PyBullet looks for it (the URI's path relative to the
-    describing file, as pybullet_data's own robots are written), the finding
-    is a warning: one consumer loads the robot as it is, ROS tools do not.
+    is found nowhere, once, listing the places searched. When every mesh of
+    that package exists where PyBullet looks for it (the URI's path after
+    `package://`, in the describing file's folder or any folder above it, as
+    pybullet_data's own robots are written), the finding is a warning: one
+    consumer loads the robot as it is, ROS tools do not. When PyBullet finds
+    only some of them, it refuses the robot, and the finding stays an error.
 
     ## Why it matters
     Every loader that shows or collides the robot (RViz, Gazebo, PyBullet,
@@ -92,13 +96,19 @@ class UnresolvedPackage(_Meshes):
             first = uses[0]
             found = survey.lookup(ctx, first)
             count = f" (and {len(uses) - 1} more mesh element(s))" if len(uses) > 1 else ""
-            beside = _beside_the_file(first, ctx.robot.path)
-            hint = (
-                f"; a file exists at {beside}, where PyBullet finds it, but ROS tools need the "
-                "package"
-                if beside
-                else ""
-            )
+            # PyBullet loads the robot only when it finds every one of the package's meshes: one
+            # it misses (a file named in another case, say) fails the whole loadURDF
+            where = [_where_pybullet_finds(use, ctx.robot.path) for use in uses]
+            beside = where[0] if all(where) else None
+            lost = next((use for use, path in zip(uses, where, strict=True) if path is None), None)
+            if beside:
+                hint = (f"; a file exists at {beside}, where PyBullet finds it, but ROS tools need "
+                        "the package")
+            elif any(where) and lost is not None:
+                hint = (f"; PyBullet finds {sum(1 for path in where if path)} of these {len(uses)} "
+                        f"meshes but not '{lost.mesh.filename}', and then refuses the robot")
+            else:
+                hint = ""
             yield self.diagnostic(
                 f"{first.describe}: package '{package}' is not found{count}",
                 first.location,
@@ -128,16 +138,26 @@ def _where_to_point(package: str, uri: str) -> str:
     return f"pass --package {package}=DIR or --package-path DIR (a folder holding its package.xml)"
 
 
-def _beside_the_file(use: survey.MeshUse, robot_path: str) -> str | None:
-    """Where PyBullet's search finds a ``package://PKG/rel`` mesh: ``PKG/rel`` or ``rel``
-    relative to the describing file's folder."""
-    base = os.path.dirname(os.path.abspath(use.location.path if use.location else robot_path))
+def _where_pybullet_finds(use: survey.MeshUse, robot_path: str) -> str | None:
+    """Where PyBullet's URDF importer finds a ``package://PKG/rel`` mesh, or None.
+
+    It drops the scheme and looks for ``PKG/rel`` in the describing file's folder and in every
+    folder above it, so ``robots/robot.urdf`` with ``package://meshes/base.stl`` finds
+    ``meshes/base.stl`` beside ``robots/``. Measured with PyBullet 3.2.7 (tests/test_precision.py):
+    found 24 levels up; ``rel`` without the ``PKG`` folder is not found; names are case-sensitive.
+    """
+    folder = os.path.dirname(os.path.abspath(use.location.path if use.location else robot_path))
     rest = use.mesh.filename.split("://", 1)[-1].lstrip("/")
-    for candidate in (rest, rest.partition("/")[2]):
-        path = os.path.join(base, candidate)
-        if candidate and os.path.isfile(path):
+    if not rest:
+        return None
+    while True:
+        path = os.path.join(folder, rest)
+        if os.path.isfile(path):
             return path
-    return None
+        parent = os.path.dirname(folder)
+        if parent == folder:
+            return None
+        folder = parent
 
 
 @register
@@ -377,3 +397,110 @@ class MeshFormatUnsupported(_Meshes):
                     "uses": len(uses),
                 },
             )
+
+
+#: A path that is absolute on Windows (``C:\meshes\x.stl``, ``C:/…``).
+_DRIVE = re.compile(r"[A-Za-z]:[\\/]")
+
+
+def is_bare_relative(filename: str) -> bool:
+    """A mesh filename with no URI scheme that is not an absolute path (``meshes/x.stl``)."""
+    name = filename.strip()
+    return bool(name) and "://" not in name and not name.startswith(("/", "\\")) and not (
+        _DRIVE.match(name) or survey.has_substitution(name)
+    )
+
+
+@register
+class MeshPathRelative(_Meshes):
+    """A URDF mesh path is relative to the file (`meshes/x.stl`), which ROS tools cannot load.
+
+    ## What it does
+    Reports a URDF mesh `filename` that is a bare relative path, with no
+    `package://` or `file://` scheme, once per robot at the first one (with
+    the count):
+
+    - a warning when other meshes of the robot use `package://` or
+      `file://`: the model is written for ROS tools, which will miss this one;
+    - an info when all of them are relative and the file sits in a ROS
+      package (a `package.xml` in its folder or above);
+    - nothing when all are relative outside any ROS package: a model written
+      for PyBullet, MuJoCo or Drake (pybullet_data's robots, Unitree's
+      humanoids).
+
+    With `--target`, a consumer that does not find such a path (gazebo,
+    gz-sim, pinocchio, moveit) makes any relative path a warning saying why,
+    and targets that all find it (mujoco, pybullet, drake) silence the rule.
+    `package://`, `file://`, `model://`, web addresses and absolute paths are
+    left alone, and so is SDF, where SDFormat and gz-sim resolve a relative
+    `<uri>` against the file.
+
+    ## Why it matters
+    PyBullet, MuJoCo and Drake resolve the path against the URDF's folder
+    (tested: each loads `meshes/link1.stl` beside the file). ROS tools
+    receive the URDF as the `robot_description` string, with no folder: RViz
+    and MoveIt load meshes through resource_retriever, which takes URLs only
+    ("failed to load resource ../meshes/ur5/visual/base.obj",
+    ros/collada_urdf#33), so the robot shows without that mesh and MoveIt
+    plans without that collision shape; Gazebo spawned from
+    `robot_description` does not find it either. Pinocchio 4.1 looks a
+    relative path up only in its `package_dirs` ("Mesh meshes/link1.stl
+    could not be found"; stack-of-tasks/pinocchio#1741).
+
+    ## Example
+    ```xml
+    <mesh filename="package://panda_description/meshes/visual/link0.dae"/>
+    <mesh filename="meshes/visual/link1.dae"/>   <!-- the one RViz will not show -->
+    ```
+
+    ## Fix
+    In a ROS package, write `package://PKG/meshes/link1.stl`; nothing to do
+    for a model meant for PyBullet, MuJoCo or Drake only.
+    """
+
+    code = "M009"
+    name = "mesh-path-relative"
+    severity = Severity.INFO
+
+    def check(self, ctx: CheckContext) -> Iterator[Diagnostic]:
+        if ctx.robot.format == "sdf":
+            return
+        named = [TARGETS[n] for n in ctx.options.get("targets") or () if n in TARGETS]
+        failing = [t for t in named if t.relative_mesh is not None]
+        if named and not failing:
+            return  # every consumer asked about resolves the path against the file
+        uses = survey.mesh_uses(ctx)
+        relative = [use for use in uses if is_bare_relative(use.mesh.filename)]
+        if not relative:
+            return
+        first = relative[0]
+        where = first.location.path if first.location and first.location.path else ctx.robot.path
+        mixed = any(use.mesh.filename.strip().startswith(("package://", "file://")) for use in uses)
+        if mixed or failing:
+            severity = Severity.WARNING
+        elif survey.in_ros_package(ctx, where):
+            severity = Severity.INFO
+        else:
+            return  # written for PyBullet, MuJoCo or Drake, which find it
+        count = f" (and {len(relative) - 1} more mesh element(s))" if len(relative) > 1 else ""
+        context = (
+            "; the robot's other meshes use package:// or file://, so it is meant for ROS tools"
+            if mixed
+            else ""
+        )
+        why = "; ".join(f"{t.label}: {t.relative_mesh}" for t in failing)
+        yield self.diagnostic(
+            f"{first.describe} is a path relative to the file{count}: PyBullet, MuJoCo and Drake "
+            f"find it, ROS tools (RViz, MoveIt, Gazebo from robot_description) do not{context}",
+            first.location,
+            element=first.element,
+            severity=severity,
+            help="write package://PKG/" + first.mesh.filename.strip().lstrip("./")
+            + " (PKG: the package holding the mesh)" + (f"; {why}" if why else ""),
+            data={
+                "uri": first.mesh.filename,
+                "uses": len(relative),
+                "mixed": mixed,
+                "targets": [t.name for t in failing],
+            },
+        )

@@ -93,6 +93,11 @@ class Target:
         (PyBullet without ``URDF_USE_INERTIA_FROM_FILE``).
     ``needs_srdf``
         The consumer needs a semantic description (MoveIt).
+    ``relative_mesh``
+        What becomes of a bare relative mesh path (``meshes/link1.stl``, no
+        ``package://`` or ``file://``): ``None`` when the consumer resolves it
+        against the URDF file's folder (MuJoCo, PyBullet, Drake: tested),
+        otherwise a phrase saying why it does not find the file.
     """
 
     name: str
@@ -113,6 +118,7 @@ class Target:
     root_inertia_ignored: bool = False
     inertia_from_collision: bool = False
     needs_srdf: bool = False
+    relative_mesh: str | None = None
     #: how to keep the consumer from fusing fixed joints, when it can be told
     keep_fixed: str | None = None
 
@@ -157,6 +163,8 @@ TARGETS: dict[str, Target] = {
             collision_formats=_COMMON_MESHES,
             face_budget=20_000,
             keep_fixed="<gazebo reference=\"JOINT\"><preserveFixedJoint>true</preserveFixedJoint></gazebo>",
+            relative_mesh="spawned from robot_description (gazebo_ros spawn_entity), the URDF is a string "
+            "with no folder, and Gazebo looks the path up on its resource paths and working directory",
         ),
         Target(
             name="gz-sim",
@@ -167,6 +175,8 @@ TARGETS: dict[str, Target] = {
             collision_formats=_COMMON_MESHES,
             face_budget=20_000,
             keep_fixed="<gazebo reference=\"JOINT\"><preserveFixedJoint>true</preserveFixedJoint></gazebo>",
+            relative_mesh="spawned from robot_description (ros_gz_sim create -topic), the URDF is a string "
+            "with no folder to resolve it against (SDFormat resolves it only for a URDF read from a file)",
         ),
         Target(
             name="drake",
@@ -192,6 +202,8 @@ TARGETS: dict[str, Target] = {
             fixed_joints="frames",
             mimic="needs-option",
             joint_types={"continuous": "two configuration variables (cos θ, sin θ) and one velocity"},
+            relative_mesh="buildGeomFromUrdf looks a relative path up in package_dirs only, not beside "
+            "the URDF ('Mesh meshes/link1.stl could not be found' unless that folder is one of them)",
         ),
         Target(
             name="kdl",
@@ -219,6 +231,9 @@ TARGETS: dict[str, Target] = {
             collision_formats=_COMMON_MESHES,
             face_budget=5_000,
             needs_srdf=True,
+            relative_mesh="geometric_shapes loads meshes through resource_retriever, which takes "
+            "package:// and file:// URLs only: RViz shows no mesh, and a collision mesh leaves the link "
+            "without that collision shape",
         ),
     )
 }

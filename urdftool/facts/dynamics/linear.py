@@ -28,7 +28,8 @@ from urdftool.facts.dynamics.analysis import GRAVITY, DynamicsAnalysis, GravityL
 from urdftool.facts.dynamics.configurations import sample
 from urdftool.model import JointType, KinematicTree, Robot
 
-#: Moving joints from which the dense Pinocchio pass is replaced by this one.
+#: Moving joints from which the dense Pinocchio pass is replaced by this one, by default (the
+#: ``dynamics-dof`` budget, :mod:`urdftool.budgets`, changes it).
 DENSE_DOF = 120
 
 

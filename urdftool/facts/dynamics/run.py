@@ -10,9 +10,10 @@ import importlib.util
 from collections.abc import Mapping
 from typing import Any
 
+from urdftool.budgets import budget
 from urdftool.facts.dynamics.analysis import SAMPLES, analyse
 from urdftool.facts.dynamics.coverage import NotCovered, floating_base, not_covered
-from urdftool.facts.dynamics.linear import DENSE_DOF, gravity_loads, moving_dof
+from urdftool.facts.dynamics.linear import gravity_loads, moving_dof
 from urdftool.model import KinematicTree, Robot
 from urdftool.physics.bodies import kinematics_only
 from urdftool.physics.sdf_defaults import sdf_default_inertials
@@ -50,7 +51,7 @@ def dynamics_of(robot: Robot, tree: KinematicTree, options: Mapping[str, Any]) -
     robot = sdf_default_inertials(robot)
     floating, why = floating_base(robot, tree)
     samples = int(options.get(SAMPLES_OPTION, SAMPLES))
-    if moving_dof(tree) > DENSE_DOF:
+    if moving_dof(tree) > budget("dynamics-dof"):
         # Pinocchio's Data grows about as DOF³ and the conditioning needs dense DOF×DOF
         # matrices: large models get the linear gravity pass only (and a note that says so).
         return gravity_loads(robot, tree, floating, why, samples)
