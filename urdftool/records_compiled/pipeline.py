@@ -20,8 +20,8 @@ def _init_pipeline_baseline_BaselineResult(__defaults__, __factories__, __sentin
 
 # urdftool.pipeline.check.CheckOptions
 def _init_pipeline_check_CheckOptions(__defaults__, __factories__, __sentinel__, __set__, __slot__):
-    (_set_select, _set_ignore, _set_xacro_args, _set_packages, _set_package_paths, _set_rule_options, _set_file_limits, _set_suppressions, _set_severity, _set_srdf, _set_discover_srdf, _set_controllers,) = map(__slot__, ('select', 'ignore', 'xacro_args', 'packages', 'package_paths', 'rule_options', 'file_limits', 'suppressions', 'severity', 'srdf', 'discover_srdf', 'controllers'))
-    def __init__(self, select=__defaults__['select'], ignore=__defaults__['ignore'], xacro_args=__sentinel__, packages=__sentinel__, package_paths=__defaults__['package_paths'], rule_options=__sentinel__, file_limits=__sentinel__, suppressions=__defaults__['suppressions'], severity=__sentinel__, srdf=__defaults__['srdf'], discover_srdf=__defaults__['discover_srdf'], controllers=__defaults__['controllers']):
+    (_set_select, _set_ignore, _set_xacro_args, _set_packages, _set_package_paths, _set_rule_options, _set_file_limits, _set_budgets, _set_suppressions, _set_severity, _set_srdf, _set_discover_srdf, _set_controllers,) = map(__slot__, ('select', 'ignore', 'xacro_args', 'packages', 'package_paths', 'rule_options', 'file_limits', 'budgets', 'suppressions', 'severity', 'srdf', 'discover_srdf', 'controllers'))
+    def __init__(self, select=__defaults__['select'], ignore=__defaults__['ignore'], xacro_args=__sentinel__, packages=__sentinel__, package_paths=__defaults__['package_paths'], rule_options=__sentinel__, file_limits=__sentinel__, budgets=__sentinel__, suppressions=__defaults__['suppressions'], severity=__sentinel__, srdf=__defaults__['srdf'], discover_srdf=__defaults__['discover_srdf'], controllers=__defaults__['controllers']):
         _set_select(self, select)
         _set_ignore(self, ignore)
         _set_xacro_args(self, __factories__['xacro_args']() if xacro_args is __sentinel__ else xacro_args)
@@ -29,6 +29,7 @@ def _init_pipeline_check_CheckOptions(__defaults__, __factories__, __sentinel__,
         _set_package_paths(self, package_paths)
         _set_rule_options(self, __factories__['rule_options']() if rule_options is __sentinel__ else rule_options)
         _set_file_limits(self, __factories__['file_limits']() if file_limits is __sentinel__ else file_limits)
+        _set_budgets(self, __factories__['budgets']() if budgets is __sentinel__ else budgets)
         _set_suppressions(self, suppressions)
         _set_severity(self, __factories__['severity']() if severity is __sentinel__ else severity)
         _set_srdf(self, srdf)
@@ -219,7 +220,7 @@ def _init_pipeline_suppress_Suppression(__defaults__, __factories__, __sentinel_
 
 COMPILED = {
     'urdftool.pipeline.baseline.BaselineResult': ('report,known,fixed|slots', _init_pipeline_baseline_BaselineResult),
-    'urdftool.pipeline.check.CheckOptions': ('select=,ignore=,xacro_args*,packages*,package_paths=,rule_options*,file_limits*,suppressions=,severity*,srdf=,discover_srdf=,controllers=|slots', _init_pipeline_check_CheckOptions),
+    'urdftool.pipeline.check.CheckOptions': ('select=,ignore=,xacro_args*,packages*,package_paths=,rule_options*,file_limits*,budgets*,suppressions=,severity*,srdf=,discover_srdf=,controllers=|slots', _init_pipeline_check_CheckOptions),
     'urdftool.pipeline.collision.CollisionOptions': ('mode=,threshold=,max_parts=,tolerance=|slots', _init_pipeline_collision_CollisionOptions),
     'urdftool.pipeline.collision.Simplification': ('robot,diagnostics*,files*|plain', _init_pipeline_collision_Simplification),
     'urdftool.pipeline.convert.Conversion': ('robot,target,out,files*,diagnostics*,refused=,inputs*|plain', _init_pipeline_convert_Conversion),
