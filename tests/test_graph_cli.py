@@ -239,3 +239,30 @@ def test_a_failed_render_leaves_the_old_output(tmp_path: Path) -> None:
         render_files("digraph { a -> }", {out: "svg"})
     assert out.read_text() == "previous diagram"
     assert leftovers(tmp_path) == []
+
+
+# provenance: reduced from neo_simulation2 worlds/neo_workshop.world (MIT), written anew: a world
+# of several models, where `graph` drew the first one alone and said nothing of the others
+WORLD = """<sdf version="1.6"><world name="workshop">
+  <model name="wall"><static>1</static><link name="wall_link"/></model>
+  <model name="cone"><link name="link"><inertial><mass>1</mass></inertial></link></model>
+</world></sdf>
+"""
+
+
+def test_a_world_asks_which_model_to_draw_as_convert_does(tmp_path: Path) -> None:
+    world = tmp_path / "workshop.world"
+    world.write_text(WORLD)
+    refused = graph(world, "-o", tmp_path / "w.dot")
+    assert refused.exit_code == 2
+    assert "holds 2 models (wall, cone)" in refused.output and "--all-models" in refused.output
+    assert not (tmp_path / "w.dot").exists()
+    one = graph(world, "-o", tmp_path / "cone.dot", "--model", "cone")
+    assert one.exit_code == 0, one.output
+    assert (tmp_path / "cone.dot").read_text().startswith('digraph "cone"')
+    every = graph(world, "-o", tmp_path / "w.dot", "--all-models")
+    assert every.exit_code == 0, every.output
+    assert (tmp_path / "w_wall.dot").read_text().startswith('digraph "wall"')
+    assert (tmp_path / "w_cone.dot").read_text().startswith('digraph "cone"')
+    missing = graph(world, "-o", tmp_path / "x.dot", "--model", "nope")
+    assert missing.exit_code == 2 and "no model named 'nope'" in missing.output

@@ -73,11 +73,22 @@ def test_a_macro_called_three_times_reports_its_dropped_element_once(tmp_path: P
 
 
 def test_sim_says_why_it_fails_when_the_findings_are_only_warnings() -> None:
-    result = run("sim", HERE / "overlap_arm.urdf", "--engine", "pybullet", "--duration", "0.05")
+    # a weak arm held at its start pose (--hold) sags: the verdict fails on a warning
+    weak = FIXTURES / "rules" / "D003" / "bad.urdf"
+    result = run("sim", weak, "--engine", "pybullet", "--hold", "--duration", "0.5")
     assert result.exit_code == 1
     assert "0 error(s), 1 warning(s)" in result.output
-    assert "exit 1: PyBullet: failed (penetrating at start)" in result.output, result.output
+    assert "exit 1: PyBullet: failed (not settled)" in result.output, result.output
     assert "verdict" in run("sim", "--help").output.split("Options:")[0].replace("\n", " ")
+
+
+def test_an_overlap_pybullet_does_not_simulate_does_not_fail_the_run() -> None:
+    # franka panda (gazebo:=true) and solo12: PyBullet loads without self-collision, so two
+    # links overlapping at the start are no contact of its run (2026-11-26 walkthrough, problem 10)
+    result = run("sim", HERE / "overlap_arm.urdf", "--engine", "pybullet", "--duration", "0.05")
+    assert result.exit_code == 0, result.output
+    assert "info[R002 sim-initial-penetration]" in result.output and "not simulated" in result.output
+    assert "PyBullet: passed" in result.output
 
 
 def test_every_command_lists_the_models_when_model_names_none(tmp_path: Path) -> None:
@@ -103,6 +114,23 @@ def test_a_misspelt_xacro_argument_is_reported_with_the_one_meant() -> None:
     assert "did you mean 'gazebo'" in result.output and "default 'false'" in result.output
     quiet = run("check", bad, "-a", "gazebo:=true", "-a", "use_lidar:=false", "--no-dynamics")
     assert "X007" not in quiet.output
+
+
+def test_convert_and_info_say_when_a_xacro_argument_was_ignored(tmp_path: Path) -> None:
+    # rosbot: `convert rosbot.urdf.xacro -a use_sims:=true` wrote the robot without its sim parts,
+    # silently; only `check` said the argument was misspelt (2026-11-26 walkthrough, problem 7)
+    bad = FIXTURES / "rules" / "X007" / "bad.urdf.xacro"
+    for command in (["convert", bad, "-o", tmp_path / "arm.urdf"], ["info", bad]):
+        result = run(*command, "-a", "gazbo:=true")
+        assert result.exit_code == 0, result.output
+        assert "warning[X007 misspelt-xacro-argument]" in result.stderr, (command, result.stderr)
+        assert "did you mean 'gazebo'" in result.stderr
+        spelt = run(*command, "-a", "gazebo:=true")
+        assert spelt.exit_code == 0 and spelt.stderr == "", (command, spelt.stderr)
+    quiet = run("convert", bad, "-o", tmp_path / "arm.urdf", "-a", "gazbo:=true", "-q")
+    assert quiet.stderr == ""
+    as_json = run("info", bad, "-a", "gazbo:=true", "--format", "json")
+    assert as_json.stdout.lstrip().startswith("{") and "X007" in as_json.stderr
 
 
 def test_a_xacro_type_error_names_the_property_that_is_text() -> None:

@@ -7,7 +7,9 @@ from pathlib import Path
 import numpy as np
 from click.testing import CliRunner
 
+from tests.conftest import FIXTURES
 from urdftool.cli import main
+from urdftool.pipeline.check import CheckOptions, check_file
 
 INERTIAL = ("<inertial><mass>1</mass><inertia><ixx>0.01</ixx><iyy>0.01</iyy><izz>0.01</izz></inertia>"
             "</inertial>")
@@ -65,3 +67,18 @@ def test_free_bodies_become_free_joints_in_mjcf_where_the_model_puts_them(tmp_pa
     assert abs(yaw - 0.3) < 1e-12
     mujoco.mj_step(model, data)
     assert np.isfinite(data.qpos).all()
+
+
+def test_a_missing_gazebo_model_gets_gazebo_help_once_per_file() -> None:
+    # neo_workshop.world: 26 copies of a wall whose model:// folder is not on the search path got
+    # ROS package advice (package.xml), 26 times
+    path = FIXTURES / "rules" / "M001" / "bad_gazebo_model.world"
+    found = {r.robot: d for r in check_file(str(path), CheckOptions(select=("M001",)))
+             for d in r.diagnostics}
+    first, second = found["wall"], found["wall_clone"]
+    assert first.help and second.help
+    assert "model.config" in first.help and "GZ_SIM_RESOURCE_PATH" in first.help
+    assert "GAZEBO_MODEL_PATH" in first.help and "package.xml" not in first.help
+    assert first.help.startswith("2 models of this file use 'urdftool_fixture_missing_wall'")
+    assert second.help == ("2 models of this file use 'urdftool_fixture_missing_wall': "
+                           "see model 'wall' (line 13)")

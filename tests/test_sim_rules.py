@@ -16,8 +16,11 @@ from tests.conftest import FIXTURES
 from tests.test_rule_fixtures import SIM_ONLY, expected_marks
 from urdftool.diagnostics import Diagnostic
 from urdftool.facts.simulation import rule_options_for
+from urdftool.facts.simulation.record import EngineRun, Penetration
 from urdftool.facts.simulation.scene import SimOptions
+from urdftool.model import Robot
 from urdftool.pipeline.check import CheckOptions, check_file
+from urdftool.rules.runtime import _verdict, expected_motion
 
 RULES = FIXTURES / "rules"
 
@@ -59,3 +62,34 @@ def test_drift_data_has_base_speed_and_distance() -> None:
 def test_rules_are_silent_without_the_simulation() -> None:
     reports = check_file(str(RULES / "R003" / "bad.urdf"), CheckOptions(select=("R",)))
     assert [d for r in reports for d in r.diagnostics] == []
+
+
+def test_an_overlap_pybullet_does_not_simulate_is_info_and_does_not_fail_the_verdict() -> None:
+    # solo12 (example-robot-data, robot_properties_solo): PyBullet loads without self-collision,
+    # so the upper legs' 6 mm overlap with the base is no contact of its run
+    (overlap,) = findings(RULES / "R002" / "bad.urdf", "R002")
+    assert overlap.data["engine"] == "pybullet" and overlap.severity.value == "info"
+    assert "not simulated" in overlap.message and "URDF_USE_SELF_COLLISION" in overlap.message
+    verdicts = {d.data["engine"]: d.message for d in findings(RULES / "R002" / "bad.urdf", "R005")}
+    assert verdicts["pybullet"].startswith("PyBullet: passed")
+    assert "(self-collision off: not simulated)" in verdicts["pybullet"]
+
+
+def test_an_overlap_the_run_simulates_fails_the_verdict() -> None:
+    run = EngineRun("mujoco", timestep=0.002, steps=10, penetrations=[Penetration("a", "b", 0.01)])
+    assert _verdict(Robot("r"), run, floating=False, hold=False).startswith("failed (penetrating at start)")
+    run.self_collision = False
+    assert _verdict(Robot("r"), run, floating=False, hold=False).startswith("passed")
+
+
+def test_the_expected_motion_names_what_the_robot_is() -> None:
+    # rosbot (a wheeled base that only rolled 6 mm in PyBullet) was told "the free robot collapses"
+    run = EngineRun("pybullet", max_joint_speed=1.4, base_displacement=0.006)
+    assert expected_motion(run, True, False, "auto: wheels") == (
+        "expected without actuators: the unpowered wheels turn as it settles")
+    assert expected_motion(run, True, False, "auto: 4 legs") == (
+        "expected without actuators: the free robot collapses")
+    assert expected_motion(run, True, False, "floating-base option free") == (
+        "expected without actuators: the free robot settles under gravity")
+    assert expected_motion(run, False, False, "auto: no wheels or legs") == (
+        "expected without actuators: the arm sags under gravity")

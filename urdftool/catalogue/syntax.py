@@ -232,7 +232,11 @@ class UnknownElement(_Syntax):
 
     ## What it does
     Reports elements that URDF does not know in the place they are written,
-    such as `<inertia>` directly in a link or `<orign>` for `<origin>`.
+    such as `<inertia>` directly in a link or `<orign>` for `<origin>`. In SDF
+    files, elements the declared SDFormat version does not define there, also
+    inside a saved world's `<state>` block, which is checked against the state
+    descriptions (a link state holds `<velocity>`, `<acceleration>` and
+    `<wrench>`; a link does not).
 
     ## Why it matters
     Loaders skip unknown elements without a word, so a misspelt `<origin>` or

@@ -245,3 +245,10 @@ class MisspeltXacroArgument(_Xacro):
     name = "misspelt-xacro-argument"
     severity = Severity.WARNING
     since = "0.2.0"
+
+
+#: Reader warnings that mean the robot built is not the one asked for (an argument xacro ignored)
+#: or not the one ROS's xacro builds (an include read from where it was found, not where it is
+#: written). Commands that print no findings of their own, `convert` and `info`, print these on
+#: stderr: exporting is where a typo costs most.
+CHANGES_THE_ROBOT = frozenset({IncludeNotAtPath.code, MisspeltXacroArgument.code})

@@ -3,15 +3,18 @@
 from __future__ import annotations
 
 import os
+import re
 import sys
 from collections.abc import Callable, Sequence
+from pathlib import Path
 from typing import Any, TypeVar
 
 import click
 
 from urdftool.budgets import NAMES, BudgetError, budgets, parse_budgets, set_budgets
-from urdftool.parse import InputError
+from urdftool.parse import InputError, Loaded
 from urdftool.pipeline.check import CheckOptions
+from urdftool.pipeline.load import no_such_model
 from urdftool.rules import UnknownSelector
 from urdftool.safe_files import DEFAULT_LIMITS, limits, parse_limits, set_limits
 
@@ -141,3 +144,34 @@ def input_error(exc: InputError) -> InputProblem:
 
 def is_terminal() -> bool:
     return sys.stderr.isatty()
+
+
+def choose_models(source: str, models: Sequence[Loaded], model_name: str | None, all_models: bool,
+                  each: str) -> list[Loaded]:
+    """The models a command that writes one file per model works on (``convert``, ``graph``).
+
+    The one named by ``--model``, every one with ``--all-models``, or the only one. A file
+    holding several models (an SDF world) without either flag is a usage error that lists them,
+    so that no command silently takes the first. *each* ends the hint: "convert each".
+    """
+    if model_name is not None:
+        chosen = [m for m in models if m.robot and m.robot.name == model_name]
+        if not chosen:
+            missing = no_such_model(source, model_name, (m.robot.name for m in models if m.robot))
+            click.echo(f"urdftool: {missing}", err=True)
+            sys.exit(EXIT_USAGE)
+        return chosen[:1]
+    robots = [m for m in models if m.robot is not None]
+    if len(robots) > 1 and not all_models:
+        names = ", ".join(m.robot.name or "?" for m in robots if m.robot)
+        click.echo(f"urdftool: {source} holds {len(robots)} models ({names}): choose one with "
+                   f"--model NAME, or {each} with --all-models", err=True)
+        sys.exit(EXIT_USAGE)
+    return robots or list(models[:1])
+
+
+def per_model_path(out: str, name: str) -> str:
+    """OUT with the model's name before the suffix (``world.xml`` -> ``world_robot.xml``)."""
+    path = Path(out)
+    safe = re.sub(r"[^A-Za-z0-9_.-]+", "_", name).strip("_") or "model"
+    return str(path.with_name(f"{path.stem}_{safe}{path.suffix}"))

@@ -2,21 +2,22 @@
 
 from __future__ import annotations
 
-import re
 import sys
 from collections.abc import Sequence
-from pathlib import Path
 
 import click
 
+from urdftool.catalogue.xacro import CHANGES_THE_ROBOT
 from urdftool.cli.common import (
     EXIT_FINDINGS,
     EXIT_OK,
     EXIT_USAGE,
     build_options,
+    choose_models,
     input_error,
     is_terminal,
     model_options,
+    per_model_path,
 )
 from urdftool.diagnostics import Diagnostic, Severity
 from urdftool.export import ExportOptions, UnknownTarget, target_for, verify_model
@@ -34,7 +35,7 @@ from urdftool.pipeline.collision import (
 )
 from urdftool.pipeline.collision import MODES as COLLISION_MODES
 from urdftool.pipeline.convert import convert_robot, output_paths, write_conversion
-from urdftool.pipeline.load import load_models, no_such_model
+from urdftool.pipeline.load import load_models
 from urdftool.render.text import render_diagnostic
 from urdftool.source import SourceIndex
 
@@ -143,7 +144,7 @@ def convert_command(
     codes = []
     for loaded in chosen:
         name = (loaded.robot.name if loaded.robot else None) or "model"
-        where = out if len(chosen) == 1 else _per_model(out, name)
+        where = out if len(chosen) == 1 else per_model_path(out, name)
         if len(chosen) > 1:
             click.echo(f"urdftool: model '{name}' -> {where}", err=True)
         codes.append(_convert_one(loaded, source, where, target, export_options, collision, check_only,
@@ -153,28 +154,7 @@ def convert_command(
 
 def _models(source: str, options: CheckOptions, model_name: str | None, all_models: bool) -> list[Loaded]:
     """The models to convert: the one named, all of them, or the only one (a world must say which)."""
-    models = load_models(source, options)
-    if model_name is not None:
-        chosen = [m for m in models if m.robot and m.robot.name == model_name]
-        if not chosen:
-            missing = no_such_model(source, model_name, (m.robot.name for m in models if m.robot))
-            click.echo(f"urdftool: {missing}", err=True)
-            sys.exit(EXIT_USAGE)
-        return chosen[:1]
-    robots = [m for m in models if m.robot is not None]
-    if len(robots) > 1 and not all_models:
-        names = ", ".join(m.robot.name or "?" for m in robots if m.robot)
-        click.echo(f"urdftool: {source} holds {len(robots)} models ({names}): choose one with "
-                   "--model NAME, or convert each with --all-models", err=True)
-        sys.exit(EXIT_USAGE)
-    return robots or models[:1]
-
-
-def _per_model(out: str, name: str) -> str:
-    """OUT with the model's name before the suffix (``world.xml`` -> ``world_robot.xml``)."""
-    path = Path(out)
-    safe = re.sub(r"[^A-Za-z0-9_.-]+", "_", name).strip("_") or "model"
-    return str(path.with_name(f"{path.stem}_{safe}{path.suffix}"))
+    return choose_models(source, load_models(source, options), model_name, all_models, "convert each")
 
 
 def _convert_one(loaded: Loaded, source: str, out: str, target: str, export_options: ExportOptions,
@@ -184,6 +164,8 @@ def _convert_one(loaded: Loaded, source: str, out: str, target: str, export_opti
     if loaded.robot is None:
         _emit(loaded.diagnostics)
         return EXIT_FINDINGS
+    if not quiet:
+        _emit([d for d in loaded.diagnostics if d.code in CHANGES_THE_ROBOT])
     inputs = model_inputs(loaded.robot, loaded.files or [source])
     _refuse_output(out, inputs)  # an included xacro file or a mesh
     simplified = _simplify(loaded.robot, collision, quiet, target in CAPSULE_TARGETS)

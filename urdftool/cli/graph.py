@@ -14,8 +14,10 @@ from urdftool.cli.common import (
     EXIT_OK,
     EXIT_USAGE,
     build_options,
+    choose_models,
     input_error,
     model_options,
+    per_model_path,
     selection_options,
 )
 from urdftool.diagnostics import Diagnostic, Severity
@@ -32,7 +34,7 @@ from urdftool.export.write import OutputError, guard_inputs, model_inputs
 from urdftool.parse import InputError, Loaded
 from urdftool.pipeline.check import CheckOptions
 from urdftool.pipeline.convert import graph_findings
-from urdftool.pipeline.load import NoSuchModel, load_one
+from urdftool.pipeline.load import load_models
 from urdftool.render.text import render_diagnostic
 from urdftool.source import SourceIndex
 
@@ -49,14 +51,13 @@ def _guard(out: str, inputs: Sequence[str]) -> None:
         _fail(str(exc), EXIT_USAGE)
 
 
-def _load(source: str, model_name: str | None, options: CheckOptions) -> Loaded:
-    """The model to draw: the first in SOURCE, or the one named *model_name*."""
+def _load(source: str, model_name: str | None, all_models: bool, options: CheckOptions) -> list[Loaded]:
+    """The models to draw: the one named, all of them, or the only one (a world must say which)."""
     try:
-        return load_one(source, options, model_name)
+        models = load_models(source, options)
     except InputError as exc:
         raise input_error(exc) from exc
-    except NoSuchModel as exc:
-        _fail(str(exc), EXIT_USAGE)
+    return choose_models(source, models, model_name, all_models, "draw each")
 
 
 def _summary(written: Sequence[Path], diagnostics: Sequence[Diagnostic]) -> str:
@@ -104,6 +105,11 @@ def _summary(written: Sequence[Path], diagnostics: Sequence[Diagnostic]) -> str:
 @click.option(
     "--model", "model_name", help="For files with several models (SDF worlds): which one."
 )
+@click.option(
+    "--all-models",
+    is_flag=True,
+    help="For files with several models: draw each, to OUT with the model's name added.",
+)
 @click.option("-q", "--quiet", is_flag=True, help="Print nothing on success.")
 @selection_options
 @model_options
@@ -115,6 +121,7 @@ def graph_command(
     diagnostics: bool,
     keep_dot: bool,
     model_name: str | None,
+    all_models: bool,
     quiet: bool,
     select: Sequence[str],
     ignore: Sequence[str],
@@ -135,14 +142,7 @@ def graph_command(
         raise click.BadParameter(str(exc), param_hint="-o/--output") from exc
     options = build_options(xacro_args, packages, package_paths, select, ignore)
     _guard(out, [source])  # before any work
-    loaded = _load(source, model_name, options)
-    inputs = model_inputs(loaded.robot, loaded.files or [source])
-    _guard(out, inputs)
-    if loaded.robot is None:
-        sources = SourceIndex()
-        for d in loaded.diagnostics:
-            click.echo(render_diagnostic(d, sources, colour=sys.stderr.isatty()), err=True)
-        _fail(f"{source}: no robot to draw: fix the errors above first", EXIT_FINDINGS)
+    chosen = _load(source, model_name, all_models, options)
     graph_options = GraphOptions(
         rankdir=rankdir,
         collapse_fixed=collapse_fixed,
@@ -150,6 +150,23 @@ def graph_command(
         select=options.select,
         ignore=options.ignore,
     )
+    for loaded in chosen:
+        name = (loaded.robot.name if loaded.robot else None) or "model"
+        _draw(loaded, source, out if len(chosen) == 1 else per_model_path(out, name), graph_options,
+              keep_dot, quiet)
+    sys.exit(EXIT_OK)
+
+
+def _draw(loaded: Loaded, source: str, out: str, graph_options: GraphOptions, keep_dot: bool,
+          quiet: bool) -> None:
+    """Write one model's diagram to OUT (and its DOT text with *keep_dot*); exits on a failure."""
+    inputs = model_inputs(loaded.robot, loaded.files or [source])
+    _guard(out, inputs)
+    if loaded.robot is None:
+        sources = SourceIndex()
+        for d in loaded.diagnostics:
+            click.echo(render_diagnostic(d, sources, colour=sys.stderr.isatty()), err=True)
+        _fail(f"{source}: no robot to draw: fix the errors above first", EXIT_FINDINGS)
     found = graph_findings(loaded.robot, graph_options)
     text = dot_text(loaded.robot, graph_options, found)
     written: list[Path] = []
@@ -165,4 +182,3 @@ def graph_command(
         click.echo(f"graphviz: {warning}", err=True)
     if not quiet:
         click.echo(_summary(written, found), err=True)
-    sys.exit(EXIT_OK)

@@ -8,6 +8,7 @@ from collections.abc import Sequence
 
 import click
 
+from urdftool.catalogue.xacro import CHANGES_THE_ROBOT
 from urdftool.cli.common import (
     EXIT_FINDINGS,
     EXIT_OK,
@@ -45,6 +46,7 @@ def info_command(
             raise InputProblem(str(no_such_model(path, model_name, names)))
     summaries = []
     failed = False
+    sources_of_warnings = SourceIndex()
     for loaded in models:
         if loaded.robot is None:
             failed = True
@@ -52,6 +54,10 @@ def info_command(
             for d in loaded.diagnostics:
                 click.echo(render_diagnostic(d, sources), err=True)
             continue
+        # an ignored xacro argument describes another robot than the one asked for: say so
+        for d in loaded.diagnostics:
+            if d.code in CHANGES_THE_ROBOT:
+                click.echo(render_diagnostic(d, sources_of_warnings), err=True)
         summaries.append(summarize(loaded.robot))
     if fmt == "json":
         click.echo(json.dumps(summaries if len(summaries) != 1 else summaries[0], indent=2))

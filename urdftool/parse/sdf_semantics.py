@@ -40,6 +40,7 @@ from urdftool.parse.angles import degree_poses
 from urdftool.parse.locate import span_of
 from urdftool.parse.sdf_include import include_uri, standard_model
 from urdftool.parse.sdf_spec import ELEMENTS, fmt, versions_of
+from urdftool.parse.sdf_state import in_state, state_findings
 from urdftool.parse.sdf_values import SdfValues
 from urdftool.records import record
 from urdftool.source import SourceIndex
@@ -98,6 +99,8 @@ class SdfSemantics:
 
     def check(self, root: etree._Element) -> list[Diagnostic]:
         self._versions(root)
+        for state in (s for world in _elements(root, "world") for s in _elements(world, "state")):
+            self.out.extend(state_findings(state, self.version))
         models = _elements(root, "model")
         if len(models) > 1:
             self.out.append(RepeatedElement.diagnostic(
@@ -172,7 +175,7 @@ class SdfSemantics:
                 continue
             parent = element.getparent()
             if element.tag != "sdf" and (parent is None or not isinstance(parent.tag, str)
-                                         or parent.tag in ("plugin", "state")):
+                                         or parent.tag == "plugin" or in_state(element)):
                 continue
             for child in element:
                 if not isinstance(child.tag, str) or _custom(child.tag):

@@ -151,11 +151,50 @@ def _check_models(path: str, options: CheckOptions) -> list[FileReport]:
     # Rules that re-resolve URIs (to say where a mesh was looked for) use the same resolver.
     rule_options = {**options.rule_options, "resolver": resolver}
     reports = [report_for(m, selection, rule_options) for m in models]
-    found = [list(r.diagnostics) for r in reports]
+    found = _package_once([list(r.diagnostics) for r in reports], [r.robot for r in reports])
     if options.suppressions:
         files = [f for m in models for f in (m.files or [m.path]) if f not in m.without_suppressions]
         found = suppress.apply_to_models(found, files, selection)
     return [_settled(r, diagnostics, options) for r, diagnostics in zip(reports, found, strict=True)]
+
+
+def _package_once(found: list[list[Diagnostic]], robots: Sequence[str | None]) -> list[list[Diagnostic]]:
+    """A package (or Gazebo model) that several models of one file cannot find, the 27 copies of a
+    wall in a saved world, is still each model's finding (``--model`` reports it), but its help,
+    where to look and what was searched, is said once: at the first model's finding, with how many
+    models use it; the others point there."""
+    first: dict[tuple[str, str], tuple[int, Diagnostic]] = {}
+    repeats: dict[tuple[str, str], int] = {}
+    for index, diagnostics in enumerate(found):
+        for d in diagnostics:
+            key = _package_key(d)
+            if key is not None:
+                first.setdefault(key, (index, d))
+                repeats[key] = repeats.get(key, 0) + 1
+    if all(count == 1 for count in repeats.values()):
+        return found
+    out: list[list[Diagnostic]] = []
+    for diagnostics in found:
+        kept = []
+        for d in diagnostics:
+            key = _package_key(d)
+            if key is None or repeats[key] == 1:
+                kept.append(d)
+                continue
+            at, head = first[key]
+            models = f"{repeats[key]} models of this file use '{key[1]}'"
+            if head is d:
+                kept.append(dataclasses.replace(d, help=f"{models}; {d.help}"))
+                continue
+            line = f" (line {head.location.line})" if head.location and head.location.line else ""
+            kept.append(dataclasses.replace(d, help=f"{models}: see model '{robots[at]}'{line}"))
+        out.append(kept)
+    return out
+
+
+def _package_key(d: Diagnostic) -> tuple[str, str] | None:
+    package = (d.data or {}).get("package")
+    return (d.code, package) if isinstance(package, str) and d.help else None
 
 
 def _settled(report: FileReport, diagnostics: list[Diagnostic], options: CheckOptions) -> FileReport:

@@ -200,7 +200,7 @@ def _init_facts_simulation_options_SimOptions(__defaults__, __factories__, __sen
 
 # urdftool.facts.simulation.record.EngineRun
 def _init_facts_simulation_record_EngineRun(__defaults__, __factories__, __sentinel__, __set__, __slot__):
-    def __init__(self, engine, refused=__sentinel__, loaded=__defaults__['loaded'], unavailable=__defaults__['unavailable'], timestep=__defaults__['timestep'], steps=__defaults__['steps'], wall_time=__defaults__['wall_time'], diverged_at=__defaults__['diverged_at'], max_joint_speed=__defaults__['max_joint_speed'], fastest_joint=__defaults__['fastest_joint'], late_joint_speed=__defaults__['late_joint_speed'], late_fastest_joint=__defaults__['late_fastest_joint'], max_base_speed=__defaults__['max_base_speed'], energy_initial=__defaults__['energy_initial'], energy_max=__defaults__['energy_max'], energy_final=__defaults__['energy_final'], energy_scale=__defaults__['energy_scale'], base_displacement=__defaults__['base_displacement'], base_late_speed=__defaults__['base_late_speed'], base_late_distance=__defaults__['base_late_distance'], penetrations=__sentinel__, loop_gap=__defaults__['loop_gap'], limit_violations=__sentinel__, mimic_error=__defaults__['mimic_error'], mimic_joint=__defaults__['mimic_joint']):
+    def __init__(self, engine, refused=__sentinel__, loaded=__defaults__['loaded'], unavailable=__defaults__['unavailable'], timestep=__defaults__['timestep'], steps=__defaults__['steps'], wall_time=__defaults__['wall_time'], diverged_at=__defaults__['diverged_at'], max_joint_speed=__defaults__['max_joint_speed'], fastest_joint=__defaults__['fastest_joint'], late_joint_speed=__defaults__['late_joint_speed'], late_fastest_joint=__defaults__['late_fastest_joint'], max_base_speed=__defaults__['max_base_speed'], energy_initial=__defaults__['energy_initial'], energy_max=__defaults__['energy_max'], energy_final=__defaults__['energy_final'], energy_scale=__defaults__['energy_scale'], base_displacement=__defaults__['base_displacement'], base_late_speed=__defaults__['base_late_speed'], base_late_distance=__defaults__['base_late_distance'], penetrations=__sentinel__, self_collision=__defaults__['self_collision'], loop_gap=__defaults__['loop_gap'], limit_violations=__sentinel__, mimic_error=__defaults__['mimic_error'], mimic_joint=__defaults__['mimic_joint']):
         self.engine = engine
         self.refused = __factories__['refused']() if refused is __sentinel__ else refused
         self.loaded = loaded
@@ -222,6 +222,7 @@ def _init_facts_simulation_record_EngineRun(__defaults__, __factories__, __senti
         self.base_late_speed = base_late_speed
         self.base_late_distance = base_late_distance
         self.penetrations = __factories__['penetrations']() if penetrations is __sentinel__ else penetrations
+        self.self_collision = self_collision
         self.loop_gap = loop_gap
         self.limit_violations = __factories__['limit_violations']() if limit_violations is __sentinel__ else limit_violations
         self.mimic_error = mimic_error
@@ -290,7 +291,7 @@ COMPILED = {
     'urdftool.facts.ros2_control.Interface': ('name,element,params*|slots', _init_facts_ros2_control_Interface),
     'urdftool.facts.simulation.SimResult': ('scene,runs|plain', _init_facts_simulation_SimResult),
     'urdftool.facts.simulation.options.SimOptions': ('engines=,duration=,timestep=,hold=,repair_inertia=|slots', _init_facts_simulation_options_SimOptions),
-    'urdftool.facts.simulation.record.EngineRun': ('engine,refused*,loaded=,unavailable=,timestep=,steps=,wall_time=,diverged_at=,max_joint_speed=,fastest_joint=,late_joint_speed=,late_fastest_joint=,max_base_speed=,energy_initial=,energy_max=,energy_final=,energy_scale=,base_displacement=,base_late_speed=,base_late_distance=,penetrations*,loop_gap=,limit_violations*,mimic_error=,mimic_joint=|plain', _init_facts_simulation_record_EngineRun),
+    'urdftool.facts.simulation.record.EngineRun': ('engine,refused*,loaded=,unavailable=,timestep=,steps=,wall_time=,diverged_at=,max_joint_speed=,fastest_joint=,late_joint_speed=,late_fastest_joint=,max_base_speed=,energy_initial=,energy_max=,energy_final=,energy_scale=,base_displacement=,base_late_speed=,base_late_distance=,penetrations*,self_collision=,loop_gap=,limit_violations*,mimic_error=,mimic_joint=|plain', _init_facts_simulation_record_EngineRun),
     'urdftool.facts.simulation.record.LimitViolation': ('joint,amount,position,bound,time|slots', _init_facts_simulation_record_LimitViolation),
     'urdftool.facts.simulation.record.Penetration': ('link_a,link_b,depth|slots', _init_facts_simulation_record_Penetration),
     'urdftool.facts.simulation.scene.Scene': ('robot,tree,floating,base_reason,start,neighbours*,size=|plain', _init_facts_simulation_scene_Scene),

@@ -72,7 +72,12 @@ class UnresolvedPackage(_Meshes):
     ## Fix
     Tell urdftool where the package is (`--package b1_description=DIR`, or
     `--package-path` with a folder holding its `package.xml`), or fix the
-    package name in the URI.
+    package name in the URI. A `model://` URI names a Gazebo model, a folder
+    holding `model.config`: pass `--package-path` with the folder above it, or
+    list that folder in `GZ_SIM_RESOURCE_PATH` (gz-sim) or `GAZEBO_MODEL_PATH`
+    (Gazebo classic), where the simulator looks too. When several models of
+    one world use the missing package, each reports it and the help is given
+    once, at the first.
     """
 
     code = "M001"
@@ -108,8 +113,8 @@ class UnresolvedPackage(_Meshes):
                 f"{first.describe}: package '{package}' is not found{count}",
                 first.location,
                 element=first.element,
-                help=f"pass --package {package}=DIR or --package-path DIR (a folder holding its "
-                f"package.xml){hint}; searched: {_tried(found.tried)}",
+                help=f"{_where_to_point(package, first.mesh.filename)}{hint}; "
+                f"searched: {_tried(found.tried)}",
                 data={
                     "package": package,
                     "uri": first.mesh.filename,
@@ -119,6 +124,18 @@ class UnresolvedPackage(_Meshes):
                 },
                 severity=Severity.WARNING if beside else None,
             )
+
+
+def _where_to_point(package: str, uri: str) -> str:
+    """How to tell urdftool (and the consumer) where *package* is: a ROS package holds
+    ``package.xml``; a Gazebo model (``model://``) is a folder holding ``model.config``, found
+    through Gazebo's resource path variables, which the resolver reads too."""
+    if uri.startswith("model://"):
+        return (f"'{package}' is a Gazebo model: pass --package-path DIR, DIR being the folder that "
+                f"holds '{package}/' (with its model.config), or list DIR in GZ_SIM_RESOURCE_PATH "
+                f"(gz-sim) or GAZEBO_MODEL_PATH (Gazebo classic), as the simulator needs it too; "
+                f"or --package {package}=DIR for the model folder itself")
+    return f"pass --package {package}=DIR or --package-path DIR (a folder holding its package.xml)"
 
 
 def _where_pybullet_finds(use: survey.MeshUse, robot_path: str) -> str | None:

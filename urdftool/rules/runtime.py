@@ -153,13 +153,17 @@ class SimInitialPenetration(_Runtime):
     pairs of links whose collision geometry overlaps by more than 1 mm, as
     each engine sees it (MuJoCo's contacts, PyBullet's closest points). Links
     that touch by construction are left out: links welded together by fixed
-    joints, and links joined by a joint.
+    joints, and links joined by a joint. An overlap the run does not simulate
+    (PyBullet's, measured with self-collision on while the run keeps
+    PyBullet's default, self-collision off) is reported as `info` and does not
+    fail the verdict.
 
     ## Why it matters
     Overlapping geometry is pushed apart by the contact solver on the first
     step: the robot jumps, jitters, or explodes. MuJoCo collides every pair of
     bodies that are not parent and child, so this happens there as soon as
-    the file is loaded; in PyBullet as soon as self-collision is turned on.
+    the file is loaded; in PyBullet as soon as self-collision is turned on
+    (`URDF_USE_SELF_COLLISION`), which a plain `loadURDF` does not do.
 
     ## Example
     A lidar cylinder placed 2 cm into the chassis box it sits on, mounted on
@@ -186,10 +190,15 @@ class SimInitialPenetration(_Runtime):
             collision = link.collisions[0] if link and link.collisions else None
             span = collision.span if collision and collision.span else (link.span if link else None)
             more = f" and {len(run.penetrations) - 1} more pair(s)" if len(run.penetrations) > 1 else ""
+            # PyBullet runs without self-collision: a contact no run sees is information, not a defect
+            unseen = "" if run.self_collision else (
+                f"; not simulated: {display_name(run.engine)} loads without self-collision, and with "
+                "URDF_USE_SELF_COLLISION its solver would push them apart")
             yield self.diagnostic(
                 f"{display_name(run.engine)}: links '{worst.link_a}' and '{worst.link_b}' overlap by "
-                f"{worst.depth * 1000:.1f} mm at the start{more}",
+                f"{worst.depth * 1000:.1f} mm at the start{more}{unseen}",
                 span, element=f"link[{deeper}]/collision",
+                severity=None if run.self_collision else Severity.INFO,
                 data={**_summary(run), "pairs": [[p.link_a, p.link_b, p.depth] for p in run.penetrations]})
 
 
@@ -299,7 +308,7 @@ class SimSummary(_Runtime):
     penetration depth, the largest gap of a closed loop over the run (SDF
     loop closures in MuJoCo) and wall time (in `data["summary"]`), and the
     verdict in words. The verdict is "failed" for a defect only: a blow-up,
-    overlap at the start, a loop that opens by more than 1 mm, or, with
+    overlap at the start that the run simulates, a loop that opens by more than 1 mm, or, with
     `--hold`, a robot that does not settle or passes a limit. When an
     exporter refuses the model (physically invalid inertia, a closed chain
     PyBullet cannot hold) or the engine is not installed, it says so, and
@@ -337,7 +346,7 @@ class SimSummary(_Runtime):
                                       ctx.robot.span, data={**_summary(run), "verdict": "not simulated"})
                 yield from run.refused
                 continue
-            verdict = _verdict(ctx.robot, run, result.scene.floating, hold)
+            verdict = _verdict(ctx.robot, run, result.scene.floating, hold, result.scene.base_reason)
             yield self.diagnostic(f"{name}: {verdict}", ctx.robot.span,
                                   data={**_summary(run), "verdict": verdict.split(" ", 1)[0].rstrip(":")})
 
@@ -346,24 +355,26 @@ class SimSummary(_Runtime):
 LOOP_TOLERANCE = 0.001
 
 
-def _verdict(robot: Robot, run: EngineRun, floating: bool, hold: bool) -> str:
+def _verdict(robot: Robot, run: EngineRun, floating: bool, hold: bool, base_reason: str = "") -> str:
     """"passed" or "failed (...)" with the numbers. Failed is for defects only: blow-ups and NaN,
-    links overlapping at the start, a closed loop that opens by more than LOOP_TOLERANCE, and,
-    with actuators holding (``--hold``), not settling or going past a limit. Without actuators
-    a fixed arm sags and a free robot collapses: that motion is expected and named after the
-    verdict, never failed."""
+    links overlapping at the start where the run simulates their contact, a closed loop that
+    opens by more than LOOP_TOLERANCE, and, with actuators holding (``--hold``), not settling or
+    going past a limit. Without actuators a fixed arm sags, a legged robot collapses and
+    free wheels roll: that motion is expected and named after the verdict, never failed."""
     drift = drift_because(run, floating, hold)
     limits = beyond_limits(robot, run)
     loops_open = run.loop_gap is not None and run.loop_gap > LOOP_TOLERANCE
     problems = [name for name, found in (
-        ("unstable", unstable_because(run)), ("penetrating at start", run.penetrations),
+        ("unstable", unstable_because(run)),
+        ("penetrating at start", run.penetrations if run.self_collision else None),
         ("loops open", loops_open),
         ("not settled", drift if hold else None),
         ("past joint limits", limits if hold else None)) if found]
-    expected = expected_motion(run, floating, hold)
+    expected = expected_motion(run, floating, hold, base_reason)
+    unseen = " (self-collision off: not simulated)" if run.penetrations and not run.self_collision else ""
     numbers = (f"{run.steps} steps of {run.timestep * 1000:.3g} ms; max joint speed "
                f"{fmt(run.max_joint_speed)}, energy drift {fmt(run.energy_growth)}, base moved "
-               f"{fmt(run.base_displacement)} m, penetration {run.penetration_depth * 1000:.1f} mm"
+               f"{fmt(run.base_displacement)} m, penetration {run.penetration_depth * 1000:.1f} mm{unseen}"
                + (f", loop gap {run.loop_gap * 1000:.2f} mm" if run.loop_gap is not None else ""))
     head = "passed" if not problems else "failed (" + ", ".join(problems) + ")"
     if expected and not problems:
@@ -371,13 +382,21 @@ def _verdict(robot: Robot, run: EngineRun, floating: bool, hold: bool) -> str:
     return f"{head}: {numbers}"
 
 
-def expected_motion(run: EngineRun, floating: bool, hold: bool) -> str | None:
-    """The motion a robot without actuators is expected to show, in words, when it showed it."""
+def expected_motion(run: EngineRun, floating: bool, hold: bool, base_reason: str = "") -> str | None:
+    """The motion a robot without actuators is expected to show, in words, when it showed it.
+
+    *base_reason* is why the base is free (the MJCF export's decision: ``"auto: wheels"``,
+    ``"auto: 4 legs"``, ...): legs fold, free wheels turn and roll, anything else settles."""
     if hold or unstable_because(run) is not None:
         return None
     moved = drift_because(run, floating, hold) is not None or bool(run.limit_violations) or (
         run.max_joint_speed > 0.05)
     if not moved:
         return None
-    return ("expected without actuators: the free robot collapses" if floating
-            else "expected without actuators: the arm sags under gravity")
+    if not floating:
+        return "expected without actuators: the arm sags under gravity"
+    if "legs" in base_reason:
+        return "expected without actuators: the free robot collapses"
+    if "wheels" in base_reason:
+        return "expected without actuators: the unpowered wheels turn as it settles"
+    return "expected without actuators: the free robot settles under gravity"

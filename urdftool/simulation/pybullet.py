@@ -60,6 +60,7 @@ def run_pybullet(scene: Scene, path: Path, options: SimOptions) -> EngineRun:
             run.refused = [_rejected(scene, loaded)]
             return run
         run.penetrations = _penetrations(p, path, scene, options)
+        run.self_collision = world.self_collision
         return world.simulate(options, run)
     finally:
         p.disconnect(physicsClientId=client)

@@ -77,6 +77,10 @@ class EngineRun:
     #: horizontal distance (m) the base travelled in the second half of the run
     base_late_distance: float = 0.0
     penetrations: list[Penetration] = field(default_factory=list)
+    #: whether the run simulates contacts between links of the robot: MuJoCo does (its default,
+    #: less the pairs the export excludes); PyBullet loads without self-collision (its default),
+    #: so the overlaps it measures at the start in a second client are never contacts of the run
+    self_collision: bool = True
     #: the largest distance (m) between the two anchors of a loop closure over the run
     #: (MuJoCo's connect and weld equalities); ``None`` without a closed loop
     loop_gap: float | None = None
@@ -116,6 +120,7 @@ class EngineRun:
             "base_late_speed": self.base_late_speed, "base_late_distance": self.base_late_distance,
             "penetration_depth": self.penetration_depth,
             "penetrating_pairs": [[p.link_a, p.link_b, p.depth] for p in self.penetrations],
+            "self_collision": self.self_collision,
             "limit_violations": [{"joint": v.joint, "amount": v.amount, "time": v.time}
                                  for v in self.limit_violations],
             **({"max_mimic_error": self.mimic_error, "worst_mimic_joint": self.mimic_joint}
