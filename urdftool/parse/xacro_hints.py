@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import os
 import re
-from collections.abc import Iterable
+from collections.abc import Iterable, Iterator
 
 #: the expression xacro names in its message, and the names in it
 _EXPRESSION = re.compile(r"when evaluating expression '([^']*)'")
@@ -44,12 +44,7 @@ def text_property_help(message: str, files: Iterable[str]) -> str | None:
     if expression is None or not _TEXT_AS_NUMBER.search(message):
         return None
     names = list(dict.fromkeys(_NAME.findall(expression.group(1))))
-    for path in files:
-        try:
-            with open(path, encoding="utf-8", errors="replace") as handle:
-                text = handle.read()
-        except OSError:
-            continue
+    for path, text in _texts(files):
         for name in names:
             found = re.search(_PROPERTY.format(name=re.escape(name)), text)
             if found is None:
@@ -72,12 +67,7 @@ def undefined_property_help(message: str, files: Iterable[str]) -> str | None:
     if undefined is None:
         return None
     name = undefined.group(1)
-    for path in files:
-        try:
-            with open(path, encoding="utf-8", errors="replace") as handle:
-                text = handle.read()
-        except OSError:
-            continue
+    for path, text in _texts(files):
         found = re.search(_DEFINITION.format(name=re.escape(name)), text)
         if found is None:
             continue
@@ -88,3 +78,14 @@ def undefined_property_help(message: str, files: Iterable[str]) -> str | None:
         return (f"'{name}' is defined at {where}, after its use or in another macro's scope: xacro "
                 f"reads in document order (Melodic and later, ROS 2), so define it before it is used")
     return None
+
+
+def _texts(files: Iterable[str]) -> Iterator[tuple[str, str]]:
+    """Each readable file of *files* with its text (a file that cannot be read is passed over:
+    the hint is a courtesy)."""
+    for path in files:
+        try:
+            with open(path, encoding="utf-8", errors="replace") as handle:
+                yield path, handle.read()
+        except OSError:
+            continue
