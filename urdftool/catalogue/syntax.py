@@ -393,7 +393,8 @@ class UnexpandedSubstitution(_Syntax):
     ## What it does
     Reports attribute values containing `${…}` or `$(…)`, such as
     `$(optenv ROBOT_MODEL)` or `${wheel_radius}`, in a file that was not
-    expanded by xacro.
+    expanded by xacro, and the same in the `<parameters>` of a ros2_control
+    simulation plugin (gz_ros2_control passes that path on as written).
 
     ## Why it matters
     The value is meaningless to a URDF loader: a number becomes garbage and a

@@ -19,6 +19,7 @@ from collections.abc import Iterator
 from typing import TYPE_CHECKING, Any
 
 from urdftool.catalogue.ros2_control import ControllersYamlInvalid
+from urdftool.catalogue.syntax import UnexpandedSubstitution
 from urdftool.diagnostics import Diagnostic
 from urdftool.lazy import LazyModule
 from urdftool.model import Robot
@@ -74,11 +75,16 @@ def attach(loaded: Loaded, controllers_path: str | None, resolver: PackageResolv
         return loaded
     paths: list[str] = []
     missing: list[tuple[str, Span | None, tuple[str, ...]]] = []
+    unexpanded: list[Diagnostic] = []
     if controllers_path is not None:
         paths.append(controllers_path)
     else:
         for element in parameter_elements(loaded.robot):
             text = (element.text or "").strip()
+            if text and ("$(" in text or "${" in text) and loaded.format == "urdf":
+                # read as plain URDF: the plugin receives the substitution as it is written
+                unexpanded.append(_unexpanded(text, element))
+                continue
             if not text or "$(" in text or "${" in text:
                 continue
             path, tried, certain = _resolve(text, loaded.path, resolver)
@@ -87,8 +93,12 @@ def attach(loaded: Loaded, controllers_path: str | None, resolver: PackageResolv
                     paths.append(path)
             elif certain:
                 missing.append((text, span_of(element), tried))
+    if unexpanded:
+        robot = dataclasses.replace(loaded.robot, diagnostics=(*loaded.robot.diagnostics, *unexpanded))
+        loaded = dataclasses.replace(loaded, robot=robot, diagnostics=[*loaded.diagnostics, *unexpanded])
     if not paths and not missing:
         return loaded
+    assert loaded.robot is not None
     found = reader.Controllers(missing=missing, given=controllers_path is not None)
     for path in paths:
         try:
@@ -99,6 +109,17 @@ def attach(loaded: Loaded, controllers_path: str | None, resolver: PackageResolv
     robot = dataclasses.replace(loaded.robot, diagnostics=(*loaded.robot.diagnostics, *extra))
     return dataclasses.replace(
         loaded, robot=robot, diagnostics=[*loaded.diagnostics, *extra], controllers=found
+    )
+
+
+def _unexpanded(text: str, element: Any) -> Diagnostic:
+    return UnexpandedSubstitution.diagnostic(
+        f"ros2_control plugin parameters '{text}' hold a xacro substitution in a file read as plain "
+        "URDF: the plugin receives it as written and cannot open the controllers file",
+        span_of(element), element="plugin/parameters",
+        help="name the file .urdf.xacro (or .xacro.urdf) and run it through xacro, as its launch file "
+        "should, or write the path out",
+        data={"parameters": text},
     )
 
 
