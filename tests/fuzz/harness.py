@@ -7,9 +7,11 @@ folder changes (the seed's folder is fingerprinted before and after).
 
 from __future__ import annotations
 
+import contextlib
 import os
 import shutil
 import time
+from collections.abc import Iterator
 from pathlib import Path
 
 from tests.fuzz.mutations import Case
@@ -89,5 +91,17 @@ def isolated_env() -> dict[str, str]:
     return {"URDFTOOL_NO_CACHE": "1"}
 
 
-def apply_env(overrides: dict[str, str]) -> None:
+@contextlib.contextmanager
+def applied_env(overrides: dict[str, str]) -> Iterator[None]:
+    """*overrides* in the environment for the block, the variables as they were after it (a
+    fuzz case must not turn the mesh cache off for the tests that run after it in one worker)."""
+    before = {name: os.environ.get(name) for name in overrides}
     os.environ.update(overrides)
+    try:
+        yield
+    finally:
+        for name, value in before.items():
+            if value is None:
+                os.environ.pop(name, None)
+            else:
+                os.environ[name] = value

@@ -20,7 +20,7 @@ from pathlib import Path
 import pytest
 from hypothesis import HealthCheck, given, seed, settings
 
-from tests.fuzz.harness import apply_env, isolated_env, run_case
+from tests.fuzz.harness import applied_env, isolated_env, run_case
 from tests.fuzz.mutations import SEEDS, Case, cases
 
 TOTAL = int(os.environ.get("URDFTOOL_FUZZ_CASES", "2001"))
@@ -42,8 +42,8 @@ def _seeds(*suffixes: str) -> list[Path]:
 
 
 def _check(case: Case) -> None:
-    apply_env(isolated_env())
-    with tempfile.TemporaryDirectory(prefix="urdftool-fuzz-") as tmp, warnings.catch_warnings():
+    with (applied_env(isolated_env()), tempfile.TemporaryDirectory(prefix="urdftool-fuzz-") as tmp,
+          warnings.catch_warnings()):
         warnings.simplefilter("ignore")  # third-party readers warn on broken meshes; not under test
         problems = run_case(case, Path(tmp))
     assert not problems, f"{case!r}: {problems}"

@@ -14,7 +14,7 @@ import click
 from urdftool.budgets import NAMES, BudgetError, budgets, parse_budgets, set_budgets
 from urdftool.parse import InputError, Loaded
 from urdftool.pipeline.check import CheckOptions
-from urdftool.pipeline.load import no_such_model
+from urdftool.pipeline.model_names import no_such_model
 from urdftool.rules import UnknownSelector
 from urdftool.safe_files import DEFAULT_LIMITS, limits, parse_limits, set_limits
 
