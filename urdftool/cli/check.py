@@ -80,6 +80,10 @@ PROGRESS_FROM = 4
 @click.option("--target", "target_names", multiple=True, metavar="T[,T...]",
               help="Also report what these consumers will do with the URDF or xacro file: "
               + ", ".join(TARGETS) + " or all (rules T; SDF files are read by SDFormat, not these tables).")
+@click.option("--exclude", multiple=True, metavar="PATTERN[,PATTERN...]",
+              help="Leave files and folders matching these patterns out of the directories walked "
+              "(as .gitignore lines: 'exports', '*_pb.urdf', 'robots/old/*'); files named are "
+              "checked anyway.")
 @click.option("--show-settings", is_flag=True,
               help="Print the settings each file is checked with, and where each came from.")
 @fix_options  # --fix, --unsafe-fixes, --diff, --fix-only (urdftool/cli/fix.py)
@@ -121,6 +125,7 @@ def check_command(
     no_srdf: bool = False,
     controllers_file: str | None = None,
     target_names: Sequence[str] = (),
+    exclude: Sequence[str] = (),
 ) -> None:
     """Load each model (files, or directories searched recursively) and report diagnostics.
 
@@ -158,7 +163,7 @@ def check_command(
         strict=strict or None, package_paths=options.package_paths, packages=options.packages,
         xacro_args=options.xacro_args, format=fmt if format_given else None, isolated=isolated,
     )
-    files = expand_paths(list(paths), options.resolver())
+    files = expand_paths(list(paths), options.resolver(), exclude=_split(exclude))
     if not files:
         raise InputProblem("no robot descriptions found in " + ", ".join(paths))
     try:
@@ -166,7 +171,8 @@ def check_command(
             for path in files:
                 click.echo(f"# {path}\n{resolve(path, overrides).describe()}", nl=False)
             sys.exit(EXIT_OK)
-        groups = group_by_settings(files, overrides)
+        named = frozenset(p for p in paths if not os.path.isdir(p))
+        groups = group_by_settings(files, overrides, named=named)
     except SettingsError as exc:
         raise InputProblem(str(exc)) from exc
     if fix or fix_only or show_diff:

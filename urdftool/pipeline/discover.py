@@ -10,6 +10,7 @@ on the command line are always checked.
 
 from __future__ import annotations
 
+import fnmatch
 import os
 import re
 from collections.abc import Iterable, Sequence
@@ -66,13 +67,34 @@ def included_files(path: str, resolver: PackageResolver) -> set[str]:
     return out
 
 
-def expand_paths(paths: Sequence[str], resolver: PackageResolver) -> list[str]:
-    """The files to check for *paths*: files as given, directories walked, fragments dropped."""
+def excluded(relative: str, patterns: Iterable[str]) -> bool:
+    """Whether the file at *relative* (a path relative to the folder the patterns belong to, with
+    ``/``) matches one of *patterns*, as a ``.gitignore`` line would: a pattern with a ``/`` matches
+    the path or a folder at its start (``exports``, ``robots/old/*.urdf``); one without matches
+    any file or folder name on the path (``*_pb.urdf``, ``build``)."""
+    parts = relative.split("/")
+    for pattern in patterns:
+        pattern = pattern.strip().strip("/")
+        if not pattern:
+            continue
+        if "/" in pattern:
+            if fnmatch.fnmatchcase(relative, pattern) or any(
+                    fnmatch.fnmatchcase("/".join(parts[:n]), pattern) for n in range(1, len(parts))):
+                return True
+        elif any(fnmatch.fnmatchcase(part, pattern) for part in parts):
+            return True
+    return False
+
+
+def expand_paths(paths: Sequence[str], resolver: PackageResolver, exclude: Sequence[str] = ()) -> list[str]:
+    """The files to check for *paths*: files as given, directories walked (less what *exclude*
+    matches, relative to the directory walked), fragments dropped."""
     explicit: list[str] = []
     walked: list[str] = []
     for p in paths:
         if os.path.isdir(p):
-            walked.extend(walk(p))
+            walked.extend(f for f in walk(p)
+                          if not excluded(Path(os.path.relpath(f, p)).as_posix(), exclude))
         else:
             explicit.append(p)
     fragments = _fragments(walked, resolver)

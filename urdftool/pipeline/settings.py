@@ -15,7 +15,7 @@ import fnmatch
 import os
 import re
 import sys
-from collections.abc import Mapping, Sequence
+from collections.abc import Collection, Mapping, Sequence
 from dataclasses import field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -25,6 +25,7 @@ from urdftool.catalogue.registry import Family
 from urdftool.catalogue.suggest import did_you_mean
 from urdftool.diagnostics import Severity
 from urdftool.lazy import LazyModule
+from urdftool.pipeline.discover import excluded as is_excluded
 from urdftool.records import record
 
 if TYPE_CHECKING:
@@ -55,6 +56,7 @@ KEYS: dict[str, str] = {
     "target": "codes",
     "budgets": "numbers",
     "format": "string",
+    "exclude": "globs",
 }
 
 
@@ -98,6 +100,10 @@ class Settings:
     format: str | None = None
     config: Path | None = None
     sources: Mapping[str, str] = field(default_factory=dict)
+    #: the ``exclude`` patterns of the configuration, and whether they leave this file out of a
+    #: directory walk (a file named on the command line is checked anyway)
+    exclude: tuple[str, ...] = ()
+    excluded: bool = False
 
     def describe(self) -> str:
         """The settings as ``key = value  # source`` lines (``check --show-settings``)."""
@@ -113,6 +119,7 @@ class Settings:
             ("target", list(self.target)),
             ("budgets", dict(self.budgets)),
             ("format", self.format),
+            ("exclude", list(self.exclude)),
         ]
         width = max(len(key) for key, _ in rows)
         out = []
@@ -196,6 +203,7 @@ _KIND_WORDS = {
     "severity": "a table of codes or names to error, warning, info or off",
     "string": "a string",
     "numbers": "a table of names to numbers",
+    "globs": "a list of file or folder patterns",
 }
 
 
@@ -204,7 +212,7 @@ def _is_strings(value: Any) -> bool:
 
 
 def _fits(kind: str, value: Any) -> bool:
-    if kind in ("codes", "paths"):
+    if kind in ("codes", "paths", "globs"):
         return _is_strings(value)
     if kind == "bool":
         return isinstance(value, bool)
@@ -294,6 +302,7 @@ def resolve(path: str | os.PathLike[str], overrides: Overrides | None = None) ->
     fmt = from_file("format")
     if given.format is not None:
         fmt, sources["format"] = given.format, "command line"
+    exclude = tuple(from_file("exclude") or ())
     severity = {k: Severity(v) for k, v in (from_file("severity") or {}).items() if v != "off"}
     ignore = (*ignore, *(k for k, v in (table.get("severity") or {}).items() if v == "off"))
     if config:
@@ -303,7 +312,7 @@ def resolve(path: str | os.PathLike[str], overrides: Overrides | None = None) ->
         packages=packages, xacro_args=xacro_args, target=tuple(from_file("target") or ()),
         budgets=_budgets(from_file("budgets") or {}, label), format=fmt,
         config=config.path if config else None,
-        sources=sources,
+        sources=sources, exclude=exclude, excluded=bool(config) and is_excluded(relative, exclude),
     )
 
 
@@ -328,11 +337,16 @@ def _matches(relative: str, pattern: str) -> bool:
     return fnmatch.fnmatch(relative, pattern) or fnmatch.fnmatch(Path(relative).name, pattern)
 
 
-def group_by_settings(paths: Sequence[str], overrides: Overrides) -> list[tuple[Settings, list[str]]]:
-    """The files to check, grouped by the settings each resolves to (input order kept)."""
+def group_by_settings(paths: Sequence[str], overrides: Overrides,
+                      named: Collection[str] = ()) -> list[tuple[Settings, list[str]]]:
+    """The files to check, grouped by the settings each resolves to (input order kept); a file
+    its configuration's ``exclude`` matches is left out unless it is one of *named* (given on the
+    command line)."""
     groups: dict[str, tuple[Settings, list[str]]] = {}
     for path in paths:
         settings = resolve(path, overrides)
+        if settings.excluded and path not in named:
+            continue
         groups.setdefault(repr(settings), (settings, []))[1].append(path)
     return list(groups.values())
 

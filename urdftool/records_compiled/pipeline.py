@@ -191,8 +191,8 @@ def _init_pipeline_settings_Overrides(__defaults__, __factories__, __sentinel__,
 
 # urdftool.pipeline.settings.Settings
 def _init_pipeline_settings_Settings(__defaults__, __factories__, __sentinel__, __set__, __slot__):
-    (_set_select, _set_ignore, _set_severity, _set_strict, _set_package_paths, _set_packages, _set_xacro_args, _set_target, _set_budgets, _set_format, _set_config, _set_sources,) = map(__slot__, ('select', 'ignore', 'severity', 'strict', 'package_paths', 'packages', 'xacro_args', 'target', 'budgets', 'format', 'config', 'sources'))
-    def __init__(self, select=__defaults__['select'], ignore=__defaults__['ignore'], severity=__sentinel__, strict=__defaults__['strict'], package_paths=__defaults__['package_paths'], packages=__sentinel__, xacro_args=__sentinel__, target=__defaults__['target'], budgets=__sentinel__, format=__defaults__['format'], config=__defaults__['config'], sources=__sentinel__):
+    (_set_select, _set_ignore, _set_severity, _set_strict, _set_package_paths, _set_packages, _set_xacro_args, _set_target, _set_budgets, _set_format, _set_config, _set_sources, _set_exclude, _set_excluded,) = map(__slot__, ('select', 'ignore', 'severity', 'strict', 'package_paths', 'packages', 'xacro_args', 'target', 'budgets', 'format', 'config', 'sources', 'exclude', 'excluded'))
+    def __init__(self, select=__defaults__['select'], ignore=__defaults__['ignore'], severity=__sentinel__, strict=__defaults__['strict'], package_paths=__defaults__['package_paths'], packages=__sentinel__, xacro_args=__sentinel__, target=__defaults__['target'], budgets=__sentinel__, format=__defaults__['format'], config=__defaults__['config'], sources=__sentinel__, exclude=__defaults__['exclude'], excluded=__defaults__['excluded']):
         _set_select(self, select)
         _set_ignore(self, ignore)
         _set_severity(self, __factories__['severity']() if severity is __sentinel__ else severity)
@@ -205,6 +205,8 @@ def _init_pipeline_settings_Settings(__defaults__, __factories__, __sentinel__, 
         _set_format(self, format)
         _set_config(self, config)
         _set_sources(self, __factories__['sources']() if sources is __sentinel__ else sources)
+        _set_exclude(self, exclude)
+        _set_excluded(self, excluded)
     return __init__
 
 
@@ -234,6 +236,6 @@ COMPILED = {
     'urdftool.pipeline.home.HomeState': ('name,values|slots', _init_pipeline_home_HomeState),
     'urdftool.pipeline.settings.ConfigFile': ('path,table|slots', _init_pipeline_settings_ConfigFile),
     'urdftool.pipeline.settings.Overrides': ('select=,ignore=,extend_select=,strict=,package_paths=,packages*,xacro_args*,format=,isolated=|slots', _init_pipeline_settings_Overrides),
-    'urdftool.pipeline.settings.Settings': ('select=,ignore=,severity*,strict=,package_paths=,packages*,xacro_args*,target=,budgets*,format=,config=,sources*|slots', _init_pipeline_settings_Settings),
+    'urdftool.pipeline.settings.Settings': ('select=,ignore=,severity*,strict=,package_paths=,packages*,xacro_args*,target=,budgets*,format=,config=,sources*,exclude=,excluded=|slots', _init_pipeline_settings_Settings),
     'urdftool.pipeline.suppress.Suppression': ('span,whole_file,selectors,used*|plain', _init_pipeline_suppress_Suppression),
 }
