@@ -6,10 +6,12 @@ import shutil
 from pathlib import Path
 
 import pytest
+from click.testing import CliRunner
 
 import urdftool
 from tests.conftest import ERD, FIXTURES, SEEDS
 from urdftool import Diagnostic, LoadError, Report, Robot, Severity
+from urdftool.cli import main
 
 ARM = FIXTURES / "robots" / "two_link_arm.urdf"
 NUMBERS = FIXTURES / "rules" / "S005" / "bad.urdf"
@@ -257,3 +259,18 @@ def test_to_mjcf_without_out_and_without_a_cache_refuses_clearly(
         urdftool.to_mjcf(COLLADA)
     # a robot whose meshes MuJoCo reads as they are needs no folder
     assert "<mujoco" in urdftool.to_mjcf(ARM)
+
+
+def test_a_world_of_several_models_asks_which_one(tmp_path: Path) -> None:
+    """A world read with no model named is an error that lists its models, in the API and in every
+    command that works on one model (new-user report of 2026-11-26: collisions, diff and the API
+    took the first model without saying so)."""
+    world = FIXTURES / "robots" / "sdf" / "static_world.world"
+    with pytest.raises(urdftool.LoadError, match=r"holds 2 models \(shelf, cart\): choose one with --model"):
+        urdftool.load(world)
+    assert urdftool.load(world, model="cart").name == "cart"
+    for command in (["collisions", str(world), "-o", str(tmp_path / "w.srdf")],
+                    ["diff", str(world), str(world)]):
+        result = CliRunner().invoke(main, command)
+        assert result.exit_code == 2, (command, result.output)
+        assert "holds 2 models (shelf, cart)" in result.output

@@ -75,8 +75,10 @@ def load(
 
     *packages* maps package names to folders (for ``package://``, ``$(find)``,
     ``model://``); *package_paths* are folders scanned for ``package.xml``. For
-    files with several models (SDF worlds) *model* picks one by name (default:
-    the first). Problems found while reading are in ``robot.diagnostics``.
+    files with several models (SDF worlds) *model* picks one by name; without it
+    such a file is a :class:`LoadError` that lists the models (taking the first
+    would answer for a model nobody asked about). Problems found while reading
+    are in ``robot.diagnostics``.
 
     Raises :class:`LoadError` when no robot can be built (the file is not XML, not
     a robot, or xacro fails) and :class:`FileNotFoundError`/:class:`ValueError`

@@ -13,6 +13,7 @@ import shutil
 import time
 from collections.abc import Iterator
 from pathlib import Path
+from typing import Any
 
 from tests.fuzz.mutations import Case
 
@@ -64,7 +65,9 @@ def run_case(case: Case, workdir: Path) -> list[str]:
         problems.append(f"check raised {type(exc).__name__}: {exc}")
     try:
         robot = load(str(path))
-    except (LoadError, ValueError, FileNotFoundError):
+    except LoadError as exc:  # a world of several models asks for one: convert its first
+        robot = _first_of_several(path, load, LoadError) if "choose one with --model" in str(exc) else None
+    except (ValueError, FileNotFoundError):
         robot = None
     except BaseException as exc:
         problems.append(f"load raised {type(exc).__name__}: {exc}")
@@ -84,6 +87,17 @@ def run_case(case: Case, workdir: Path) -> list[str]:
     if fingerprint(case.seed.parent) != before:
         problems.append(f"files changed outside the temporary folder, in {case.seed.parent}")
     return problems
+
+
+def _first_of_several(path: Path, load: Any, refused: type[Exception]) -> Any:
+    """The first model of a file of several, loaded by its name (``None`` if it does not load)."""
+    from urdftool.parse import read
+
+    names = [m.robot.name for m in read(str(path)) if m.robot is not None and m.robot.name]
+    try:
+        return load(str(path), model=names[0]) if names else None
+    except (refused, ValueError, FileNotFoundError):
+        return None
 
 
 def isolated_env() -> dict[str, str]:

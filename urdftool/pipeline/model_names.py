@@ -18,3 +18,11 @@ def no_such_model(path: str, model: str, names: Iterable[str | None]) -> NoSuchM
     the user can pick one without opening the world file."""
     known = ", ".join(n for n in dict.fromkeys(names) if n) or "none"
     return NoSuchModel(f"{path} has no model named '{model}' (it has: {known})")
+
+
+def several_models(path: str, names: Iterable[str | None]) -> NoSuchModel:
+    """The error for a file of several models read with no ``--model``: which one is meant cannot
+    be guessed, and taking the first would answer for a model the user did not ask about."""
+    known = [n or "?" for n in names]
+    return NoSuchModel(f"{path} holds {len(known)} models ({', '.join(known)}): choose one with "
+                       "--model NAME (model=NAME in Python)")
