@@ -80,9 +80,11 @@ class InertiaGeometryMismatch(_Inertia):
     or larger than any distribution of the declared mass inside the
     geometry's bounds could have; and when the principal moments agree but
     sit on the wrong axes (a wheel whose spin moment is on an axis it does
-    not spin about). A link welded below another is judged with its body:
-    when its own tensor, declared or fitted, leaves the body's inertia within
-    3×, nothing a consumer computes depends on it and it is not reported.
+    not spin about; a product of inertia of the wrong sign, when flipping it
+    is the whole difference, is said so: a mirrored part's values). A link
+    welded below another is judged with its body: when its own tensor,
+    declared or fitted, leaves the body's inertia within 3×, nothing a
+    consumer computes depends on it and it is not reported.
 
     ## Why it matters
     Placeholder inertias (`0.1` everywhere, `1e-3` on a 20 g finger) and
@@ -156,6 +158,29 @@ class InertiaGeometryMismatch(_Inertia):
 
     def _axes_finding(self, link: Link, comparison: InertiaComparison, factor: float) -> Diagnostic:
         assert link.inertial is not None
+        flipped = _flipped_products(link.inertial.inertia_matrix, comparison.computed)
+        if flipped:
+            declared, computed = link.inertial.inertia_matrix, comparison.computed
+            values = ", ".join(f"{name} {fmt(float(declared[i, j]))} against {fmt(float(computed[i, j]))}"
+                               for name, (i, j) in flipped)
+            names = " and ".join(name for name, _ in flipped)
+            return self.diagnostic(
+                f"link '{link.name}': declared inertia has the moments of the {comparison.solid.label}, "
+                f"but {names} {'has' if len(flipped) == 1 else 'have'} the opposite sign "
+                f"({values} kg·m²): a mirrored part's values, or the other side's",
+                link.inertial.inertia_span or link.inertial.span or link.span,
+                element=_where(link, "inertial", "inertia"),
+                help=f"flip the sign of {names}; in the inertial frame the {comparison.source} geometry "
+                f"has {fmt_tensor(comparison.computed)}",
+                data={
+                    "axis_factor": factor,
+                    "flipped": [name for name, _ in flipped],
+                    "source": comparison.source,
+                    "geometry": comparison.solid.label,
+                    "computed": comparison.computed.tolist(),
+                    "declared": link.inertial.inertia_matrix.tolist(),
+                },
+            )
         return self.diagnostic(
             f"link '{link.name}': declared inertia has the moments of the {comparison.solid.label} "
             f"on the wrong axes (off by {fmt(factor)}× about one of its axes in the inertial "
@@ -241,12 +266,35 @@ def _wrong_axes(link: Link, comparison: InertiaComparison) -> float | None:
     assert link.inertial is not None
     if comparison.worst > SAME_MOMENTS:
         return None
-    declared = link.inertial.inertia_matrix
-    _, axes = np.linalg.eigh(comparison.computed)
-    along = [float(axes[:, k] @ declared @ axes[:, k]) for k in range(3)]
-    computed = [float(axes[:, k] @ comparison.computed @ axes[:, k]) for k in range(3)]
-    factor = max(max(d / c, c / d) for d, c in zip(along, computed, strict=True))
+    factor = _axis_factor(link.inertial.inertia_matrix, comparison.computed)
     return factor if factor >= AXIS_FACTOR else None
+
+
+def _axis_factor(declared: np.ndarray, computed: np.ndarray) -> float:
+    """How far *declared*'s moment about one of *computed*'s principal axes is from *computed*'s."""
+    _, axes = np.linalg.eigh(computed)
+    along = [float(axes[:, k] @ declared @ axes[:, k]) for k in range(3)]
+    moments = [float(axes[:, k] @ computed @ axes[:, k]) for k in range(3)]
+    return max(max(d / c, c / d) for d, c in zip(along, moments, strict=True))
+
+
+_PRODUCTS = (("ixy", (0, 1)), ("ixz", (0, 2)), ("iyz", (1, 2)))
+
+
+def _flipped_products(declared: np.ndarray, computed: np.ndarray) -> list[tuple[str, tuple[int, int]]]:
+    """The products of inertia whose sign, flipped, puts *declared* on *computed*'s axes (a CAD
+    export of the mirrored part, or the left side's values on the right), when its diagonal is the
+    geometry's already; else empty, and the axes themselves are wrong."""
+    diagonal = [(float(declared[k, k]), float(computed[k, k])) for k in range(3)]
+    if any(d <= 0 or c <= 0 or max(d / c, c / d) > SAME_MOMENTS for d, c in diagonal):
+        return []
+    flipped = [(name, (i, j)) for name, (i, j) in _PRODUCTS if declared[i, j] * computed[i, j] < 0]
+    if not flipped:
+        return []
+    fixed = declared.copy()
+    for _, (i, j) in flipped:
+        fixed[i, j] = fixed[j, i] = -declared[i, j]
+    return flipped if _axis_factor(fixed, computed) < AXIS_FACTOR else []
 
 
 @register
