@@ -319,6 +319,30 @@ def test_fuzz_regressions_check_without_an_exception() -> None:
         assert not [d for d in report.diagnostics if d.code == "S000"], case
 
 
+def test_json_and_sarif_reports_hold_no_infinity() -> None:
+    """JSON has no infinity or NaN: a non-finite number in a finding's data is written as null,
+    never as ``Infinity``, which strict readers (jq, CI dashboards) refuse."""
+    import json
+
+    from urdftool.diagnostics import Diagnostic, FileReport, Report, Severity
+    from urdftool.render.json import finite, render_json
+    from urdftool.render.sarif import render_sarif
+    from urdftool.source import Span
+
+    assert finite({"a": [1.0, float("inf"), {"b": float("nan")}], "c": "inf"}) == {
+        "a": [1.0, None, {"b": None}], "c": "inf"}
+    finding = Diagnostic(code="I007", name="implausible-density", severity=Severity.WARNING,
+                         message="m", location=Span("robot.urdf", 1, 1),
+                         data={"density": float("inf"), "volume": 5e-324})
+    report = Report((FileReport("robot.urdf", "urdf", "r", (finding,)),))
+
+    def refuse(constant: str) -> None:
+        raise ValueError(constant)
+
+    for text in (render_json(report), render_sarif(report)):
+        json.loads(text, parse_constant=refuse)
+
+
 def test_many_unclosed_comments_are_read_in_bounded_time() -> None:
     """A text of unclosed comments holding `--` is refused, as libxml2 refuses it, without the
     mending of `--` going quadratic: a lazy match from each "<!--" to a "-->" that never comes

@@ -198,7 +198,8 @@ def density(link: Link, solid: SolidProperties) -> float | None:
     """Declared mass / geometric volume (kg/m³), or ``None`` without a positive mass."""
     if link.inertial is None or link.inertial.mass <= 0 or solid.volume <= 0:
         return None
-    return link.inertial.mass / solid.volume
+    value = link.inertial.mass / solid.volume
+    return value if math.isfinite(value) else None  # a subnormal volume: no density to judge
 
 
 def distance_outside(point: Matrix, solid: SolidProperties) -> float:

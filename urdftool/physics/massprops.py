@@ -15,6 +15,7 @@ theorem). Overlapping shapes count twice; URDF gives no way to tell.
 from __future__ import annotations
 
 import math
+import sys
 from collections.abc import Iterable, Sequence
 from typing import TYPE_CHECKING
 
@@ -66,6 +67,10 @@ def _fmt(value: float) -> str:
 
 
 def _solid(volume: float, inertia: Matrix, half: Sequence[float], label: str) -> SolidProperties:
+    if volume < sys.float_info.min:
+        # a subnormal volume (a box 4.9e-324 m deep) is no volume: mass / volume would overflow and
+        # its inertia's eigenvalues do not converge (fixtures/fuzz-regressions/denormal_box_size.sdf)
+        volume = 0.0
     lo = -np.asarray(half, dtype=float)
     return SolidProperties(volume, np.zeros(3), np.asarray(inertia, dtype=float), lo, -lo, label)
 

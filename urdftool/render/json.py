@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import math
 import os
 from typing import Any
 
@@ -41,5 +42,19 @@ def _relative_locations(diagnostic: dict[str, Any], checked: str) -> None:
             place["path"] = checked if same else relative_path(place["path"])
 
 
+def finite(value: Any) -> Any:
+    """*value* with every non-finite float (a density of a geometry with no volume, say) as
+    ``None``: JSON has no infinity or NaN, and ``json.dumps`` would write ``Infinity``, which a
+    strict reader (jq, a CI dashboard) refuses."""
+    if isinstance(value, float):
+        return value if math.isfinite(value) else None
+    if isinstance(value, dict):
+        return {k: finite(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [finite(v) for v in value]
+    return value
+
+
 def render_json(report: Report) -> str:
-    return json.dumps(report_document(report), indent=2, sort_keys=False, default=str) + "\n"
+    return json.dumps(finite(report_document(report)), indent=2, sort_keys=False, default=str,
+                      allow_nan=False) + "\n"

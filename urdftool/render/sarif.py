@@ -14,6 +14,7 @@ from typing import Any
 from urllib.parse import quote
 
 from urdftool.diagnostics import Diagnostic, Report, Severity
+from urdftool.render.json import finite
 from urdftool.render.rule_meta import (
     PROJECT_URL,
     RuleMeta,
@@ -149,4 +150,4 @@ def sarif_document(report: Report) -> dict[str, Any]:
 
 
 def render_sarif(report: Report) -> str:
-    return json.dumps(sarif_document(report), indent=2, default=str) + "\n"
+    return json.dumps(finite(sarif_document(report)), indent=2, default=str, allow_nan=False) + "\n"
