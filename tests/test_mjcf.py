@@ -272,9 +272,14 @@ def test_cli_convert_verify_and_check(tmp_path: Path) -> None:
     result = runner.invoke(main, ["convert", str(ARM), "-o", str(out), "--verify"])
     assert result.exit_code == 0, result.output
     assert "joint-space mass matrix" in result.output and "FAIL" not in result.output
-    assert runner.invoke(main, ["convert", str(ARM), "-o", str(out), "--check"]).exit_code == 0
+    fresh = runner.invoke(main, ["convert", str(ARM), "-o", str(out), "--check"])
+    assert fresh.exit_code == 0 and f"{out}: up to date" in fresh.output
     out.write_text(out.read_text().replace("damping", "armature"))
-    assert runner.invoke(main, ["convert", str(ARM), "-o", str(out), "--check"]).exit_code == 1
+    stale = runner.invoke(main, ["convert", str(ARM), "-o", str(out), "--check"])
+    assert stale.exit_code == 1 and "stale (differs from what would be written)" in stale.output
+    out.unlink()
+    gone = runner.invoke(main, ["convert", str(ARM), "-o", str(out), "--check"])
+    assert gone.exit_code == 1 and f"{out}: missing" in gone.output
     refused = runner.invoke(main, ["convert", str(FIXTURES / "rules" / "C003" / "bad.urdf"), "-o",
                                    str(tmp_path / "bad.xml")])
     assert refused.exit_code == 1 and "C003" in refused.output and not (tmp_path / "bad.xml").exists()

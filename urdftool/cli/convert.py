@@ -195,7 +195,10 @@ def _convert_one(loaded: Loaded, source: str, out: str, target: str, export_opti
         folder = conversion.out.resolve().parent
         stale = [rel for rel, data in conversion.files.items() if is_stale(folder / rel, data)]
         for rel in stale:
-            click.echo(f"{folder / rel}: stale (differs from what would be written)", err=True)
+            why = "stale (differs from what would be written)" if (folder / rel).exists() else "missing"
+            click.echo(f"{folder / rel}: {why}", err=True)
+        if not stale and not quiet:  # a CI log says what was checked, not only what failed
+            click.echo(f"{conversion.out}: up to date ({len(conversion.files)} file(s))", err=True)
         return EXIT_FINDINGS if stale else EXIT_OK
     try:
         write_conversion(conversion)
