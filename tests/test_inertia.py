@@ -34,7 +34,7 @@ from urdftool.physics.inertia import MIN_MOMENT, assess
 from urdftool.physics.massprops import combine, place, rotate_into, shape_properties
 from urdftool.pipeline.check import CheckOptions, check_file, run_rules
 from urdftool.rules import Selection
-from urdftool.rules.inertia_fit import INERTIA_FACTOR
+from urdftool.rules.inertia_geometry import INERTIA_FACTOR
 
 ROOT = Path(__file__).resolve().parent.parent
 

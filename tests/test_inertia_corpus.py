@@ -36,7 +36,7 @@ from urdftool.physics.bodies import rigid_bodies
 from urdftool.physics.inertia import assess
 from urdftool.physics.linkmass import compare_with_geometry
 from urdftool.pipeline.check import CheckOptions, check_file
-from urdftool.rules.inertia_fit import INERTIA_FACTOR, InertiaGeometryMismatch
+from urdftool.rules.inertia_geometry import INERTIA_FACTOR, InertiaGeometryMismatch
 from urdftool.source import SRC_ATTRIBUTE
 
 

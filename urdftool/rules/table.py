@@ -50,7 +50,7 @@ RULES: tuple[tuple[str, str, str, str, bool, str], ...] = (
     ('I003', 'negative-mass', 'error', 'model', True, 'urdftool.rules.inertia'),
     ('I004', 'inertia-not-positive-definite', 'error', 'model', True, 'urdftool.rules.inertia'),
     ('I005', 'inertia-triangle-inequality', 'error', 'model', True, 'urdftool.rules.inertia'),
-    ('I006', 'inertia-geometry-mismatch', 'warning', 'model', True, 'urdftool.rules.inertia_fit'),
+    ('I006', 'inertia-geometry-mismatch', 'warning', 'model', True, 'urdftool.rules.inertia_geometry'),
     ('I007', 'implausible-density', 'warning', 'model', True, 'urdftool.rules.inertia_fit'),
     ('I008', 'com-outside-geometry', 'warning', 'model', True, 'urdftool.rules.inertia_fit'),
     ('I009', 'root-link-inertia', 'info', 'model', True, 'urdftool.rules.inertia_fit'),
