@@ -37,6 +37,7 @@ from urdftool.model import (
 )
 from urdftool.parse.locate import span_of
 from urdftool.parse.packages import PackageResolver
+from urdftool.parse.sdf_spec import custom_element
 from urdftool.parse.sdf_values import SdfValues
 from urdftool.records import record
 from urdftool.source import Span
@@ -138,7 +139,7 @@ class LinkBodyReader:
             return None
         # A namespaced shape (<drake:ellipsoid>, Drake's own) is a custom element: libsdformat
         # keeps it and ignores it, the tool it is written for reads it.
-        shapes = [c for c in geometry if isinstance(c.tag, str) and not _custom_tag(c.tag)]
+        shapes = [c for c in geometry if isinstance(c.tag, str) and not custom_element(c.tag)]
         if not shapes and any(isinstance(c.tag, str) for c in geometry):
             return None
         known = [c for c in shapes if c.tag in SHAPES]
@@ -364,8 +365,3 @@ def mimic(values: SdfValues, joint: etree._Element, where: str) -> Mimic | None:
     reference = values.text_number(element, "reference", here, 0.0)
     factor = 1.0 if multiplier is None else multiplier
     return Mimic(leader, factor, (offset or 0.0) - factor * (reference or 0.0), span_of(element))
-
-
-def _custom_tag(tag: str) -> bool:
-    """A custom element of SDFormat 1.6+ (``prefix:name``, namespaced): not SDF's to check."""
-    return ":" in tag or tag.startswith("{")

@@ -15,7 +15,8 @@ a whole, per the declared version (see docs/sdf.md):
 * world frames and world joints (1.7+, 1.10+): names, attachments, cycles;
 * the root holds at most one model (``repeated-element``);
 * numbers the model reader does not read (world gravity, velocity decay, ...).
-* every ``<pose>``'s angles, which must not read as degrees (``angle-looks-like-degrees``).
+* every ``<pose>``'s angles, which must not read as degrees (``angle-looks-like-degrees``);
+* attributes the spec requires or a version dropped (:mod:`urdftool.parse.sdf_attributes`).
 """
 
 from __future__ import annotations
@@ -32,14 +33,14 @@ from urdftool.catalogue.syntax import (
     MissingAttribute,
     RepeatedElement,
     SelfLoopJoint,
-    UnknownAttribute,
     UnknownElement,
 )
 from urdftool.diagnostics import Diagnostic, Severity
 from urdftool.parse.angles import degree_poses
 from urdftool.parse.locate import span_of
+from urdftool.parse.sdf_attributes import attribute_findings
 from urdftool.parse.sdf_include import include_uri, standard_model
-from urdftool.parse.sdf_spec import ELEMENTS, fmt, versions_of
+from urdftool.parse.sdf_spec import ELEMENTS, custom_element, fmt, versions_of
 from urdftool.parse.sdf_state import in_state, state_findings
 from urdftool.parse.sdf_values import SdfValues
 from urdftool.records import record
@@ -62,10 +63,6 @@ _FRAMES = ("link", "joint", "frame", "model")
 
 def _elements(parent: etree._Element, *tags: str) -> list[etree._Element]:
     return [c for c in parent if isinstance(c.tag, str) and c.tag in tags]
-
-
-def _custom(tag: str) -> bool:
-    return ":" in tag or tag.startswith("{")
 
 
 def reserved(name: str) -> bool:
@@ -114,58 +111,9 @@ class SdfSemantics:
             self._world(world)
         self._numbers(root)
         self.out.extend(degree_poses(root, span_of))
-        self._attributes(root)
+        self.out.extend(attribute_findings(root, self.version, self.values))
         self.out.extend(self.values.diagnostics)
         return self.out
-
-    # -- attributes --------------------------------------------------------------
-
-    def _attributes(self, root: etree._Element) -> None:
-        """Attributes the spec requires (``plugin@filename``, ``sensor@name``/``@type``), and the
-        ``frame`` of a ``<pose>`` that SDFormat 1.7 replaced by ``relative_to``. A plugin's own
-        content is the plugin's, not SDFormat's, and is not walked."""
-        stack = [root]
-        while stack:
-            element = stack.pop()
-            for child in element:
-                if not isinstance(child.tag, str) or _custom(child.tag):
-                    continue
-                if child.tag == "plugin":
-                    self._required(child, ("filename",))
-                    continue
-                if child.tag == "sensor":
-                    self._required(child, ("name", "type"))
-                elif child.tag == "pose" and self.version >= (1, 7) and child.get("frame") is not None:
-                    self._pose_frame(child)
-                stack.append(child)
-
-    def _required(self, element: etree._Element, attributes: tuple[str, ...]) -> None:
-        for attribute in attributes:
-            if (element.get(attribute) or "").strip():
-                continue
-            label = f" '{element.get('name')}'" if element.get("name") else ""
-            self.out.append(MissingAttribute.diagnostic(
-                f"<{element.tag}>{label} has no '{attribute}' attribute, which SDFormat requires; "
-                "libsdformat refuses the file",
-                span_of(element), element=str(element.tag),
-                help=("name the library to load, e.g. filename=\"gz-sim-diff-drive-system\""
-                      if attribute == "filename" else f"write {attribute}=\"…\""),
-                data={"attribute": attribute}))
-
-    def _pose_frame(self, pose: etree._Element) -> None:
-        """``<pose frame="…">`` in a 1.7+ file: libsdformat drops the attribute with a warning, so
-        the pose is read in the default frame, not in the one named (an error unless empty)."""
-        frame = (pose.get("frame") or "").strip()
-        owner = pose.getparent()
-        where = f"{owner.tag}[{owner.get('name') or ''}]/pose" if owner is not None else "pose"
-        self.out.append(UnknownAttribute.diagnostic(
-            f"{where}: 'frame' is not an attribute of <pose> in SDFormat {fmt(self.version)} "
-            "(1.7 replaced it by 'relative_to'); libsdformat ignores it"
-            + (f", so the pose is not relative to '{frame}'" if frame else ""),
-            self.values.attr_span(pose, "frame"), element=where,
-            severity=Severity.ERROR if frame else None,
-            help=(f'write <pose relative_to="{frame}">' if frame else 'remove frame=""'),
-            data={"attribute": "frame", "frame": frame}))
 
     # -- versions ----------------------------------------------------------------
 
@@ -178,7 +126,7 @@ class SdfSemantics:
                                          or parent.tag == "plugin" or in_state(element)):
                 continue
             for child in element:
-                if not isinstance(child.tag, str) or _custom(child.tag):
+                if not isinstance(child.tag, str) or custom_element(child.tag):
                     continue
                 self._version_of(element.tag, child)
 

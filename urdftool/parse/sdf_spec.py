@@ -98,3 +98,8 @@ def versions_of(parent: str, child: str) -> tuple[Version, Version] | None:
 
 def fmt(version: Version) -> str:
     return f"{version[0]}.{version[1]}"
+
+
+def custom_element(tag: str) -> bool:
+    """A custom element of SDFormat 1.6+ (``prefix:name``, or namespaced): not SDFormat's to check."""
+    return ":" in tag or tag.startswith("{")
