@@ -100,8 +100,9 @@ def test_budgets_are_checked_by_name_and_value() -> None:
         "xacro-seconds": 5.0, "collision-faces": 20000.0}
     with pytest.raises(BudgetError, match="did you mean 'collision-faces'"):
         parse_budgets(["collision-triangles=20000"])
-    with pytest.raises(BudgetError, match="positive number"):
-        parse_budgets(["xacro-seconds=-1"])
+    for wrong in ("xacro-seconds=-1", "xacro-elements=inf", "xacro-seconds=nan", "dynamics-dof=x"):
+        with pytest.raises(BudgetError, match="positive finite number"):
+            parse_budgets([wrong])
     with stage_budgets({"dynamics-dof": 5}):
         assert budget("dynamics-dof") == 5
     assert budget("dynamics-dof") == 120

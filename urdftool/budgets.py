@@ -21,6 +21,7 @@ budget with ``--budget NAME=VALUE`` (repeatable) or ``budgets = {NAME = VALUE}``
 from __future__ import annotations
 
 import contextlib
+import math
 from collections.abc import Iterator, Mapping
 
 #: name -> default value
@@ -96,8 +97,9 @@ def checked(values: Mapping[str, object]) -> dict[str, float]:
             close = difflib.get_close_matches(name, NAMES, n=1)
             hint = f"; did you mean '{close[0]}'?" if close else f" (budgets: {', '.join(NAMES)})"
             raise BudgetError(f"unknown budget '{name}'{hint}")
-        if isinstance(value, bool) or not isinstance(value, (int, float)) or not value > 0:
-            raise BudgetError(f"budget '{name}' must be a positive number, not {value!r}")
+        if (isinstance(value, bool) or not isinstance(value, (int, float)) or not value > 0
+                or not math.isfinite(value)):  # inf would reach int() in the stages that count
+            raise BudgetError(f"budget '{name}' must be a positive finite number, not {value!r}")
         out[name] = float(value)
     return out
 
@@ -112,7 +114,8 @@ def parse_budgets(texts: list[str]) -> dict[str, float]:
         try:
             values[name.strip()] = float(value)
         except ValueError:
-            raise BudgetError(f"budget '{name.strip()}' must be a positive number, not '{value}'") from None
+            raise BudgetError(
+                f"budget '{name.strip()}' must be a positive finite number, not '{value}'") from None
     return checked(values)
 
 
