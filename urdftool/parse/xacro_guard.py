@@ -25,6 +25,7 @@ import contextlib
 import functools
 import re
 import time
+import types
 from collections.abc import Iterator
 from typing import Any
 
@@ -128,12 +129,18 @@ def _check_format(text: Any) -> None:
         raise BudgetSpent("xacro-elements", f"a format width of seven digits or more in '{text[:40]}'")
 
 
+@functools.lru_cache(maxsize=4096)
+def _compiled(expression: str) -> types.CodeType:
+    """*expression* compiled with its amplifiers routed through the checks, once per text: a
+    macro's expressions are evaluated again at every call, and a code object is immutable."""
+    parsed = ast.parse(expression, "<expression>", "eval")
+    return compile(ast.fix_missing_locations(_Amplifiers().visit(parsed)), "<expression>", "eval")
+
+
 def guarded_eval(refused: type[Exception], expression: str, symbols: Any, local: Any = None) -> Any:
     """xacro's ``safe_eval`` with the amplifiers checked: the same names refused (raising xacro's
     exception class *refused*), no builtins."""
-    parsed = ast.parse(expression.strip(), "<expression>", "eval")
-    tree = ast.fix_missing_locations(_Amplifiers().visit(parsed))
-    code = compile(tree, "<expression>", "eval")
+    code = _compiled(expression.strip())
     invalid = [name for name in code.co_names if name.startswith("__")]
     if invalid:
         raise refused("Use of invalid name(s): ", ", ".join(invalid))
