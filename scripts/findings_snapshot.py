@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Write every finding urdftool reports over the corpora to one JSON file, for before/after diffs.
 
-Usage: python3 scripts/findings_snapshot.py OUT.json [--quick]
+Usage: python3 scripts/findings_snapshot.py OUT.json [--quick] [--digits N]
 
 A change meant to make urdftool faster, or to restructure it, must not change what it reports.
 Run this on the commit before and after the change and compare the two files (``diff`` or
@@ -9,6 +9,9 @@ Run this on the commit before and after the change and compare the two files (``
 without the dynamics pass, with its code, severity, location, message, help and ``data``, over
 example-robot-data, pybullet_data, the vendored seeds, every rule fixture and, when it is on
 disk, the real-world corpus (docs/realworld.md). ``--quick`` leaves out the real-world corpus.
+``--digits N`` writes the floats of ``data`` with N significant digits: for a change that computes
+a measurement in another, equally exact order (plain floats instead of NumPy), whose last digits
+may move while every code, location, message and help must stay the same.
 
 Runs in one process through the Python API, so it takes a few minutes, not the corpus review's
 twenty. Paths are written relative to the installed packages, the real-world corpus or the
@@ -90,8 +93,30 @@ def _findings(path: str, options: CheckOptions) -> list[str]:
     # changes what users' scripts read. Paths in any text are made relative.
     return [_relative_text(f"{d.code} {d.severity.value} {_relative(str(d.location)) if d.location else '-'} "
                            f"{d.element} {d.message} | help: {d.help} | "
-                           f"data: {json.dumps(d.data, sort_keys=True, default=str)}")
+                           f"data: {json.dumps(_rounded(d.data), sort_keys=True, default=str)}")
             for report in reports for d in report.diagnostics]
+
+
+def _digits() -> int | None:
+    if "--digits" not in sys.argv:
+        return None
+    return int(sys.argv[sys.argv.index("--digits") + 1])
+
+
+DIGITS = _digits()
+
+
+def _rounded(value: Any) -> Any:
+    """*value* with every float at DIGITS significant digits (unchanged without ``--digits``)."""
+    if DIGITS is None:
+        return value
+    if isinstance(value, float):
+        return float(f"{value:.{DIGITS}g}")
+    if isinstance(value, dict):
+        return {k: _rounded(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [_rounded(v) for v in value]
+    return value
 
 
 def _relative_text(text: str) -> str:
