@@ -266,9 +266,14 @@ def test_a_world_of_several_models_asks_which_one(tmp_path: Path) -> None:
     command that works on one model (new-user report of 2026-11-26: collisions, diff and the API
     took the first model without saying so)."""
     world = FIXTURES / "robots" / "sdf" / "static_world.world"
-    with pytest.raises(urdftool.LoadError, match=r"holds 2 models \(shelf, cart\): choose one with --model"):
+    asks = r"holds 2 models \(shelf, cart\): choose one with --model"
+    with pytest.raises(urdftool.LoadError, match=asks) as asked:
         urdftool.load(world)
-    assert urdftool.load(world, model="cart").name == "cart"
+    assert asked.value.models == ("shelf", "cart")  # a script picks one without reading the message
+    assert urdftool.load(world, model=asked.value.models[1]).name == "cart"
+    with pytest.raises(urdftool.LoadError, match="has no model named 'crate'") as unknown:
+        urdftool.load(world, model="crate")
+    assert unknown.value.models == ("shelf", "cart")
     for command in (["collisions", str(world), "-o", str(tmp_path / "w.srdf")],
                     ["diff", str(world), str(world)]):
         result = CliRunner().invoke(main, command)

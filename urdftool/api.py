@@ -34,11 +34,14 @@ PathLike = str | os.PathLike[str]
 
 
 class LoadError(Exception):
-    """No robot could be built from the file; ``diagnostics`` say why."""
+    """No robot could be built from the file; ``diagnostics`` say why. When the file holds several
+    models and none was named, or none of the name asked for, ``models`` are the names it holds
+    (pass one as ``model=``); otherwise ``models`` is empty."""
 
-    def __init__(self, message: str, diagnostics: Iterable[Diagnostic] = ()):
+    def __init__(self, message: str, diagnostics: Iterable[Diagnostic] = (), models: Iterable[str] = ()):
         super().__init__(message)
         self.diagnostics = tuple(diagnostics)
+        self.models = tuple(models)
 
 
 def _options(
@@ -100,7 +103,7 @@ def _load(
     except InputError as exc:
         raise _input_error(path, exc) from exc
     except NoSuchModel as exc:
-        raise LoadError(str(exc)) from exc
+        raise LoadError(str(exc), models=exc.models) from exc
     if first.robot is None:
         summary = "; ".join(d.message for d in first.diagnostics[:3])
         raise LoadError(f"{path}: cannot build a robot: {summary}", first.diagnostics)
@@ -427,4 +430,4 @@ def diff(
     except InputError as exc:
         raise _input_error(old if not os.path.exists(new) else new, exc) from exc
     except NoSuchModel as exc:
-        raise LoadError(str(exc)) from exc
+        raise LoadError(str(exc), models=exc.models) from exc

@@ -66,7 +66,7 @@ def run_case(case: Case, workdir: Path) -> list[str]:
     try:
         robot = load(str(path))
     except LoadError as exc:  # a world of several models asks for one: convert its first
-        robot = _first_of_several(path, load, LoadError) if "choose one with --model" in str(exc) else None
+        robot = _first_of(exc.models, path, load, LoadError)
     except (ValueError, FileNotFoundError):
         robot = None
     except BaseException as exc:
@@ -89,13 +89,11 @@ def run_case(case: Case, workdir: Path) -> list[str]:
     return problems
 
 
-def _first_of_several(path: Path, load: Any, refused: type[Exception]) -> Any:
-    """The first model of a file of several, loaded by its name (``None`` if it does not load)."""
-    from urdftool.parse import read
-
-    names = [m.robot.name for m in read(str(path)) if m.robot is not None and m.robot.name]
+def _first_of(models: tuple[str, ...], path: Path, load: Any, refused: type[Exception]) -> Any:
+    """The first of *models* (the names a file of several holds), loaded by its name; ``None`` if
+    there are none or it does not load."""
     try:
-        return load(str(path), model=names[0]) if names else None
+        return load(str(path), model=models[0]) if models else None
     except (refused, ValueError, FileNotFoundError):
         return None
 
