@@ -59,6 +59,10 @@ RUNS: list[tuple[str, list[str]]] = [
     ("erd-ur5", [str(ERD / "ur_description" / "urdf" / "ur5_robot.urdf")] if ERD else []),
     ("erd-ur3-nameless", [str(ERD / "ur_description" / "urdf" / "ur3.urdf")] if ERD else []),
     ("erd-talos", [str(ERD / "talos_data" / "robots" / "talos_reduced.urdf")] if ERD else []),
+    # read with its SRDF (the report's "srdf"), and with its controllers YAML ("controllers")
+    ("erd-panda-srdf", [str(ERD / "panda_description" / "urdf" / "panda.urdf")] if ERD else []),
+    ("ros2-control-arm", [str(FIXTURES / "ros2_control" / "arm_control" / "urdf" / "arm.urdf.xacro"),
+                          "--package-path", str(FIXTURES / "ros2_control")]),
     ("pybullet-husky", [str(PBD / "husky" / "husky.urdf")] if PBD else []),
     ("pybullet-racecar", [str(PBD / "racecar" / "racecar_differential.urdf")] if PBD else []),
     ("pybullet-minitaur", [str(PBD / "quadruped" / "minitaur.urdf")] if PBD else []),

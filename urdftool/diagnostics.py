@@ -143,14 +143,30 @@ class FileReport:
     format: str
     robot: str | None
     diagnostics: tuple[Diagnostic, ...]
+    #: the MoveIt SRDF read beside the model and checked with it, if any
+    srdf: str | None = None
+    #: the ros2_control controllers YAML files read for the model
+    controllers: tuple[str, ...] = ()
 
     def to_json(self) -> dict[str, Any]:
-        return {
+        out: dict[str, Any] = {
             "path": self.path,
             "format": self.format,
             "robot": self.robot,
             "diagnostics": [d.to_json() for d in self.diagnostics],
         }
+        # Written only when read, so a report of a model checked alone keeps its old shape.
+        if self.srdf is not None:
+            out["srdf"] = self.srdf
+        if self.controllers:
+            out["controllers"] = list(self.controllers)
+        return out
+
+    def read_with(self) -> list[tuple[str, str]]:
+        """``(kind, path)`` of every file read beside the model to check it: its SRDF, then its
+        controllers files."""
+        out = [("SRDF", self.srdf)] if self.srdf is not None else []
+        return out + [("controllers", path) for path in self.controllers]
 
 
 def _count(diagnostics: Iterable[Diagnostic], severity: Severity) -> int:

@@ -13,6 +13,7 @@ that are gone, so the baseline can be shrunk.
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import os
 import re
@@ -20,7 +21,7 @@ from collections import Counter
 from collections.abc import Iterable
 from pathlib import Path
 
-from urdftool.diagnostics import Diagnostic, FileReport, Report
+from urdftool.diagnostics import Diagnostic, Report
 from urdftool.export.write import write_text_atomic
 from urdftool.records import record
 
@@ -106,7 +107,7 @@ def apply_baseline(report: Report, baseline: Counter[str], path: str | os.PathLi
                 known += 1
             else:
                 kept.append(diagnostic)
-        files.append(FileReport(file_report.path, file_report.format, file_report.robot, tuple(kept)))
+        files.append(dataclasses.replace(file_report, diagnostics=tuple(kept)))
         checked.add(_relative(file_report.path, base))
     # Only findings of files this run checked can have been fixed; the others were not looked at.
     fixed = sum(n for key, n in remaining.items() if key.split("|")[1] in checked)

@@ -129,7 +129,9 @@ def report_for(loaded: Loaded, selection: Selection, options: Mapping[str, Any] 
     if loaded.controllers is not None:
         options = {**(options or {}), CONTROLLERS_OPTION: loaded.controllers}
     return FileReport(
-        loaded.path, loaded.format, loaded.robot.name, tuple(run_rules(loaded.robot, selection, options))
+        loaded.path, loaded.format, loaded.robot.name, tuple(run_rules(loaded.robot, selection, options)),
+        srdf=loaded.srdf.path if loaded.srdf is not None else None,
+        controllers=tuple(config.path for config in loaded.controllers.configs) if loaded.controllers else (),
     )
 
 
@@ -203,8 +205,7 @@ def _settled(report: FileReport, diagnostics: list[Diagnostic], options: CheckOp
         diagnostics = [_with_severity(d, options.severity) for d in diagnostics]
     if diagnostics:
         diagnostics = [d.detached() for d in fixes.attach(diagnostics)]
-    return FileReport(report.path, report.format, report.robot,
-                      tuple(sorted(diagnostics, key=Diagnostic.sort_key)))
+    return dataclasses.replace(report, diagnostics=tuple(sorted(diagnostics, key=Diagnostic.sort_key)))
 
 
 def _with_severity(diagnostic: Diagnostic, overrides: Mapping[str, Severity]) -> Diagnostic:

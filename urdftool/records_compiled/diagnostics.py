@@ -36,12 +36,14 @@ def _init_diagnostics_Edit(__defaults__, __factories__, __sentinel__, __set__, _
 
 # urdftool.diagnostics.FileReport
 def _init_diagnostics_FileReport(__defaults__, __factories__, __sentinel__, __set__, __slot__):
-    (_set_path, _set_format, _set_robot, _set_diagnostics,) = map(__slot__, ('path', 'format', 'robot', 'diagnostics'))
-    def __init__(self, path, format, robot, diagnostics):
+    (_set_path, _set_format, _set_robot, _set_diagnostics, _set_srdf, _set_controllers,) = map(__slot__, ('path', 'format', 'robot', 'diagnostics', 'srdf', 'controllers'))
+    def __init__(self, path, format, robot, diagnostics, srdf=__defaults__['srdf'], controllers=__defaults__['controllers']):
         _set_path(self, path)
         _set_format(self, format)
         _set_robot(self, robot)
         _set_diagnostics(self, diagnostics)
+        _set_srdf(self, srdf)
+        _set_controllers(self, controllers)
     return __init__
 
 
@@ -75,7 +77,7 @@ def _init_diagnostics_Report(__defaults__, __factories__, __sentinel__, __set__,
 COMPILED = {
     'urdftool.diagnostics.Diagnostic': ('code,name,severity,message,location=,element=,help=,data*,related=,fix=|slots', _init_diagnostics_Diagnostic),
     'urdftool.diagnostics.Edit': ('span,content|slots', _init_diagnostics_Edit),
-    'urdftool.diagnostics.FileReport': ('path,format,robot,diagnostics|slots', _init_diagnostics_FileReport),
+    'urdftool.diagnostics.FileReport': ('path,format,robot,diagnostics,srdf=,controllers=|slots', _init_diagnostics_FileReport),
     'urdftool.diagnostics.Fix': ('message,edits,applicability=|slots', _init_diagnostics_Fix),
     'urdftool.diagnostics.Related': ('span,label|slots', _init_diagnostics_Related),
     'urdftool.diagnostics.Report': ('files|slots', _init_diagnostics_Report),

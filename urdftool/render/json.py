@@ -19,6 +19,11 @@ def report_document(report: Report) -> dict[str, Any]:
     for file in files:
         for diagnostic in file["diagnostics"]:
             _relative_locations(diagnostic, file["path"])
+        # the SRDF and controllers files are named as the findings in them are
+        if "srdf" in file:
+            file["srdf"] = relative_path(file["srdf"])
+        if "controllers" in file:
+            file["controllers"] = [relative_path(path) for path in file["controllers"]]
     return {
         "schema_version": SCHEMA_VERSION,
         "tool": {"name": "urdftool", "version": __version__},

@@ -44,6 +44,27 @@ def render_diagnostic(d: Diagnostic, sources: SourceIndex, colour: bool = False,
     return "\n".join(lines)
 
 
+def read_with(report: Report) -> str:
+    """The files read beside the models (SRDF, controllers YAML) and checked with them, named when
+    they are few and counted when many: a check that used an SRDF the user did not name says so
+    (one beside the model is read unless ``--no-srdf``)."""
+    pairs = [(f.path, kind, path) for f in report.files for kind, path in f.read_with()]
+    if not pairs:
+        return ""
+    files = files_checked(report)
+    if len(pairs) <= _NAMED:
+        return "\n".join(f"also read: {display_path(path)} ({kind}"
+                         + (f" of {display_path(model)})" if files > 1 else ")")
+                         for model, kind, path in pairs)
+    kinds = {kind: len({model for model, k, _ in pairs if k == kind}) for _, kind, _ in pairs}
+    counted = ", ".join(f"the {kind} of {count}" for kind, count in kinds.items())
+    return f"also read: {counted} of the {files} files (--format json names each)"
+
+
+#: companion files named one by one up to this many; more are counted
+_NAMED = 3
+
+
 #: excerpts are cut to this many characters around the column
 EXCERPT_WIDTH = 120
 _CONTROL = re.compile(r"[\x00-\x08\x0b-\x1f\x7f]")
@@ -80,6 +101,8 @@ def render_text(report: Report, colour: bool = False, quiet: bool = False) -> st
         if quiet:
             diags = [d for d in diags if d.severity is Severity.ERROR]
         chunks.extend(render_diagnostic(d, sources, colour) for d in diags)
+    if not quiet and (read := read_with(report)):
+        chunks.append(read)
     summary = report.summary()
     files = files_checked(report)
     noun = "file" if files == 1 else "files"
