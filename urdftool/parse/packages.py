@@ -50,8 +50,10 @@ def package_name(package_xml: Path) -> str | None:
     return match.group(1).decode("utf-8", "replace") if match else None
 
 
-def _scan(root: Path, depth: int, found: dict[str, Path], marker: str = "package.xml") -> None:
-    """Record ``name -> folder`` for every ``package.xml`` at most *depth* levels below *root*."""
+def _scan(root: Path, depth: int, found: dict[str, Path], marker: str = "package.xml",
+          twins: dict[str, list[Path]] | None = None) -> None:
+    """Record ``name -> folder`` for every ``package.xml`` at most *depth* levels below *root*,
+    the first in name order; a later folder of a name already found goes to *twins*."""
     try:
         entries = sorted(os.scandir(root), key=lambda e: e.name)
     except OSError:
@@ -61,6 +63,8 @@ def _scan(root: Path, depth: int, found: dict[str, Path], marker: str = "package
         name = package_name(root / marker) if marker == "package.xml" else root.name
         if name and name not in found:
             found[name] = root
+        elif name and twins is not None:
+            twins.setdefault(name, []).append(root)
     if depth <= 0:
         return
     for entry in entries:
@@ -71,7 +75,7 @@ def _scan(root: Path, depth: int, found: dict[str, Path], marker: str = "package
         except OSError:
             continue
         if is_dir:
-            _scan(Path(entry.path), depth - 1, found, marker)
+            _scan(Path(entry.path), depth - 1, found, marker, twins)
 
 
 @functools.lru_cache(maxsize=1)
@@ -130,6 +134,8 @@ class PackageResolver:
     _resolutions: dict[tuple[str, str], Resolution] = field(default_factory=dict, repr=False)
     #: (package, file asking) -> the package's lookup as recorded (:meth:`_recorded`)
     _packages_asked: dict[tuple[str, str], Resolution] = field(default_factory=dict, repr=False)
+    #: package folder taken -> the other folders of that package's name under the same root
+    _twins: dict[str, list[str]] = field(default_factory=dict, repr=False)
 
     @classmethod
     def create(
@@ -148,9 +154,18 @@ class PackageResolver:
         key = f"{marker}:{depth}:{root}"
         if key not in self._scanned:
             found: dict[str, Path] = {}
-            _scan(root, depth, found, marker)
+            twins: dict[str, list[Path]] = {}
+            _scan(root, depth, found, marker, twins)
             self._scanned[key] = found
+            for name, others in twins.items():
+                self._twins.setdefault(str(found[name]), []).extend(str(other) for other in others)
         return self._scanned[key]
+
+    def twins(self, package_dir: str) -> list[str]:
+        """The other folders of the package at *package_dir* found under the same search root:
+        two ``package.xml`` of one name, of which the first in name order was taken. colcon
+        refuses such a workspace; a search path of several roots (an overlay) is not a twin."""
+        return list(self._twins.get(package_dir, ()))
 
     def find_package(self, name: str, near: str | os.PathLike[str] | None = None) -> Lookup:
         """The folder of package *name*; *near* is the file that asks (its ancestors are searched)."""

@@ -90,7 +90,7 @@ def _init_parse_packages_Lookup(__defaults__, __factories__, __sentinel__, __set
 
 # urdftool.parse.packages.PackageResolver
 def _init_parse_packages_PackageResolver(__defaults__, __factories__, __sentinel__, __set__, __slot__):
-    def __init__(self, packages=__sentinel__, package_paths=__sentinel__, environ=__sentinel__, _scanned=__sentinel__, _found=__sentinel__, _resolutions=__sentinel__, _packages_asked=__sentinel__):
+    def __init__(self, packages=__sentinel__, package_paths=__sentinel__, environ=__sentinel__, _scanned=__sentinel__, _found=__sentinel__, _resolutions=__sentinel__, _packages_asked=__sentinel__, _twins=__sentinel__):
         self.packages = __factories__['packages']() if packages is __sentinel__ else packages
         self.package_paths = __factories__['package_paths']() if package_paths is __sentinel__ else package_paths
         self.environ = __factories__['environ']() if environ is __sentinel__ else environ
@@ -98,6 +98,7 @@ def _init_parse_packages_PackageResolver(__defaults__, __factories__, __sentinel
         self._found = __factories__['_found']() if _found is __sentinel__ else _found
         self._resolutions = __factories__['_resolutions']() if _resolutions is __sentinel__ else _resolutions
         self._packages_asked = __factories__['_packages_asked']() if _packages_asked is __sentinel__ else _packages_asked
+        self._twins = __factories__['_twins']() if _twins is __sentinel__ else _twins
     return __init__
 
 
@@ -177,7 +178,7 @@ COMPILED = {
     'urdftool.parse.controllers.Value': ('value,span|slots', _init_parse_controllers_Value),
     'urdftool.parse.locate.PositionTable': ('root,data,path,_offsets=,_lines=,_index=,_lookups=,_found=,_key=|plain', _init_parse_locate_PositionTable),
     'urdftool.parse.packages.Lookup': ('path,tried*,package=,package_missing=,package_dir=|plain', _init_parse_packages_Lookup),
-    'urdftool.parse.packages.PackageResolver': ('packages*,package_paths*,environ*,_scanned*,_found*,_resolutions*,_packages_asked*|plain', _init_parse_packages_PackageResolver),
+    'urdftool.parse.packages.PackageResolver': ('packages*,package_paths*,environ*,_scanned*,_found*,_resolutions*,_packages_asked*,_twins*|plain', _init_parse_packages_PackageResolver),
     'urdftool.parse.urdf.UrdfReader': ('path,sources,resolver,expanded=,document=,values!,span!|post_init|plain', _init_parse_urdf_UrdfReader),
     'urdftool.parse.values.ValueReader': ('sources,diagnostics*,check_substitutions=,locate=|plain', _init_parse_values_ValueReader),
     'urdftool.parse.xacro.XacroResult': ('document,diagnostics*,files*,macro_library=|plain', _init_parse_xacro_XacroResult),

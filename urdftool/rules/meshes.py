@@ -168,7 +168,9 @@ class MeshNotFound(_Meshes):
     Reports each mesh file that resolves to a path where no file exists,
     once per robot, with the path looked for and, when the package holds a
     file of the same name elsewhere or with another case or extension, that
-    file. A mesh given by web address (`https://fuel.gazebosim.org/…`, which
+    file. When two folders under one search folder declare the package's
+    name and the file is only in the one not taken, the help names that
+    folder (docs/packages.md). A mesh given by web address (`https://fuel.gazebosim.org/…`, which
     Gazebo downloads and caches) is one info per robot: it is not fetched, so
     not checked.
 
@@ -225,8 +227,10 @@ class MeshNotFound(_Meshes):
                 else ""
             )
             what = describe_path(path)
-            nearby = near_misses(path) if what is None else []
-            hint = f"; a similar file exists: {', '.join(nearby)}" if nearby else ""
+            # the same file in a second folder of the package's name says more than a look-alike
+            hint = _in_twin(ctx, found.package or "", found.package_dir, path) if what is None else ""
+            nearby = near_misses(path) if what is None and not hint else []
+            hint = hint or (f"; a similar file exists: {', '.join(nearby)}" if nearby else "")
             yield self.diagnostic(
                 f"{first.describe} not found" if what is None
                 else f"{first.describe} is {what}, not a regular file; it is not read",
@@ -241,6 +245,20 @@ class MeshNotFound(_Meshes):
                     "uses": len(uses),
                 },
             )
+
+
+def _in_twin(ctx: CheckContext, package: str, package_dir: str | None, path: str) -> str:
+    """``"; package P is also at D, where this file exists…"`` when a second folder of the same
+    package name under one search root holds the file the first one lacks; else ``""``."""
+    if not package_dir:
+        return ""
+    inside = os.path.relpath(path, package_dir)
+    for twin in survey.resolver(ctx).twins(package_dir):
+        if os.path.isfile(os.path.join(twin, inside)):
+            return (f"; package '{package}' is also at {twin}, where this file exists: two folders "
+                    f"under one search folder hold a package.xml named '{package}' and urdftool took "
+                    "the first in name order (colcon refuses such a workspace); remove or rename one")
+    return ""
 
 
 def near_misses(path: str, limit: int = 3) -> list[str]:
