@@ -3,6 +3,7 @@ naming the budget and how to raise it; valid files are read exactly as before.""
 
 from __future__ import annotations
 
+import signal
 import time
 from pathlib import Path
 
@@ -55,6 +56,25 @@ def test_an_expansion_stops_at_the_time_budget(tmp_path: Path) -> None:
     assert time.process_time() - start < 10
     assert [code for code, _ in found] == ["X001"]
     assert "more than 1 s of CPU time" in found[0][1] and "--budget xacro-seconds=N" in found[0][1]
+
+
+@pytest.mark.skipif(not hasattr(signal, "setitimer"), reason="no CPU-time timer on this platform")
+def test_one_slow_expression_stops_at_the_time_budget(tmp_path: Path) -> None:
+    """Steps that build nothing large: no size check refuses them, and the time check between
+    elements comes too late; the CPU-time alarm stops the expression itself. 10^8 steps take
+    2–3 s here, so without the alarm the expression ends (with no finding) and the test fails
+    rather than hangs; 10^12 steps would take a day."""
+    slow = "python.sum(1 for a in python.range(10**4) for b in python.range(10**4))"
+    start = time.process_time()
+    with stage_budgets({"xacro-seconds": 0.5}):
+        found = _expand(tmp_path, f'{HEAD}<xacro:property name="p" value="${{{slow}}}"/>'
+                                  '<link name="b${p}"/></robot>')
+    assert time.process_time() - start < 10
+    assert [code for code, _ in found] == ["X001"]
+    assert "more than 0.5 s of CPU time" in found[0][1] and "--budget xacro-seconds=N" in found[0][1]
+    # the alarm is gone with the expansion: the previous handler is back, no timer runs
+    assert signal.getsignal(signal.SIGVTALRM) in (signal.SIG_DFL, None)
+    assert signal.getitimer(signal.ITIMER_VIRTUAL) == (0.0, 0.0)
 
 
 @pytest.mark.parametrize("expression, what", [

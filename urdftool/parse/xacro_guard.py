@@ -6,7 +6,9 @@ twice, forty levels deep (2^40 elements), ``${9**9**9}`` (a number of 370 millio
 ``${'x' * 10**10}`` (a 10 GB string). The guard bounds all three:
 
 - every element xacro evaluates is counted, and the count and the CPU time spent are held to the
-  ``xacro-elements`` and ``xacro-seconds`` budgets (:mod:`urdftool.budgets`);
+  ``xacro-elements`` and ``xacro-seconds`` budgets (:mod:`urdftool.budgets`); in the main thread
+  of a POSIX process a CPU-time alarm also stops one expression that is slow without building
+  anything large (a nested comprehension of 10^12 steps);
 - an expression is compiled with its amplifiers routed through checks that refuse a result
   beyond a fixed size before computing it: ``**`` and ``<<`` on integers (at most
   :data:`MAX_INT_BITS` bits), ``*`` that repeats a string, list or tuple, ``range`` and the
@@ -24,6 +26,8 @@ import ast
 import contextlib
 import functools
 import re
+import signal
+import threading
 import time
 import types
 from collections.abc import Iterator
@@ -172,6 +176,37 @@ def guarded(xacro: Any) -> Iterator[None]:
 
     xacro.eval_all, xacro.safe_eval = eval_all, functools.partial(guarded_eval, xacro.XacroException)
     try:
-        yield
+        with _cpu_alarm(seconds):
+            yield
     finally:
         xacro.eval_all, xacro.safe_eval = original_eval_all, original_eval
+
+
+#: after the first alarm, how often it rings again (s of CPU): an ``except Exception`` inside
+#: xacro that swallows one alarm does not let the expansion run on unbounded
+_ALARM_REPEAT = 0.5
+
+
+@contextlib.contextmanager
+def _cpu_alarm(seconds: float) -> Iterator[None]:
+    """Raise :class:`BudgetSpent` wherever the block is when it has used *seconds* of CPU time,
+    inside one expression too. Python runs signal handlers in the main thread only, and Windows has
+    no CPU-time timer: elsewhere the check between elements (:func:`guarded`) is the bound."""
+    if (not hasattr(signal, "setitimer") or threading.current_thread() is not threading.main_thread()
+            or signal.getsignal(signal.SIGVTALRM) not in (signal.SIG_DFL, None)):
+        yield  # (the last: a program that embeds urdftool uses this alarm itself; it is left alone)
+        return
+    armed = True
+
+    def ring(signum: int, frame: Any) -> None:
+        if armed:  # a signal already on its way when the block ends is dropped
+            raise BudgetSpent("xacro-seconds", f"more than {seconds:g} s of CPU time")
+
+    previous = signal.signal(signal.SIGVTALRM, ring)
+    signal.setitimer(signal.ITIMER_VIRTUAL, seconds, _ALARM_REPEAT)
+    try:
+        yield
+    finally:
+        armed = False
+        signal.setitimer(signal.ITIMER_VIRTUAL, 0)
+        signal.signal(signal.SIGVTALRM, signal.SIG_DFL if previous is None else previous)
