@@ -11,6 +11,7 @@ import functools
 import re
 from collections.abc import Callable
 from dataclasses import field
+from typing import Literal, overload
 
 from lxml import etree
 
@@ -164,10 +165,21 @@ class ValueReader:
             raw = self.text(element, attribute, where, required)
             if raw is None:
                 return None
-        value = parse_number(raw)
+        value = _parse_cached(raw) if len(raw) <= _CACHED_CHARS else _parse(raw)  # parse_number, inlined
         if value is None:
             self._invalid(element, attribute, where, raw)
         return value
+
+    @overload
+    def vector(
+        self, element: etree._Element, attribute: str, where: str, length: Literal[3] = 3,
+        required: bool = False,
+    ) -> tuple[float, float, float] | None: ...
+
+    @overload
+    def vector(
+        self, element: etree._Element, attribute: str, where: str, length: int, required: bool = False,
+    ) -> tuple[float, ...] | None: ...
 
     def vector(
         self,
