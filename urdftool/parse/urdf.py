@@ -208,11 +208,13 @@ class UrdfReader(JointParts):
     def _extension(self, element: etree._Element) -> Extension:
         """*element* kept in the model as written; marked, since rules and exporters locate
         its children with ``span_of`` after the reading."""
+        attributes = dict(element.attrib)  # (copied in C, before the mark adds its attribute)
+        attributes.pop(SRC_ATTRIBUTE, None)  # a stamp (xacro output) is no attribute of the block
         if self.document is not None:
             self.document.mark(element)
         return Extension(
             tag=element.tag if isinstance(element.tag, str) else str(element.tag),
-            attributes={k: v for k, v in element.attrib.items() if k != SRC_ATTRIBUTE},
+            attributes=attributes,
             element=element,
             span=self.span(element),
         )
