@@ -123,7 +123,7 @@ class UrdfReader(JointParts):
     def _check_attributes(self, element: etree._Element, where: str) -> None:
         tag = element.tag
         layouts = _CLEAN_LAYOUTS.get(tag)
-        if layouts is None:  # not a URDF element (a vendor's child, kept as an extension)
+        if layouts is None:  # a tag the schema gives no attribute list: nothing to judge
             return
         names = element.keys()
         if names in layouts:  # the common case: compared with a few lists, no name hashed
@@ -133,7 +133,7 @@ class UrdfReader(JointParts):
             if len(layouts) < _LAYOUTS_KEPT:
                 layouts.append(names)
             return
-        unknown, vendor = attribute_verdict(tag, tuple(element.keys()))
+        unknown, vendor = attribute_verdict(tag, tuple(names))
         if unknown:
             for name in unknown:
                 # The closest name is no suggestion when the tag has it already (ANYmal's
