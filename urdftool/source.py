@@ -21,7 +21,7 @@ import functools
 import os
 import re
 import xml.parsers.expat
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from dataclasses import field
 from typing import Any
 
@@ -216,14 +216,16 @@ def element_starts(data: bytes) -> list[tuple[int, int]]:
     return starts
 
 
-def start_tag_offsets(data: bytes) -> list[int] | None:
+def start_tag_offsets(data: bytes) -> Iterator[int] | None:
     """The byte offset of every element start tag's ``<``, in document order, or ``None`` when
     :func:`element_starts` would hand the document to expat (a DOCTYPE, a lone carriage return).
     The cheap part of the scan: turning an offset into a position is left to
-    :class:`LinePositions`, for the few elements whose position is read."""
+    :class:`LinePositions`, for the few elements whose position is read. An iterator: the scan
+    goes as far into the text as the offsets are read (most files with a finding have one or
+    two, so the text after the last element asked for is not scanned)."""
     if needs_expat(data):
         return None
-    return [match.start() for match in _MARKUP.finditer(data) if match.lastindex is not None]
+    return (match.start() for match in _MARKUP.finditer(data) if match.lastindex is not None)
 
 
 @record(frozen=False, eq=False)  # one document's counts, equal only to itself

@@ -41,21 +41,22 @@ class _Forest:
             link = up[link]
         return link
 
-    def top(self, link: str) -> str:
-        """The top (root) link of the tree *link* is in."""
-        return self._top[self._find(link)]
-
-    def attach(self, child: str, parent: str) -> None:
-        """Hang the tree whose top is *child* below *parent*."""
-        a, b = self._find(parent), self._find(child)
-        if a == b:
-            return
+    def attach(self, child: str, parent: str) -> bool:
+        """Hang the tree whose top is *child* below *parent*; false, leaving the trees as they
+        are, when *parent* hangs somewhere below *child* (the joint would close a cycle)."""
+        a = self._find(parent)
         top = self._top[a]
+        if top == child:
+            return False
+        b = self._find(child)
+        if a == b:
+            return True
         if self._size[a] < self._size[b]:
             a, b = b, a
         self._up[b] = a
         self._size[a] += self._size[b]
         self._top[a] = top
+        return True
 
 
 @record(frozen=False)
@@ -83,10 +84,9 @@ class KinematicTree:
                 continue
             # The child has no parent yet, so it is the top of its own tree: the joint
             # closes a cycle exactly when the parent hangs somewhere below the child.
-            if forest.top(joint.parent) == joint.child:
+            if not forest.attach(joint.child, joint.parent):
                 tree.cycle_joints.append(joint)
                 continue
-            forest.attach(joint.child, joint.parent)
             tree.parent_joint[joint.child] = joint
             tree.child_joints.setdefault(joint.parent, []).append(joint)
         return tree

@@ -20,6 +20,7 @@ from __future__ import annotations
 import itertools
 import sys
 import weakref
+from collections.abc import Iterator
 
 from lxml import etree
 
@@ -64,7 +65,9 @@ class PositionTable:
     root: etree._Element
     data: bytes
     path: str
+    #: the start-tag offsets scanned so far, and the scan that finds the rest
     _offsets: list[int] | None = None
+    _scan: Iterator[int] | None = None
     _lines: LinePositions | None = None
     _index: dict[etree._Element, int] | None = None
     _lookups: int = 0
@@ -95,10 +98,10 @@ class PositionTable:
     def _position(self, element: etree._Element) -> tuple[int, int] | None:
         """*element*'s position from the start-tag offsets, or ``None`` to take the full table."""
         if self._offsets is None:
-            self._offsets = start_tag_offsets(self.data)
-            if self._offsets is None:
+            self._scan = start_tag_offsets(self.data)
+            if self._scan is None:
                 return None
-        offsets = self._offsets
+            self._offsets = []
         if self._index is not None:
             index = self._index.get(element)
         elif element.getroottree().getroot() is not self.root:
@@ -107,14 +110,14 @@ class PositionTable:
             self._lookups += 1
             if self._lookups > _COUNTED_LOOKUPS:
                 self._index = {node: i for i, node in enumerate(self.root.iter(etree.Element))}
-                if len(self._index) != len(offsets):  # the scan disagrees with lxml
+                if len(self._index) != self._start_tags():  # the scan disagrees with lxml
                     return None
                 index = self._index.get(element)
             else:
                 index = int(_DOCUMENT_INDEX(element))
-        if index is None or index >= len(offsets):
+        offset = None if index is None else self._start_tag(index)
+        if offset is None:
             return None
-        offset = offsets[index]
         # The start tag found must be this element's, or the scan and lxml disagree.
         name = element.tag if element.prefix is None else f"{element.prefix}:{etree.QName(element).localname}"
         if not isinstance(name, str):
@@ -125,6 +128,23 @@ class PositionTable:
         if self._lines is None:
             self._lines = LinePositions(self.data)
         return self._lines.position(offset)
+
+    def _start_tag(self, index: int) -> int | None:
+        """The offset of the start tag of the element at *index* in document order, scanning the
+        text only as far as that tag (``None`` past the last one)."""
+        offsets = self._offsets
+        assert offsets is not None
+        if index >= len(offsets) and self._scan is not None:
+            offsets.extend(itertools.islice(self._scan, index + 1 - len(offsets)))
+        return offsets[index] if index < len(offsets) else None
+
+    def _start_tags(self) -> int:
+        """How many start tags the text holds (the scan finished)."""
+        assert self._offsets is not None
+        if self._scan is not None:
+            self._offsets.extend(self._scan)
+            self._scan = None
+        return len(self._offsets)
 
     def mark(self, element: etree._Element) -> None:
         """Mark *element* (kept by the model) so that :func:`span_of` finds it and its

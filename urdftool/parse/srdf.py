@@ -243,8 +243,7 @@ class _Reader:
         for element in root:
             tag = element.tag
             if tag in _PAIR_TAGS:  # most of a MoveIt SRDF: asked first, and inline when complete
-                get = element.get
-                complete = (get("link1") or "").strip() and (get("link2") or "").strip()
+                complete = (element.get("link1") or "").strip() and (element.get("link2") or "").strip()
                 if complete or self.names_both_links(element):
                     pairs.append(element)
                 continue
@@ -326,18 +325,19 @@ class _Reader:
         if name is None:
             return None
         values: list[JointValue] = []
+        where = f"group_state[{name}]"
         for child in element:
             if not isinstance(child.tag, str):
                 continue
             if child.tag != "joint":
-                self.unknown(child, f"group_state[{name}]", frozenset({"joint"}))
+                self.unknown(child, where, frozenset({"joint"}))
                 continue
-            joint = self.attr(child, "name", f"group_state[{name}]")
-            raw = self.attr(child, "value", f"group_state[{name}]")
+            joint = self.attr(child, "name", where)
+            raw = self.attr(child, "value", where)
             if joint is None or raw is None:
                 continue
             numbers = [parse_number(token) for token in raw.split()]
-            if any(n is None for n in numbers) or not numbers:
+            if None in numbers or not numbers:
                 self.diagnostics.append(
                     InvalidNumber.diagnostic(
                         f"group state '{name}': joint '{joint}' has value \"{raw}\", not a number",

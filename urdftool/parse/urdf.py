@@ -64,6 +64,18 @@ from urdftool.parse.xmlio import XmlDocument
 from urdftool.records import record
 from urdftool.source import SRC_ATTRIBUTE, SourceIndex, Span
 
+_ZERO = (0.0, 0.0, 0.0)
+_UNSCALED = (1.0, 1.0, 1.0)
+_INERTIA_COMPONENTS = ("ixx", "ixy", "ixz", "iyy", "iyz", "izz")
+
+#: Attribute layouts (the names of one element, in lxml's order) already judged to hold only
+#: names its tag allows, by tag. A file repeats a few layouts thousands of times (``xyz rpy``,
+#: ``name type``); comparing lxml's fresh list of names with a known one costs less than hashing
+#: every name for a set test.
+_CLEAN_LAYOUTS: dict[str, list[list[str]]] = {tag: [] for tag in ATTRIBUTES}
+#: Layouts remembered per tag; any other layout is judged by the set test each time.
+_LAYOUTS_KEPT = 8
+
 
 @record(frozen=False, eq=False)  # one run's state, equal only to itself
 class UrdfReader(JointParts):
@@ -110,10 +122,18 @@ class UrdfReader(JointParts):
 
     def _check_attributes(self, element: etree._Element, where: str) -> None:
         tag = element.tag
-        allowed = ATTRIBUTES.get(tag)
-        if allowed is None or allowed.issuperset(element.keys()):  # the common case, decided in C
+        layouts = _CLEAN_LAYOUTS.get(tag)
+        if layouts is None:  # a tag the schema gives no attribute list: nothing to judge
             return
-        unknown, vendor = attribute_verdict(tag, tuple(element.keys()))
+        names = element.keys()
+        if names in layouts:  # the common case: compared with a few lists, no name hashed
+            return
+        allowed = ATTRIBUTES[tag]
+        if allowed.issuperset(names):
+            if len(layouts) < _LAYOUTS_KEPT:
+                layouts.append(names)
+            return
+        unknown, vendor = attribute_verdict(tag, tuple(names))
         if unknown:
             for name in unknown:
                 # The closest name is no suggestion when the tag has it already (ANYmal's
@@ -136,12 +156,16 @@ class UrdfReader(JointParts):
         """Group child elements by tag, reporting unknown and repeated ones."""
         allowed = CHILDREN.get(element.tag, {})
         groups: dict[str, list[etree._Element]] = {}
+        repeated = False
         for child in element:  # faster than iterchildren(etree.Element), which builds its filter each time
             tag = child.tag
             if tag in groups:
                 groups[tag].append(child)
+                repeated = True
             elif isinstance(tag, str):  # an element, not a comment kept by xacro
                 groups[tag] = [child]
+        if not repeated and allowed.keys() >= groups.keys():  # the common case, decided in C
+            return groups
         for tag, items in groups.items():
             if tag in allowed:
                 if not allowed[tag] and len(items) > 1:
@@ -184,11 +208,13 @@ class UrdfReader(JointParts):
     def _extension(self, element: etree._Element) -> Extension:
         """*element* kept in the model as written; marked, since rules and exporters locate
         its children with ``span_of`` after the reading."""
+        attributes = dict(element.attrib)  # (copied in C, before the mark adds its attribute)
+        attributes.pop(SRC_ATTRIBUTE, None)  # a stamp (xacro output) is no attribute of the block
         if self.document is not None:
             self.document.mark(element)
         return Extension(
             tag=element.tag if isinstance(element.tag, str) else str(element.tag),
-            attributes={k: v for k, v in element.attrib.items() if k != SRC_ATTRIBUTE},
+            attributes=attributes,
             element=element,
             span=self.span(element),
         )
@@ -208,14 +234,16 @@ class UrdfReader(JointParts):
         origin = items[0]
         here = f"{where}/origin"
         self._check_attributes(origin, here)
-        xyz = self.values.vector(origin, "xyz", here) or (0.0, 0.0, 0.0)
-        rpy = self.values.vector(origin, "rpy", here) or (0.0, 0.0, 0.0)
-        if max(abs(rpy[0]), abs(rpy[1]), abs(rpy[2])) > ONE_TURN:  # rare: judged off the hot path
+        xyz = self.values.vector(origin, "xyz", here) or _ZERO
+        rpy = self.values.vector(origin, "rpy", here) or _ZERO
+        # (the numbers are finite: three comparisons say what max() of their sizes would)
+        if not (-ONE_TURN <= rpy[0] <= ONE_TURN and -ONE_TURN <= rpy[1] <= ONE_TURN
+                and -ONE_TURN <= rpy[2] <= ONE_TURN):  # rare: judged off the hot path
             written = f'<origin rpy="{origin.get("rpy", "").strip()}">'
             found = AngleLooksLikeDegrees.judge(rpy, self.values.attr_span(origin, "rpy"), here, written)
             if found is not None:
                 self._report(found)
-        return Pose((xyz[0], xyz[1], xyz[2]), (rpy[0], rpy[1], rpy[2]))
+        return Pose(xyz, rpy)
 
     # -- document ----------------------------------------------------------------
 
@@ -294,7 +322,7 @@ class UrdfReader(JointParts):
         inertial = self._inertial(groups["inertial"][0], where) if "inertial" in groups else None
         visuals = tuple(self._visual(v, f"{where}/visual") for v in groups.get("visual", []))
         collisions = tuple(self._collision(c, f"{where}/collision") for c in groups.get("collision", []))
-        extras = tuple(
+        extras = () if groups.keys() <= CHILDREN["link"].keys() else tuple(
             self._extension(item)
             for tag, items in groups.items()
             if tag not in CHILDREN["link"]
@@ -320,14 +348,15 @@ class UrdfReader(JointParts):
             self._check_attributes(mass_el, f"{here}/mass")
             value = self.values.number(mass_el, "value", f"{here}/mass", required=True)
             mass = value if value is not None else 0.0
-        components = dict.fromkeys(("ixx", "ixy", "ixz", "iyy", "iyz", "izz"), 0.0)
+        components = [0.0] * 6  # ixx, ixy, ixz, iyy, iyz, izz
         if inertia_el is not None:
-            self._check_attributes(inertia_el, f"{here}/inertia")
-            for key in components:
-                value = self.values.number(inertia_el, key, f"{here}/inertia", required=True)
+            at = f"{here}/inertia"
+            self._check_attributes(inertia_el, at)
+            for index, key in enumerate(_INERTIA_COMPONENTS):
+                value = self.values.number(inertia_el, key, at, required=True)
                 if value is not None:
-                    components[key] = value
-        tensor = Inertial.tensor(**components)
+                    components[index] = value
+        tensor = Inertial.tensor(*components)
         return Inertial(
             mass=mass,
             inertia=tensor,
@@ -413,7 +442,7 @@ class UrdfReader(JointParts):
         span = self.span(shape)
         if shape.tag == "box":
             size = v.vector(shape, "size", where, required=True)
-            return Box((size[0], size[1], size[2]), span) if size else None
+            return Box(size, span) if size else None
         if shape.tag == "sphere":
             radius = v.number(shape, "radius", where, required=True)
             return Sphere(radius, span) if radius is not None else None
@@ -438,9 +467,9 @@ class UrdfReader(JointParts):
         filename = v.text(shape, "filename", where, required=True)
         if filename is None:
             return None
-        scale = v.vector(shape, "scale", where) or (1.0, 1.0, 1.0)
+        scale = v.vector(shape, "scale", where) or _UNSCALED
         found = self.resolver.resolution(filename, span.path if span else self.path)
-        return Mesh(filename, found.path, (scale[0], scale[1], scale[2]), span, found)
+        return Mesh(filename, found.path, scale, span, found)
 
     def _material(self, element: etree._Element, where: str) -> Material:
         name = element.get("name")
@@ -494,7 +523,7 @@ class UrdfReader(JointParts):
             self._check_attributes(axis_el, f"{where}/axis")
             value = v.vector(axis_el, "xyz", f"{where}/axis")
             if value is not None:
-                axis = (value[0], value[1], value[2])
+                axis = value
             axis_span = self.span(axis_el)
         return Joint(
             name=name,
@@ -510,7 +539,7 @@ class UrdfReader(JointParts):
             calibration=self._calibration(groups, where),
             span=self.span(element),
             axis_span=axis_span,
-            extensions=tuple(
+            extensions=() if groups.keys() <= CHILDREN["joint"].keys() else tuple(
                 self._extension(item)
                 for tag, items in groups.items()
                 if tag not in CHILDREN["joint"]

@@ -74,10 +74,10 @@ class JointParts:
             return None
         here = f"{where}/limit"
         n = self.values.number
-        spans = {side: self.values.attr_span(el, side) if el.get(side) is not None else None
-                 for side in ("lower", "upper")}
+        lower = self.values.attr_span(el, "lower") if el.get("lower") is not None else None
+        upper = self.values.attr_span(el, "upper") if el.get("upper") is not None else None
         return Limit(n(el, "lower", here), n(el, "upper", here), n(el, "effort", here),
-                     n(el, "velocity", here), self.span(el), spans["lower"], spans["upper"])
+                     n(el, "velocity", here), self.span(el), lower, upper)
 
     def _dynamics(self, groups: dict[str, list[etree._Element]], where: str) -> Dynamics | None:
         el = self._single(groups, "dynamics", where)

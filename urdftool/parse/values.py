@@ -11,6 +11,7 @@ import functools
 import re
 from collections.abc import Callable
 from dataclasses import field
+from typing import Literal, overload
 
 from lxml import etree
 
@@ -69,11 +70,13 @@ _parse_cached = functools.lru_cache(maxsize=16384)(_parse)
 
 
 @functools.lru_cache(maxsize=16384)
-def _numbers(raw: str) -> tuple[tuple[str, ...], tuple[float | None, ...]]:
-    """The whitespace-separated parts of *raw* and each one's :func:`parse_number` (memoised:
-    ``xyz="0 0 0"`` is written thousands of times)."""
-    parts = tuple(raw.split())
-    return parts, tuple(parse_number(p) for p in parts)
+def _numbers(raw: str) -> tuple[tuple[float | None, ...], str | None]:
+    """Each whitespace-separated part of *raw* read by :func:`parse_number`, and the first part
+    that is not a number (``None`` when all are): memoised, since ``xyz="0 0 0"`` is written
+    thousands of times."""
+    parts = raw.split()
+    values = tuple(parse_number(p) for p in parts)
+    return values, next((p for p, v in zip(parts, values, strict=True) if v is None), None)
 
 
 def parse_limit(text: str) -> float | Unbounded | None:
@@ -164,10 +167,21 @@ class ValueReader:
             raw = self.text(element, attribute, where, required)
             if raw is None:
                 return None
-        value = parse_number(raw)
+        value = _parse_cached(raw) if len(raw) <= _CACHED_CHARS else _parse(raw)  # parse_number, inlined
         if value is None:
             self._invalid(element, attribute, where, raw)
         return value
+
+    @overload
+    def vector(
+        self, element: etree._Element, attribute: str, where: str, length: Literal[3] = 3,
+        required: bool = False,
+    ) -> tuple[float, float, float] | None: ...
+
+    @overload
+    def vector(
+        self, element: etree._Element, attribute: str, where: str, length: int, required: bool = False,
+    ) -> tuple[float, ...] | None: ...
 
     def vector(
         self,
@@ -183,9 +197,8 @@ class ValueReader:
             raw = self.text(element, attribute, where, required)
             if raw is None:
                 return None
-        parts, values = _numbers(raw) if len(raw) <= _CACHED_CHARS * 4 else _numbers.__wrapped__(raw)
-        if None in values:
-            bad = next(p for p, v in zip(parts, values, strict=True) if v is None)
+        values, bad = _numbers(raw) if len(raw) <= _CACHED_CHARS * 4 else _numbers.__wrapped__(raw)
+        if bad is not None:
             self._invalid(element, attribute, where, raw, bad)
             return None
         if len(values) != length:

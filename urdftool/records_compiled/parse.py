@@ -64,11 +64,12 @@ def _init_parse_controllers_Value(__defaults__, __factories__, __sentinel__, __s
 
 # urdftool.parse.locate.PositionTable
 def _init_parse_locate_PositionTable(__defaults__, __factories__, __sentinel__, __set__, __slot__):
-    def __init__(self, root, data, path, _offsets=__defaults__['_offsets'], _lines=__defaults__['_lines'], _index=__defaults__['_index'], _lookups=__defaults__['_lookups'], _found=__defaults__['_found'], _key=__defaults__['_key']):
+    def __init__(self, root, data, path, _offsets=__defaults__['_offsets'], _scan=__defaults__['_scan'], _lines=__defaults__['_lines'], _index=__defaults__['_index'], _lookups=__defaults__['_lookups'], _found=__defaults__['_found'], _key=__defaults__['_key']):
         self.root = root
         self.data = data
         self.path = path
         self._offsets = _offsets
+        self._scan = _scan
         self._lines = _lines
         self._index = _index
         self._lookups = _lookups
@@ -176,7 +177,7 @@ COMPILED = {
     'urdftool.parse.controllers.ControllerConfig': ('path,controllers*,diagnostics*|plain', _init_parse_controllers_ControllerConfig),
     'urdftool.parse.controllers.Controllers': ('configs*,missing*,given=|plain', _init_parse_controllers_Controllers),
     'urdftool.parse.controllers.Value': ('value,span|slots', _init_parse_controllers_Value),
-    'urdftool.parse.locate.PositionTable': ('root,data,path,_offsets=,_lines=,_index=,_lookups=,_found=,_key=|plain', _init_parse_locate_PositionTable),
+    'urdftool.parse.locate.PositionTable': ('root,data,path,_offsets=,_scan=,_lines=,_index=,_lookups=,_found=,_key=|plain', _init_parse_locate_PositionTable),
     'urdftool.parse.packages.Lookup': ('path,tried*,package=,package_missing=,package_dir=|plain', _init_parse_packages_Lookup),
     'urdftool.parse.packages.PackageResolver': ('packages*,package_paths*,environ*,_scanned*,_found*,_resolutions*,_packages_asked*,_twins*|plain', _init_parse_packages_PackageResolver),
     'urdftool.parse.urdf.UrdfReader': ('path,sources,resolver,expanded=,document=,values!,span!|post_init|plain', _init_parse_urdf_UrdfReader),
