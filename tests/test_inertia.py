@@ -92,9 +92,9 @@ def test_rotation_into_inertial_frame_turns_the_spin_axis() -> None:
     wheel = place(shape_properties(Cylinder(0.08, 0.04)), Pose(rpy=(math.pi / 2, 0.0, 0.0)))  # type: ignore[arg-type]
     in_link = wheel.inertia_for_mass(2.0)
     spin = 2.0 * 0.08**2 / 2
-    assert in_link[1, 1] == pytest.approx(spin)  # the axle is y in the link frame
+    assert in_link[1][1] == pytest.approx(spin)  # the axle is y in the link frame
     in_inertial = rotate_into(in_link, Pose(rpy=(math.pi / 2, 0.0, 0.0)))
-    assert in_inertial[2, 2] == pytest.approx(spin)  # and z in the rolled inertial frame
+    assert in_inertial[2][2] == pytest.approx(spin)  # and z in the rolled inertial frame
 
 
 def test_assess_absolute_floor_is_optional() -> None:

@@ -37,11 +37,16 @@ from urdftool.physics.massprops import SolidProperties, geometry_properties
 def declared_verdict(ctx: CheckContext, inertial: Inertial, abs_tol: float = 0.0) -> InertiaVerdict:
     """:func:`~urdftool.physics.inertia.assess` of the tensor as written (inertial frame, kg·m²).
 
-    The principal moments are computed once per distinct tensor; the tolerances
-    (``abs_tol``: :data:`~urdftool.physics.inertia.MIN_MOMENT` for the validity
-    rules, 0 for the fit rules) are applied to them on each call.
+    Judged once per distinct tensor and tolerance (``abs_tol``:
+    :data:`~urdftool.physics.inertia.MIN_MOMENT` for the validity rules, 0 for the fit rules):
+    four rules ask it of every link.
     """
-    return judge_moments(declared_moments(ctx, inertial), RELATIVE_TOLERANCE, abs_tol)
+    verdicts: dict[tuple[Any, float], InertiaVerdict] = ctx.cache.setdefault("declared-verdicts", {})
+    key = (inertial.inertia, abs_tol)
+    verdict = verdicts.get(key)
+    if verdict is None:
+        verdict = verdicts[key] = judge_moments(declared_moments(ctx, inertial), RELATIVE_TOLERANCE, abs_tol)
+    return verdict
 
 
 def declared_moments(ctx: CheckContext, inertial: Inertial) -> Moments:
@@ -82,6 +87,8 @@ def geometry_sources(ctx: CheckContext, link: Link) -> Iterator[tuple[str, Solid
     sources = memo.get(link.name)
     if sources is None or sources.link is not link:  # a robot may repeat a link's name
         sources = memo[link.name] = _Sources(link, linkmass.geometry_sources(link, _measurer(ctx)))
+    if sources.pending is None:  # all measured: most questions after the first rule's
+        return iter(sources.measured)
     return sources.read()
 
 

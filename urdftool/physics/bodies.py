@@ -9,19 +9,13 @@ moving joint has nothing to carry it.
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from functools import cached_property
-from typing import TYPE_CHECKING
-
-if TYPE_CHECKING:
-    import numpy as np
-else:
-    # NumPy is imported on first use: a structural check must not pay for it.
-    from urdftool.lazy import numpy as np
 
 from urdftool.model import KinematicTree, Link, Robot
-from urdftool.model.pose import Matrix, Pose, Vec3, identity_exact, rotate_tensor, unrotated
-from urdftool.physics.inertia import shift_to_point
+from urdftool.model.pose import Pose, Vec3, unrotated
+from urdftool.physics import vec3
+from urdftool.physics.vec3 import Tensor3
 from urdftool.records import record
 
 #: Masses (kg) and principal moments (kg·m²) at or below this count as zero:
@@ -53,58 +47,70 @@ class RigidBody:
         return float(sum(link.inertial.mass for link, _ in self.links if link.inertial))
 
     @cached_property
-    def declared_inertia(self) -> Matrix:
-        """:meth:`composite_inertia` as declared, computed once: several rules weigh one body.
-        Read it, never write into it."""
+    def declared_inertia(self) -> Tensor3:
+        """:meth:`composite_inertia` as declared, computed once: several rules weigh one body."""
         return self.composite_inertia()
 
-    def composite_inertia(self, replaced: Mapping[str, Matrix] | None = None) -> Matrix:
+    def composite_inertia(self, replaced: Mapping[str, Tensor3] | None = None) -> Tensor3:
         """Inertia (kg·m²) of the welded links about their common centre of mass, head frame.
 
         *replaced* maps link names to a tensor (kg·m², about the link's centre of
         mass, link frame) used instead of the declared one: what the body would
-        be with that link's inertia repaired.
+        be with that link's inertia repaired. Computed in floats (:mod:`urdftool.physics.vec3`):
+        only the rules weigh a body's inertia.
         """
-        parts: list[tuple[float, Matrix, Matrix]] = []
+        parts: list[tuple[float, Vec3, Tensor3]] = []
         for link, pose in self.links:
             if link.inertial is None or link.inertial.mass <= 0:
                 continue
             com = _moved(link.inertial.origin.xyz, pose)
-            own = (replaced or {}).get(link.name, link.inertial.inertia_in_link_frame)
-            tensor = rotate_tensor(own, pose.rpy)
-            parts.append((link.inertial.mass, com, tensor))
+            own = (replaced or {}).get(link.name)
+            if own is None:
+                own = vec3.rotate_tensor(link.inertial.inertia, link.inertial.origin.rpy)
+            parts.append((link.inertial.mass, com, vec3.rotate_tensor(own, pose.rpy)))
         total = sum(m for m, _, _ in parts)
         if total <= 0:
-            return np.zeros((3, 3))
-        center = sum((m * c for m, c, _ in parts), np.zeros(3)) / total
-        return sum((shift_to_point(t, m, c - center) for m, c, t in parts), np.zeros((3, 3)))
+            return vec3.ZERO_TENSOR
+        center = (
+            sum(m * c[0] for m, c, _ in parts) / total,
+            sum(m * c[1] for m, c, _ in parts) / total,
+            sum(m * c[2] for m, c, _ in parts) / total,
+        )
+        inertia = vec3.ZERO_TENSOR
+        for m, c, t in parts:
+            inertia = vec3.added(inertia, vec3.shift_to_point(t, m, vec3.sub(c, center)))
+        return inertia
 
 
-def _moved(point: Vec3, pose: Pose) -> Matrix:
-    """*point* (m, link frame) in the head's frame; without the rotation's product when it
-    gives back the same numbers (the head itself, links welded without a turn; see
-    :func:`~urdftool.model.pose.unrotated`)."""
-    if unrotated(pose.rpy) and identity_exact((*point, *pose.xyz)):
-        moved: Matrix = np.asarray(point, dtype=float) + np.asarray(pose.xyz)
-        return moved
-    rotated: Matrix = pose.rotation @ np.asarray(point) + np.asarray(pose.xyz)
-    return rotated
+def _moved(point: Vec3, pose: Pose) -> Vec3:
+    """*point* (m, link frame) in the head's frame."""
+    if unrotated(pose.rpy):
+        return vec3.add(point, pose.xyz)
+    return vec3.add(vec3.apply(vec3.rotation(pose.rpy), point), pose.xyz)
 
 
-def rigid_bodies(tree: KinematicTree) -> list[RigidBody]:
-    """Every rigid body of the tree, heads in depth-first order from the roots."""
+#: Composes a parent pose with a child's (:meth:`Pose.compose`, or :func:`urdftool.physics.vec3.compose`).
+Compose = Callable[[Pose, Pose], Pose]
+
+
+def rigid_bodies(tree: KinematicTree, compose: Compose = Pose.compose) -> list[RigidBody]:
+    """Every rigid body of the tree, heads in depth-first order from the roots.
+
+    *compose* places each welded link in its head's frame: NumPy's products by default (what
+    the exporters write), :func:`urdftool.physics.vec3.compose` for a check's rules.
+    """
     links = {link.name: link for link in tree.robot.links}
     bodies: list[RigidBody] = []
     for _, link, joint in tree.walk():
         if joint is not None and not joint.type.is_moving:
             continue
-        members = _welded(tree, links, link)
+        members = _welded(tree, links, link, compose)
         bodies.append(RigidBody(link.name, members, joint.name if joint is not None else None))
     return bodies
 
 
 def _welded(
-    tree: KinematicTree, links: dict[str, Link], head: Link
+    tree: KinematicTree, links: dict[str, Link], head: Link, compose: Compose
 ) -> tuple[tuple[Link, Pose], ...]:
     """*head* and the links welded below it by fixed joints, with poses in head's frame."""
     out: list[tuple[Link, Pose]] = []
@@ -115,7 +121,7 @@ def _welded(
         for joint in reversed(tree.child_joints.get(link.name, [])):
             child = links.get(joint.child)
             if child is not None and not joint.type.is_moving:
-                stack.append((child, pose.compose(joint.origin)))
+                stack.append((child, compose(pose, joint.origin)))
     return tuple(out)
 
 

@@ -18,6 +18,7 @@ from urdftool.model import Inertial, Link
 from urdftool.model.pose import Matrix
 from urdftool.physics.inertia import assess
 from urdftool.physics.linkmass import TYPICAL_DENSITY, Sources, geometry_sources, geometry_tensor
+from urdftool.physics.vec3 import Tensor3
 
 #: Entries below this (kg·m²) print and count as zero.
 ZERO_TENSOR = 1e-15
@@ -28,20 +29,22 @@ def fmt(value: float) -> str:
     return f"{value:.3g}"
 
 
-def fmt_tensor(tensor: Matrix) -> str:
+def fmt_tensor(tensor: Matrix | Tensor3) -> str:
     """``ixx=… iyy=… izz=…`` plus the non-zero products of inertia, in kg·m²."""
-    t = np.asarray(tensor, dtype=float)
-    scale = max(float(np.abs(t).max()), ZERO_TENSOR)
-    diagonal = (t[0, 0], t[1, 1], t[2, 2])
-    if np.allclose(diagonal, diagonal[0], rtol=1e-3, atol=0):
-        text = f"ixx=iyy=izz={fmt(diagonal[0])}"
+    rows = tensor if isinstance(tensor, tuple) else tensor.tolist()
+    scale = max(ZERO_TENSOR, *(abs(v) for row in rows for v in row))
+    diagonal = (rows[0][0], rows[1][1], rows[2][2])
+    first = diagonal[0]
+    # numpy.allclose(diagonal, first, rtol=1e-3, atol=0): infinities equal only themselves
+    if all(d == first or abs(d - first) <= 1e-3 * abs(first) for d in diagonal):
+        text = f"ixx=iyy=izz={fmt(first)}"
     elif abs(diagonal[0] - diagonal[1]) <= 1e-3 * scale:
         text = f"ixx=iyy={fmt(diagonal[0])} izz={fmt(diagonal[2])}"
     else:
         text = f"ixx={fmt(diagonal[0])} iyy={fmt(diagonal[1])} izz={fmt(diagonal[2])}"
     for name, (i, j) in (("ixy", (0, 1)), ("ixz", (0, 2)), ("iyz", (1, 2))):
-        if abs(t[i, j]) > 1e-6 * scale:
-            text += f" {name}={fmt(t[i, j])}"
+        if abs(rows[i][j]) > 1e-6 * scale:
+            text += f" {name}={fmt(rows[i][j])}"
     return text
 
 

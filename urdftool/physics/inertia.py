@@ -8,6 +8,7 @@ real mass distribution obeys and what MuJoCo's compiler enforces.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Sequence
 from typing import TYPE_CHECKING
 
@@ -17,8 +18,9 @@ else:
     # NumPy is imported on first use: a structural check must not pay for it.
     from urdftool.lazy import numpy as np
 
-from urdftool.model.pose import Matrix
+from urdftool.model.pose import Matrix, Vec3
 from urdftool.model.robot import Inertia3
+from urdftool.physics.vec3 import Tensor3
 from urdftool.records import record
 
 #: Relative tolerance (to the trace) below which a moment counts as zero or an
@@ -30,7 +32,7 @@ RELATIVE_TOLERANCE = 1e-6
 MIN_MOMENT = 1e-14
 
 
-def principal_moments(tensor: Matrix) -> tuple[Matrix, Matrix]:
+def principal_moments(tensor: Matrix | Tensor3) -> tuple[Matrix, Matrix]:
     """Eigenvalues (ascending) and eigenvectors (columns) of the symmetric part of *tensor*."""
     matrix = np.asarray(tensor, dtype=float)
     sym = 0.5 * (matrix + matrix.T)
@@ -68,7 +70,7 @@ class InertiaVerdict:
 
 
 def assess(
-    tensor: Matrix, rel_tol: float = RELATIVE_TOLERANCE, abs_tol: float = 0.0
+    tensor: Matrix | Tensor3, rel_tol: float = RELATIVE_TOLERANCE, abs_tol: float = 0.0
 ) -> InertiaVerdict:
     """Positive-definiteness and triangle inequalities, with a tolerance relative to the trace.
 
@@ -94,36 +96,34 @@ def judge_moments(
     return InertiaVerdict((a, b, c), positive, violation)
 
 
-def box_inertia(mass: float, size: tuple[float, float, float]) -> Matrix:
-    """Solid box with full edge lengths *size* (m) about its centre, box frame."""
+def box_moments(mass: float, size: tuple[float, float, float]) -> Vec3:
+    """Principal moments (kg·m², about x, y, z) of a solid box with full edge lengths *size* (m),
+    about its centre, box frame."""
     x, y, z = size
-    return np.diag(
-        [mass * (y * y + z * z) / 12, mass * (x * x + z * z) / 12, mass * (x * x + y * y) / 12]
-    )
+    return (mass * (y * y + z * z) / 12, mass * (x * x + z * z) / 12, mass * (x * x + y * y) / 12)
 
 
-def cylinder_inertia(mass: float, radius: float, length: float) -> Matrix:
+def cylinder_moments(mass: float, radius: float, length: float) -> Vec3:
     """Solid cylinder along local z about its centre."""
     side = mass * (3 * radius * radius + length * length) / 12
-    return np.diag([side, side, mass * radius * radius / 2])
+    return (side, side, mass * radius * radius / 2)
 
 
-def sphere_inertia(mass: float, radius: float) -> Matrix:
-    return np.eye(3) * (2.0 / 5.0) * mass * radius * radius
+def sphere_moments(mass: float, radius: float) -> Vec3:
+    moment = (2.0 / 5.0) * mass * radius * radius
+    return (moment, moment, moment)
 
 
-def ellipsoid_inertia(mass: float, radii: tuple[float, float, float]) -> Matrix:
+def ellipsoid_moments(mass: float, radii: tuple[float, float, float]) -> Vec3:
     a, b, c = radii
-    return np.diag(
-        [mass * (b * b + c * c) / 5, mass * (a * a + c * c) / 5, mass * (a * a + b * b) / 5]
-    )
+    return (mass * (b * b + c * c) / 5, mass * (a * a + c * c) / 5, mass * (a * a + b * b) / 5)
 
 
-def capsule_inertia(mass: float, radius: float, length: float) -> Matrix:
+def capsule_moments(mass: float, radius: float, length: float) -> Vec3:
     """Solid capsule along local z: a cylinder of *length* with two hemispherical caps."""
     r, h = radius, length
-    v_cyl = np.pi * r * r * h
-    v_caps = 4.0 / 3.0 * np.pi * r**3
+    v_cyl = math.pi * r * r * h
+    v_caps = 4.0 / 3.0 * math.pi * r**3
     rho = mass / (v_cyl + v_caps)
     m_cyl, m_caps = rho * v_cyl, rho * v_caps
     izz = m_cyl * r * r / 2 + m_caps * 2 * r * r / 5
@@ -131,7 +131,7 @@ def capsule_inertia(mass: float, radius: float, length: float) -> Matrix:
     # (centroid 3r/8 from the flat face, flat face at h/2).
     ixx_cyl = m_cyl * (3 * r * r + h * h) / 12
     ixx_caps = m_caps * (2 * r * r / 5 + h * h / 4 + 3 * h * r / 8)
-    return np.diag([ixx_cyl + ixx_caps, ixx_cyl + ixx_caps, izz])
+    return (ixx_cyl + ixx_caps, ixx_cyl + ixx_caps, izz)
 
 
 def shift_to_point(tensor: Matrix, mass: float, offset: Matrix) -> Matrix:

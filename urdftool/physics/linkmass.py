@@ -12,16 +12,10 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable, Iterable, Iterator
-from typing import TYPE_CHECKING
-
-if TYPE_CHECKING:
-    import numpy as np
-else:
-    # NumPy is imported on first use: a structural check must not pay for it.
-    from urdftool.lazy import numpy as np
 
 from urdftool.model import Collision, Geometry, Link, Visual
-from urdftool.model.pose import Matrix, vector_norm
+from urdftool.model.pose import Matrix, Vec3
+from urdftool.physics import vec3
 from urdftool.physics.inertia import principal_moments
 from urdftool.physics.massprops import (
     SolidProperties,
@@ -30,6 +24,7 @@ from urdftool.physics.massprops import (
     place,
     rotate_into,
 )
+from urdftool.physics.vec3 import Tensor3
 from urdftool.records import record
 
 #: Density (kg/m³) used to suggest a mass for a massless link: a solid of
@@ -94,7 +89,7 @@ class InertiaComparison:
 
     source: str
     solid: SolidProperties
-    computed: Matrix
+    computed: Tensor3
     ratio: float
     worst: float
 
@@ -104,7 +99,7 @@ class InertiaComparison:
         return max(self.ratio, 1.0 / self.ratio) if self.ratio > 0 else math.inf
 
 
-def geometry_tensor(link: Link, solid: SolidProperties) -> Matrix | None:
+def geometry_tensor(link: Link, solid: SolidProperties) -> Tensor3 | None:
     """Inertia (kg·m²) of *solid* at the declared mass, about its centroid, inertial frame."""
     inertial = link.inertial
     if inertial is None or inertial.mass <= 0 or solid.volume <= 0:
@@ -127,15 +122,15 @@ def compare_inertia(
 
 #: A comparison before its principal moments: (source, solid, computed tensor, trace ratio), what
 #: decides whether there is one.
-Prepared = tuple[str, SolidProperties, Matrix, float]
+Prepared = tuple[str, SolidProperties, Tensor3, float]
 
 
 def _prepare(link: Link, source: str, solid: SolidProperties) -> Prepared | None:
     computed = geometry_tensor(link, solid)
     if computed is None or link.inertial is None:
         return None
-    computed_trace = float(computed.trace())
-    declared_trace = float(link.inertial.inertia_matrix.trace())
+    computed_trace = vec3.trace(computed)
+    declared_trace = vec3.trace(link.inertial.inertia)
     if computed_trace <= 0 or declared_trace <= 0:
         return None
     return (source, solid, computed, declared_trace / computed_trace)
@@ -202,14 +197,13 @@ def density(link: Link, solid: SolidProperties) -> float | None:
     return value if math.isfinite(value) else None  # a subnormal volume: no density to judge
 
 
-def distance_outside(point: Matrix, solid: SolidProperties) -> float:
+def distance_outside(point: Vec3, solid: SolidProperties) -> float:
     """How far (m) *point* lies outside the solid's bounds, link frame (0 inside)."""
-    below = np.maximum(solid.bounds_min - point, 0.0)
-    above = np.maximum(point - solid.bounds_max, 0.0)
-    return vector_norm(np.maximum(below, above))
+    lo, hi = solid.bounds_min, solid.bounds_max
+    return vec3.norm(tuple(max(lo[k] - point[k], point[k] - hi[k], 0.0) for k in range(3)))  # type: ignore[arg-type]
 
 
-def moments_of(tensor: Matrix) -> Moments:
+def moments_of(tensor: Matrix | Tensor3) -> Moments:
     """Principal moments (kg·m², ascending) of *tensor*, as floats."""
     values, _ = principal_moments(tensor)
     return (float(values[0]), float(values[1]), float(values[2]))
@@ -217,4 +211,4 @@ def moments_of(tensor: Matrix) -> Moments:
 
 def bounds_diagonal(solid: SolidProperties) -> float:
     """Length (m) of the diagonal of the solid's bounds: the size of the part."""
-    return vector_norm(solid.bounds_max - solid.bounds_min)
+    return vec3.norm(vec3.sub(solid.bounds_max, solid.bounds_min))

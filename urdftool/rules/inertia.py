@@ -25,6 +25,7 @@ from urdftool.diagnostics import Diagnostic, Severity
 from urdftool.facts import link_mass
 from urdftool.facts.context import CheckContext
 from urdftool.model import Link
+from urdftool.physics import vec3
 from urdftool.physics.bodies import (
     MIN_VALUE,
     MassRole,
@@ -55,7 +56,7 @@ def _where(link: Link, *parts: str) -> str:
 def bodies(ctx: CheckContext) -> list[RigidBody]:
     """The robot's rigid bodies, computed once per check run."""
     if "inertia.bodies" not in ctx.cache:
-        found = rigid_bodies(ctx.tree)
+        found = rigid_bodies(ctx.tree, vec3.compose)  # in floats: see physics/vec3.py
         ctx.cache["inertia.bodies"] = found
         ctx.cache["inertia.body_of"] = body_of(found)
     return ctx.cache["inertia.bodies"]  # type: ignore[no-any-return]

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
-from collections.abc import Iterator
+from collections.abc import Iterable, Iterator
 from typing import TYPE_CHECKING
 
 if TYPE_CHECKING:
@@ -170,7 +170,7 @@ class ComOutsideGeometry(_Inertia):
         for link in ctx.robot.links:
             if link.inertial is None or link.inertial.mass <= MIN_VALUE:
                 continue
-            com = np.asarray(link.inertial.origin.xyz, dtype=float)
+            com = link.inertial.origin.xyz
             found: list[tuple[float, float, str, SolidProperties]] = []
             for source, solid in link_mass.geometry_sources(ctx, link):
                 margin = max(COM_MARGIN, COM_MARGIN_FRACTION * bounds_diagonal(solid))
@@ -193,16 +193,16 @@ class ComOutsideGeometry(_Inertia):
                 f"z {fmt(lo[2])}..{fmt(hi[2])} m in the link frame; its centroid is "
                 f"({fmt_vec(solid.center)}) m",
                 data={
-                    "com": com.tolist(),
+                    "com": list(com),
                     "distance": outside,
                     "source": source,
-                    "bounds": [lo.tolist(), hi.tolist()],
-                    "centroid": solid.center.tolist(),
+                    "bounds": [list(lo), list(hi)],
+                    "centroid": list(solid.center),
                 },
             )
 
 
-def fmt_vec(values: np.ndarray) -> str:
+def fmt_vec(values: Iterable[float]) -> str:
     return " ".join(fmt(float(v)) for v in values)
 
 

@@ -8,6 +8,7 @@ centre of mass, root link, mass ratios). Thresholds and the reasons for them are
 
 from __future__ import annotations
 
+import itertools
 from collections.abc import Iterator
 from typing import TYPE_CHECKING
 
@@ -22,7 +23,7 @@ from urdftool.diagnostics import Diagnostic, Severity
 from urdftool.facts import link_mass
 from urdftool.facts.context import CheckContext
 from urdftool.model import Link
-from urdftool.model.pose import rotate_tensor
+from urdftool.physics import vec3
 from urdftool.physics.bodies import MIN_VALUE
 from urdftool.physics.describe import fmt, fmt_tensor
 from urdftool.physics.linkmass import InertiaComparison
@@ -130,16 +131,17 @@ class InertiaGeometryMismatch(_Inertia):
                 "ratio": best.ratio,
                 "source": best.source,
                 "geometry": best.solid.label,
-                "computed": best.computed.tolist(),
+                "computed": [list(row) for row in best.computed],
                 "declared": link.inertial.inertia_matrix.tolist(),
             },
         )
 
     def _axes_finding(self, link: Link, comparison: InertiaComparison, factor: float) -> Diagnostic:
         assert link.inertial is not None
-        flipped = _flipped_products(link.inertial.inertia_matrix, comparison.computed)
+        computed = np.array(comparison.computed)
+        flipped = _flipped_products(link.inertial.inertia_matrix, computed)
         if flipped:
-            declared, computed = link.inertial.inertia_matrix, comparison.computed
+            declared = link.inertial.inertia_matrix
             values = ", ".join(f"{name} {fmt(float(declared[i, j]))} against {fmt(float(computed[i, j]))}"
                                for name, (i, j) in flipped)
             names = " and ".join(name for name, _ in flipped)
@@ -156,7 +158,7 @@ class InertiaGeometryMismatch(_Inertia):
                     "flipped": [name for name, _ in flipped],
                     "source": comparison.source,
                     "geometry": comparison.solid.label,
-                    "computed": comparison.computed.tolist(),
+                    "computed": [list(row) for row in comparison.computed],
                     "declared": link.inertial.inertia_matrix.tolist(),
                 },
             )
@@ -173,7 +175,7 @@ class InertiaGeometryMismatch(_Inertia):
                 "axis_factor": factor,
                 "source": comparison.source,
                 "geometry": comparison.solid.label,
-                "computed": comparison.computed.tolist(),
+                "computed": [list(row) for row in comparison.computed],
                 "declared": link.inertial.inertia_matrix.tolist(),
             },
         )
@@ -193,12 +195,10 @@ def _possible_for_bounds(link: Link, comparison: InertiaComparison) -> bool:
     if comparison.ratio < 1:
         return False
     solid = comparison.solid
-    com = np.asarray(link.inertial.origin.xyz, dtype=float)
-    corners = np.array(
-        [[(solid.bounds_min, solid.bounds_max)[k >> axis & 1][axis] for axis in range(3)] for k in range(8)]
-    )
-    reach = float(np.max(np.linalg.norm(corners - com, axis=1))) * BOUNDS_MARGIN
-    declared = float(np.trace(link.inertial.inertia_matrix))
+    com = link.inertial.origin.xyz
+    corners = itertools.product(*zip(solid.bounds_min, solid.bounds_max, strict=True))
+    reach = max(vec3.norm(vec3.sub(corner, com)) for corner in corners) * BOUNDS_MARGIN  # type: ignore[arg-type]
+    declared = vec3.trace(link.inertial.inertia)
     return declared <= 2.0 * link.inertial.mass * reach**2
 
 
@@ -215,9 +215,9 @@ def _lost_in_body(ctx: CheckContext, link: Link, comparison: InertiaComparison) 
     body = body_of_link(ctx, link.name)
     if body is None or body.head == link.name or link.inertial is None:
         return False
-    declared = float(np.trace(body.declared_inertia))
-    own = rotate_tensor(comparison.computed, link.inertial.origin.rpy)
-    fitted = float(np.trace(body.composite_inertia({link.name: own})))
+    declared = vec3.trace(body.declared_inertia)
+    own = vec3.rotate_tensor(comparison.computed, link.inertial.origin.rpy)
+    fitted = vec3.trace(body.composite_inertia({link.name: own}))
     if declared <= 0 or fitted <= 0:
         return False
     return max(declared / fitted, fitted / declared) < INERTIA_FACTOR
@@ -228,7 +228,15 @@ def _wrong_axes(link: Link, comparison: InertiaComparison) -> float | None:
     assert link.inertial is not None
     if comparison.worst > SAME_MOMENTS:
         return None
-    factor = _axis_factor(link.inertial.inertia_matrix, comparison.computed)
+    computed = comparison.computed
+    if not (computed[0][1] or computed[0][2] or computed[1][2] or computed[1][0] or computed[2][0]
+            or computed[2][1]):
+        # A shape on the inertial frame's axes (most are): its principal axes are the frame's (eigh
+        # gives the unit vectors), and the moments about them are the two diagonals.
+        declared = link.inertial.inertia
+        factor = max(max(declared[k][k] / computed[k][k], computed[k][k] / declared[k][k]) for k in range(3))
+    else:
+        factor = _axis_factor(link.inertial.inertia_matrix, np.array(computed))
     return factor if factor >= AXIS_FACTOR else None
 
 
