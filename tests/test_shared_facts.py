@@ -100,7 +100,7 @@ def test_geometry_sources_stay_lazy() -> None:
     ctx = CheckContext(robot, KinematicTree.of(robot))
     first = next(link_mass.geometry_sources(ctx, link))
     assert first[0] == "collision"
-    assert len(ctx.cache["link-solids"]["l"].measured) == 1
+    assert isinstance(ctx.cache["link-solids"]["l"].visual, link_mass._Unmeasured)
     assert [s for s, _ in link_mass.geometry_sources(ctx, link)] == ["collision", "visual"]
 
 
@@ -153,3 +153,25 @@ def test_declared_moments_of_the_whole_robot_are_each_tensors() -> None:
                 tensor = link.inertial.inertia_matrix
                 values, _ = np.linalg.eigh(0.5 * (tensor + tensor.T))
                 assert link_mass.declared_moments(ctx, link.inertial) == tuple(values.tolist()), link.name
+
+
+@pytest.mark.parametrize("failing", ["collision", "visual"])
+def test_a_solid_that_fails_raises_once(failing: str) -> None:
+    """The rule that meets a failing measurement gets the error; the rules after it read on
+    without that solid (nor the visual one, when the collision one failed)."""
+    collision, visual = Box((0.5, 0.5, 0.5)), Box((1.0, 1.0, 1.0))
+    link = Link("l", visuals=(Visual(visual),), collisions=(Collision(collision),))
+    broken = collision if failing == "collision" else visual
+
+    def measure(geometry: object) -> object:
+        if geometry is broken:
+            raise RuntimeError("unreadable")
+        return linkmass.geometry_properties(geometry)  # type: ignore[arg-type]
+
+    sources = link_mass._Sources(link, measure)  # type: ignore[arg-type]
+    first = sources.read()
+    if failing == "visual":
+        assert next(first)[0] == "collision"
+    with pytest.raises(RuntimeError, match="unreadable"):
+        next(first)
+    assert [s for s, _ in sources.read()] == ([] if failing == "collision" else ["collision"])

@@ -37,16 +37,34 @@ from urdftool.physics.massprops import SolidProperties, geometry_properties
 def declared_verdict(ctx: CheckContext, inertial: Inertial, abs_tol: float = 0.0) -> InertiaVerdict:
     """:func:`~urdftool.physics.inertia.assess` of the tensor as written (inertial frame, kg·m²).
 
-    Judged once per distinct tensor and tolerance (``abs_tol``:
-    :data:`~urdftool.physics.inertia.MIN_MOMENT` for the validity rules, 0 for the fit rules):
-    four rules ask it of every link.
+    The first question at a tolerance (``abs_tol``: :data:`~urdftool.physics.inertia.MIN_MOMENT`
+    for the validity rules, 0 for the fit rules) judges every link's tensor at it: four rules ask
+    it of every link. The verdicts are kept by the element's identity, which costs less to look
+    up than its six numbers; the robot holds its elements for the whole check, and the element
+    kept beside each verdict makes sure it is the one asked about.
     """
-    verdicts: dict[tuple[Any, float], InertiaVerdict] = ctx.cache.setdefault("declared-verdicts", {})
-    key = (inertial.inertia, abs_tol)
-    verdict = verdicts.get(key)
-    if verdict is None:
-        verdict = verdicts[key] = judge_moments(declared_moments(ctx, inertial), RELATIVE_TOLERANCE, abs_tol)
-    return verdict
+    verdicts: dict[int, tuple[Inertial, InertiaVerdict]] | None
+    verdicts = ctx.cache.get(("declared-verdicts", abs_tol))
+    if verdicts is None:
+        verdicts = ctx.cache["declared-verdicts", abs_tol] = _all_verdicts(ctx, abs_tol)
+    found = verdicts.get(id(inertial))
+    if found is not None and found[0] is inertial:
+        return found[1]
+    return judge_moments(declared_moments(ctx, inertial), RELATIVE_TOLERANCE, abs_tol)
+
+
+def _all_verdicts(ctx: CheckContext, abs_tol: float) -> dict[int, tuple[Inertial, InertiaVerdict]]:
+    verdicts: dict[int, tuple[Inertial, InertiaVerdict]] = {}
+    for link in ctx.robot.links:
+        inertial = link.inertial
+        if inertial is None:
+            continue
+        try:
+            moments = declared_moments(ctx, inertial)
+        except np.linalg.LinAlgError:
+            continue  # raised to the rule that asks about this link, as always
+        verdicts[id(inertial)] = (inertial, judge_moments(moments, RELATIVE_TOLERANCE, abs_tol))
+    return verdicts
 
 
 def declared_moments(ctx: CheckContext, inertial: Inertial) -> Moments:
@@ -83,12 +101,12 @@ def geometry_sources(ctx: CheckContext, link: Link) -> Iterator[tuple[str, Solid
     Still lazy: the visual solid is measured only when a rule reads past the
     collision one, and then kept for the next rule.
     """
-    memo: dict[str, _Sources] = ctx.cache.setdefault("link-solids", {})
+    memo: dict[str, _Sources] | None = ctx.cache.get("link-solids")
+    if memo is None:
+        memo = ctx.cache["link-solids"] = {}
     sources = memo.get(link.name)
     if sources is None or sources.link is not link:  # a robot may repeat a link's name
-        sources = memo[link.name] = _Sources(link, linkmass.geometry_sources(link, _measurer(ctx)))
-    if sources.pending is None:  # all measured: most questions after the first rule's
-        return iter(sources.measured)
+        sources = memo[link.name] = _Sources(link, measurer(ctx))
     return sources.read()
 
 
@@ -124,7 +142,7 @@ def comparisons(ctx: CheckContext, links: Iterable[Link]) -> Iterator[tuple[Link
         if found is None:
             yield link, None
             continue
-        declared = declared_moments(ctx, link.inertial) if link.inertial is not None else None
+        declared = declared_verdict(ctx, link.inertial).moments if link.inertial is not None else None
         if batch is not None:
             moments = next(batch)
         else:
@@ -141,32 +159,49 @@ def comparisons(ctx: CheckContext, links: Iterable[Link]) -> Iterator[tuple[Link
 
 
 class _Sources:
-    """One link's geometry sources: those measured so far, and the generator measuring the rest."""
+    """One link's two solids, each measured when a rule first reads that far."""
 
-    def __init__(self, link: Link, pending: Iterator[tuple[str, SolidProperties]]) -> None:
+    def __init__(self, link: Link, measure: linkmass.Measure) -> None:
         self.link = link
-        self.measured: list[tuple[str, SolidProperties]] = []
-        self.pending: Iterator[tuple[str, SolidProperties]] | None = pending
+        self.measure = measure
+        self.collision: SolidProperties | _Unmeasured | None = _UNMEASURED
+        self.visual: SolidProperties | _Unmeasured | None = _UNMEASURED
 
     def read(self) -> Iterator[tuple[str, SolidProperties]]:
-        index = 0
-        while True:
-            if index < len(self.measured):
-                yield self.measured[index]
-                index += 1
-                continue
-            following = next(self.pending, None) if self.pending is not None else None
-            if following is None:
-                self.pending = None
-                return
-            self.measured.append(following)
+        """:func:`urdftool.physics.linkmass.geometry_sources`, from what is measured already.
+
+        A solid that fails to measure raises once, to the rule that asked; the rules after it
+        find no solid from there on (no visual solid either when the collision one failed).
+        """
+        collision = self.collision
+        if isinstance(collision, _Unmeasured):
+            self.collision = self.visual = None
+            collision = self.collision = linkmass.collision_solid(self.link, self.measure)
+            self.visual = _UNMEASURED
+        if collision is not None:
+            yield "collision", collision
+        visual = self.visual
+        if isinstance(visual, _Unmeasured):
+            self.visual = None
+            visual = self.visual = linkmass.visual_solid(self.link, self.measure)
+        if visual is not None:
+            yield "visual", visual
 
 
-def _measurer(ctx: CheckContext) -> linkmass.Measure:
+class _Unmeasured:
+    """The mark of a solid not measured yet (``None`` is a solid that cannot be measured)."""
+
+
+_UNMEASURED = _Unmeasured()
+
+
+def measurer(ctx: CheckContext) -> linkmass.Measure:
     """:func:`~urdftool.physics.massprops.geometry_properties`, with each mesh file at each scale
     measured once per check: an arm's left and right links share their meshes."""
-    meshes: dict[tuple[str | None, str, tuple[float, float, float]], SolidProperties | None]
-    meshes = ctx.cache.setdefault("mesh-solids", {})
+    found: linkmass.Measure | None = ctx.cache.get("mesh-measurer")
+    if found is not None:
+        return found
+    meshes: dict[tuple[str | None, str, tuple[float, float, float]], SolidProperties | None] = {}
 
     def measure(geometry: Geometry | None) -> SolidProperties | None:
         if not isinstance(geometry, Mesh):
@@ -177,4 +212,5 @@ def _measurer(ctx: CheckContext) -> linkmass.Measure:
             meshes[key] = geometry_properties(geometry)
         return meshes[key]
 
+    ctx.cache["mesh-measurer"] = measure
     return measure

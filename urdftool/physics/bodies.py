@@ -13,7 +13,7 @@ from collections.abc import Callable, Mapping
 from functools import cached_property
 
 from urdftool.model import KinematicTree, Link, Robot
-from urdftool.model.pose import Pose, Vec3, unrotated
+from urdftool.model.pose import IDENTITY, Pose, Vec3, unrotated
 from urdftool.physics import vec3
 from urdftool.physics.vec3 import Tensor3
 from urdftool.records import record
@@ -50,6 +50,39 @@ class RigidBody:
     def declared_inertia(self) -> Tensor3:
         """:meth:`composite_inertia` as declared, computed once: several rules weigh one body."""
         return self.composite_inertia()
+
+    def composite_trace(self, replaced: Mapping[str, float] | None = None) -> float:
+        """The trace (kg·m²) of :meth:`composite_inertia`, with the traces of *replaced* links'
+        tensors (link name -> trace, kg·m²) instead of their declared ones.
+
+        A trace does not depend on the frame a tensor is written in, so each link's own trace
+        is summed as written, and the parallel-axis theorem adds 2·m·|d|² for a link whose centre
+        of mass is d from the body's: no tensor is rotated or shifted.
+        """
+        masses = self._mass_points
+        total = sum(m for _, m, _, _ in masses)
+        if total <= 0:
+            return 0.0
+        x = sum(m * c[0] for _, m, c, _ in masses) / total
+        y = sum(m * c[1] for _, m, c, _ in masses) / total
+        z = sum(m * c[2] for _, m, c, _ in masses) / total
+        trace = 0.0
+        for name, m, c, own in masses:
+            if replaced is not None and name in replaced:
+                own = replaced[name]
+            dx, dy, dz = c[0] - x, c[1] - y, c[2] - z
+            trace += own + 2.0 * m * (dx * dx + dy * dy + dz * dz)
+        return trace
+
+    @cached_property
+    def _mass_points(self) -> list[tuple[str, float, Vec3, float]]:
+        """(link name, mass in kg, centre of mass in the head frame, trace of its tensor) of each
+        link with a positive mass."""
+        return [
+            (link.name, inertial.mass, _moved(inertial.origin.xyz, pose), vec3.trace(inertial.inertia))
+            for link, pose in self.links
+            if (inertial := link.inertial) is not None and inertial.mass > 0
+        ]
 
     def composite_inertia(self, replaced: Mapping[str, Tensor3] | None = None) -> Tensor3:
         """Inertia (kg·m²) of the welded links about their common centre of mass, head frame.
@@ -114,7 +147,7 @@ def _welded(
 ) -> tuple[tuple[Link, Pose], ...]:
     """*head* and the links welded below it by fixed joints, with poses in head's frame."""
     out: list[tuple[Link, Pose]] = []
-    stack: list[tuple[Link, Pose]] = [(head, Pose())]
+    stack: list[tuple[Link, Pose]] = [(head, IDENTITY)]
     while stack:  # the tree view has no cycles, so this ends
         link, pose = stack.pop()
         out.append((link, pose))

@@ -74,8 +74,11 @@ def is_zero_tensor(tensor: Matrix) -> bool:
 
 def is_zero_inertia(inertial: Inertial) -> bool:
     """:func:`is_zero_tensor` of the tensor as written, read from its six numbers without
-    building the matrix (every inertia rule asks it of every link)."""
-    return not any(value for row in inertial.inertia for value in row)
+    building the matrix (every inertia rule asks it of every link): -0 is zero too, NaN is not."""
+    return inertial.inertia == _ZERO_INERTIA
+
+
+_ZERO_INERTIA = ((0.0, 0.0, 0.0), (0.0, 0.0, 0.0), (0.0, 0.0, 0.0))
 
 
 def suggested_mass(link: Link, sources: Sources | None = None) -> str | None:

@@ -47,6 +47,9 @@ def link_solid(
     ``None`` when any element's volume cannot be known (an unresolved or
     unreadable mesh, a plane): a partial shape would mislead.
     """
+    if len(elements) == 1:  # most links: one shape, nothing to combine
+        solid = measure(elements[0].geometry)
+        return None if solid is None else combine((place(solid, elements[0].origin),))
     parts: list[SolidProperties] = []
     for element in elements:
         solid = measure(element.geometry)
@@ -65,13 +68,25 @@ def geometry_sources(
     as the collision ones (common in hand-written URDF). A check asks through
     :func:`urdftool.facts.link_mass.geometry_sources`, which measures each link once.
     """
-    collision = link_solid(link.collisions, measure) if link.collisions else None
+    collision = collision_solid(link, measure)
     if collision is not None:
         yield "collision", collision
+    visual = visual_solid(link, measure)
+    if visual is not None:
+        yield "visual", visual
+
+
+def collision_solid(link: Link, measure: Measure = geometry_properties) -> SolidProperties | None:
+    """The link's collision solid (:func:`link_solid`), ``None`` without one."""
+    return link_solid(link.collisions, measure) if link.collisions else None
+
+
+def visual_solid(link: Link, measure: Measure = geometry_properties) -> SolidProperties | None:
+    """The link's visual solid (:func:`link_solid`), ``None`` without one or when the visual
+    elements are the same shapes as the collision ones."""
     if link.visuals and _shapes(link.visuals) != _shapes(link.collisions):
-        visual = link_solid(link.visuals, measure)
-        if visual is not None:
-            yield "visual", visual
+        return link_solid(link.visuals, measure)
+    return None
 
 
 def _shapes(elements: tuple[Collision, ...] | tuple[Visual, ...]) -> list[tuple[object, object]]:
@@ -199,8 +214,8 @@ def density(link: Link, solid: SolidProperties) -> float | None:
 
 def distance_outside(point: Vec3, solid: SolidProperties) -> float:
     """How far (m) *point* lies outside the solid's bounds, link frame (0 inside)."""
-    lo, hi = solid.bounds_min, solid.bounds_max
-    return vec3.norm(tuple(max(lo[k] - point[k], point[k] - hi[k], 0.0) for k in range(3)))  # type: ignore[arg-type]
+    (x0, y0, z0), (x1, y1, z1), (x, y, z) = solid.bounds_min, solid.bounds_max, point
+    return vec3.norm((max(x0 - x, x - x1, 0.0), max(y0 - y, y - y1, 0.0), max(z0 - z, z - z1, 0.0)))
 
 
 def moments_of(tensor: Matrix | Tensor3) -> Moments:

@@ -189,6 +189,8 @@ def place(solid: SolidProperties, origin: Pose) -> SolidProperties:
     xyz = origin.xyz
     lo, hi = solid.bounds_min, solid.bounds_max
     if unrotated(origin.rpy):
+        if xyz == _ORIGIN:  # most shapes sit at the link's origin
+            return solid
         return SolidProperties(
             solid.volume, vec3.add(solid.center, xyz), solid.inertia, vec3.add(lo, xyz), vec3.add(hi, xyz),
             solid.label, solid.approximate,

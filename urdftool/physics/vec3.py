@@ -121,10 +121,13 @@ def compose(parent: Pose, child: Pose) -> Pose:
     """:meth:`Pose.compose <urdftool.model.pose.Pose.compose>` in floats: *child* (a pose in
     *parent*'s frame) expressed in *parent*'s own parent frame. A non-finite result (overflow)
     counts as 0, as there."""
+    if unrotated(parent.rpy):  # a head's own frame, most welded chains: no products to make
+        xyz = finite3(add(child.xyz, parent.xyz))
+        return Pose(xyz, parent.rpy if unrotated(child.rpy) else _angles(rotation(child.rpy)))
     turn = rotation(parent.rpy)
     xyz = finite3(add(apply(turn, child.xyz), parent.xyz))
     if unrotated(child.rpy):
-        return Pose(xyz, parent.rpy if unrotated(parent.rpy) else _angles(turn))
+        return Pose(xyz, _angles(turn))
     return Pose(xyz, _angles(product(turn, rotation(child.rpy))))
 
 

@@ -215,9 +215,8 @@ def _lost_in_body(ctx: CheckContext, link: Link, comparison: InertiaComparison) 
     body = body_of_link(ctx, link.name)
     if body is None or body.head == link.name or link.inertial is None:
         return False
-    declared = vec3.trace(body.declared_inertia)
-    own = vec3.rotate_tensor(comparison.computed, link.inertial.origin.rpy)
-    fitted = vec3.trace(body.composite_inertia({link.name: own}))
+    declared = body.composite_trace()
+    fitted = body.composite_trace({link.name: vec3.trace(comparison.computed)})
     if declared <= 0 or fitted <= 0:
         return False
     return max(declared / fitted, fitted / declared) < INERTIA_FACTOR
@@ -243,9 +242,21 @@ def _wrong_axes(link: Link, comparison: InertiaComparison) -> float | None:
 def _axis_factor(declared: np.ndarray, computed: np.ndarray) -> float:
     """How far *declared*'s moment about one of *computed*'s principal axes is from *computed*'s."""
     _, axes = np.linalg.eigh(computed)
-    along = [float(axes[:, k] @ declared @ axes[:, k]) for k in range(3)]
-    moments = [float(axes[:, k] @ computed @ axes[:, k]) for k in range(3)]
-    return max(max(d / c, c / d) for d, c in zip(along, moments, strict=True))
+    # each axis's moments in plain floats: NumPy's products on 3-vectors cost more than the sums
+    rows_d, rows_c = declared.tolist(), computed.tolist()
+    factor = 0.0
+    for axis in axes.T.tolist():
+        along, moment = _moment_about(rows_d, axis), _moment_about(rows_c, axis)
+        factor = max(factor, along / moment, moment / along)
+    return factor
+
+
+def _moment_about(tensor: list[list[float]], axis: list[float]) -> float:
+    """``axis @ tensor @ axis``: the moment (kg·m²) of *tensor* about the unit *axis*."""
+    x, y, z = axis
+    return ((x * tensor[0][0] + y * tensor[1][0] + z * tensor[2][0]) * x
+            + (x * tensor[0][1] + y * tensor[1][1] + z * tensor[2][1]) * y
+            + (x * tensor[0][2] + y * tensor[1][2] + z * tensor[2][2]) * z)
 
 
 _PRODUCTS = (("ixy", (0, 1)), ("ixz", (0, 2)), ("iyz", (1, 2)))
