@@ -49,7 +49,7 @@ def link_solid(
     """
     if len(elements) == 1:  # most links: one shape, nothing to combine
         solid = measure(elements[0].geometry)
-        return None if solid is None else combine((place(solid, elements[0].origin),))
+        return place(solid, elements[0].origin) if solid is not None and solid.volume > 0 else None
     parts: list[SolidProperties] = []
     for element in elements:
         solid = measure(element.geometry)

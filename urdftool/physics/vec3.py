@@ -77,13 +77,15 @@ def product(m: Tensor3, n: Tensor3) -> Tensor3:
 
 def scaled(m: Tensor3, factor: float) -> Tensor3:
     """Every entry of *m* times *factor*."""
-    return tuple((row[0] * factor, row[1] * factor, row[2] * factor) for row in m)  # type: ignore[return-value]
+    (a, b, c), (d, e, f), (g, h, i) = m
+    return ((a * factor, b * factor, c * factor), (d * factor, e * factor, f * factor),
+            (g * factor, h * factor, i * factor))
 
 
 def added(m: Tensor3, n: Tensor3) -> Tensor3:
-    return tuple(  # type: ignore[return-value]
-        (a[0] + b[0], a[1] + b[1], a[2] + b[2]) for a, b in zip(m, n, strict=True)
-    )
+    (a, b, c), (d, e, f), (g, h, i) = m
+    (p, q, r), (s, t, u), (v, w, x) = n
+    return ((a + p, b + q, c + r), (d + s, e + t, f + u), (g + v, h + w, i + x))
 
 
 def trace(m: Tensor3) -> float:
