@@ -16,7 +16,6 @@ import numpy as np
 
 from urdftool.backends.meshes import MeshFacts, scaled_info
 from urdftool.model.pose import (
-    Pose,
     axis_angle_matrix,
     finite,
     finite3,

@@ -26,6 +26,7 @@ from urdftool.parse import read
 from urdftool.parse.packages import PackageResolver
 from urdftool.physics import linkmass
 from urdftool.physics.inertia import MIN_MOMENT, assess
+from urdftool.physics.massprops import geometry_properties
 
 WORDS = ["left", "right", "arm", "leg", "link", "joint", "hip", "knee", "wrist", "l", "r", "1", "2"]
 
@@ -166,7 +167,7 @@ def test_a_solid_that_fails_raises_once(failing: str) -> None:
     def measure(geometry: object) -> object:
         if geometry is broken:
             raise RuntimeError("unreadable")
-        return linkmass.geometry_properties(geometry)  # type: ignore[arg-type]
+        return geometry_properties(geometry)  # type: ignore[arg-type]
 
     sources = link_mass._Sources(link, measure)  # type: ignore[arg-type]
     first = sources.read()

@@ -30,7 +30,8 @@ def _close(got: object, expected: object) -> bool:
 
 
 def _number(rng: random.Random) -> float:
-    return rng.choice([0.0, -0.0, 1.0, -1.0, rng.uniform(-1, 1), rng.uniform(-1e-4, 1e-4), rng.uniform(-5, 5)])
+    return rng.choice([0.0, -0.0, 1.0, -1.0, rng.uniform(-1, 1), rng.uniform(-1e-4, 1e-4),
+                       rng.uniform(-5, 5)])
 
 
 def _angles(rng: random.Random) -> tuple[float, float, float]:
@@ -83,7 +84,8 @@ def test_rotate_tensor_and_shift_are_numpys() -> None:
         got = vec3.rotate_tensor(tensor, rpy, inverse)
         assert _close(got, rotate_tensor(np.array(tensor), rpy, inverse))
         offset, mass = tuple(_number(rng) for _ in range(3)), rng.uniform(0, 3)
-        assert _close(vec3.shift_to_point(tensor, mass, offset), shift_to_point(np.array(tensor), mass, offset))  # type: ignore[arg-type]
+        expected = shift_to_point(np.array(tensor), mass, offset)  # type: ignore[arg-type]
+        assert _close(vec3.shift_to_point(tensor, mass, offset), expected)  # type: ignore[arg-type]
 
 
 def test_combined_solids_are_the_sums_of_numpys() -> None:
@@ -121,12 +123,12 @@ def test_scaled_mesh_is_scaled_info() -> None:
     rng = random.Random(6)
     for _ in range(N // 5):
         second = _tensor(rng)
-        second = tuple(tuple((a + b) / 2 for a, b in zip(row, col, strict=True))  # symmetric
-                       for row, col in zip(second, vec3.transpose(second), strict=True))
+        second = tuple(tuple((a + b) / 2 for a, b in zip(row, col, strict=True))  # type: ignore[assignment]
+                       for row, col in zip(second, vec3.transpose(second), strict=True))  # symmetric
         lo = tuple(-abs(_number(rng)) for _ in range(3))
         hi = tuple(abs(_number(rng)) for _ in range(3))
-        facts = MeshFacts(8, 12, rng.random() < 0.5, rng.uniform(0.1, 2), tuple(_number(rng) for _ in range(3)),  # type: ignore[arg-type]
-                          second, lo, hi)  # type: ignore[arg-type]
+        center = tuple(_number(rng) for _ in range(3))
+        facts = MeshFacts(8, 12, rng.random() < 0.5, rng.uniform(0.1, 2), center, second, lo, hi)  # type: ignore[arg-type]
         scale = rng.choice([(1.0, 1.0, 1.0), (0.001, 0.001, 0.001), (-1.0, 1.0, 2.0)])
         got, info = _scaled_mesh(facts, scale, "m"), scaled_info("m.stl", facts, scale)
         assert got is not None
