@@ -106,7 +106,7 @@ def geometry_sources(ctx: CheckContext, link: Link) -> Iterator[tuple[str, Solid
         memo = ctx.cache["link-solids"] = {}
     sources = memo.get(link.name)
     if sources is None or sources.link is not link:  # a robot may repeat a link's name
-        sources = memo[link.name] = _Sources(link, measurer(ctx))
+        sources = memo[link.name] = _Sources(link, _measurer(ctx))
     return sources.read()
 
 
@@ -175,14 +175,14 @@ class _Sources:
         """
         collision = self.collision
         if isinstance(collision, _Unmeasured):
-            self.collision = self.visual = None
+            self.collision = self.visual = None  # what the next rules find if measuring raises
             collision = self.collision = linkmass.collision_solid(self.link, self.measure)
             self.visual = _UNMEASURED
         if collision is not None:
             yield "collision", collision
         visual = self.visual
         if isinstance(visual, _Unmeasured):
-            self.visual = None
+            self.visual = None  # what the next rules find if measuring raises
             visual = self.visual = linkmass.visual_solid(self.link, self.measure)
         if visual is not None:
             yield "visual", visual
@@ -195,7 +195,7 @@ class _Unmeasured:
 _UNMEASURED = _Unmeasured()
 
 
-def measurer(ctx: CheckContext) -> linkmass.Measure:
+def _measurer(ctx: CheckContext) -> linkmass.Measure:
     """:func:`~urdftool.physics.massprops.geometry_properties`, with each mesh file at each scale
     measured once per check: an arm's left and right links share their meshes."""
     found: linkmass.Measure | None = ctx.cache.get("mesh-measurer")
