@@ -1,23 +1,149 @@
 """The robot at its home configuration (every joint at 0): each link frame's world pose.
 
 Several rule families place the robot at home (the mirror-symmetry rules, the
-robot's size that judges mesh units, camera frames); the forward kinematics of
-a large robot is many 4×4 products, so it is computed once per check.
+robot's size that judges mesh units, camera frames). The poses are computed
+once per check, in plain Python floats: a frame is its rotation's three rows
+and its origin. A 4×4 NumPy product costs about a microsecond to dispatch
+against tens of nanoseconds for the same arithmetic on floats, and a check
+places every link of the robot. The numbers equal those of
+:meth:`urdftool.model.KinematicTree.forward_kinematics` to the last digit or
+two (the products are summed in another order); the exporters and the
+dynamics pass keep using that function.
 """
 
 from __future__ import annotations
 
+import math
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    import numpy as np
+else:
+    # NumPy is imported on first use: only the rules that need a 4×4 matrix pay for it.
+    from urdftool.lazy import numpy as np
+
 from urdftool.facts.context import CheckContext
-from urdftool.model.pose import Matrix
+from urdftool.model import Joint, JointType, Robot
+from urdftool.model.pose import Matrix, Vec3, axis_angle_matrix, finite3, homogeneous
+from urdftool.model.tree import mimic_value
+
+#: A rotation matrix as its three rows.
+Rotation = tuple[Vec3, Vec3, Vec3]
+#: A link frame in the world: its rotation and its origin (m), world = rotation · local + origin.
+Frame = tuple[Rotation, Vec3]
+
+IDENTITY: Rotation = ((1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, 1.0))
+_ORIGIN: Vec3 = (0.0, 0.0, 0.0)
+
+
+def home_frames(ctx: CheckContext) -> dict[str, Frame]:
+    """World frame of every link reachable from a root at q = 0, roots at the identity.
+
+    Mimic joints sit at their offset from their leader's 0, as in
+    ``forward_kinematics()``. Shared by every rule of the run: read it, never write into it.
+    """
+    key = "home-frames"
+    if key not in ctx.cache:
+        ctx.cache[key] = _frames_at_home(ctx)
+    frames: dict[str, Frame] = ctx.cache[key]
+    return frames
 
 
 def home_poses(ctx: CheckContext) -> dict[str, Matrix]:
-    """World pose (4×4, metres) of every link frame at q = 0, roots at the identity.
+    """The same frames as 4×4 transforms (m), for the few rules that multiply NumPy matrices.
 
     Shared by every rule of the run: read it, never write into it.
     """
     key = "home-poses"
     if key not in ctx.cache:
-        ctx.cache[key] = ctx.tree.forward_kinematics()
+        ctx.cache[key] = {
+            name: homogeneous(np.array(rotation), origin)
+            for name, (rotation, origin) in home_frames(ctx).items()
+        }
     poses: dict[str, Matrix] = ctx.cache[key]
     return poses
+
+
+def rotate(rotation: Rotation, vector: Vec3) -> Vec3:
+    """``rotation @ vector`` in floats."""
+    x, y, z = vector
+    (a, b, c), (d, e, f), (g, h, i) = rotation
+    return (a * x + b * y + c * z, d * x + e * y + f * z, g * x + h * y + i * z)
+
+
+def multiply(first: Rotation, second: Rotation) -> Rotation:
+    """``first @ second`` in floats."""
+    columns = tuple(zip(*second, strict=True))
+    return (
+        (_dot(first[0], columns[0]), _dot(first[0], columns[1]), _dot(first[0], columns[2])),
+        (_dot(first[1], columns[0]), _dot(first[1], columns[1]), _dot(first[1], columns[2])),
+        (_dot(first[2], columns[0]), _dot(first[2], columns[1]), _dot(first[2], columns[2])),
+    )
+
+
+def transpose(rotation: Rotation) -> Rotation:
+    (a, b, c), (d, e, f), (g, h, i) = rotation
+    return ((a, d, g), (b, e, h), (c, f, i))
+
+
+def rpy_rotation(rpy: Vec3) -> Rotation:
+    """:func:`urdftool.model.pose.rpy_to_matrix` as rows of floats (the same expressions)."""
+    r, p, y = finite3(rpy)
+    cr, sr = math.cos(r), math.sin(r)
+    cp, sp = math.cos(p), math.sin(p)
+    cy, sy = math.cos(y), math.sin(y)
+    return (
+        (cy * cp, cy * sp * sr - sy * cr, cy * sp * cr + sy * sr),
+        (sy * cp, sy * sp * sr + cy * cr, sy * sp * cr - cy * sr),
+        (-sp, cp * sr, cp * cr),
+    )
+
+
+def _dot(a: Vec3, b: tuple[float, ...]) -> float:
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+
+
+def _frames_at_home(ctx: CheckContext) -> dict[str, Frame]:
+    robot = ctx.robot
+    frames: dict[str, Frame] = {}
+    for depth, link, joint in ctx.tree.walk():
+        if depth == 0 or joint is None:
+            frames[link.name] = (IDENTITY, _ORIGIN)
+            continue
+        rotation, origin = frames[joint.parent]
+        rpy = joint.origin.rpy
+        # most joints sit at rpy="0 0 0": their frame turns with the parent's
+        if rpy != _ORIGIN:
+            local = rpy_rotation(rpy)
+            shift = rotate(rotation, joint.origin.xyz)
+            rotation = multiply(rotation, local)
+        else:
+            shift = rotate(rotation, joint.origin.xyz)
+        origin = (origin[0] + shift[0], origin[1] + shift[1], origin[2] + shift[2])
+        moved = _motion_at_home(joint, robot)
+        if moved is not None:
+            turn, slide = moved
+            step = rotate(rotation, slide)
+            origin = (origin[0] + step[0], origin[1] + step[1], origin[2] + step[2])
+            rotation = multiply(rotation, turn)
+        frames[link.name] = (rotation, origin)
+    return frames
+
+
+def _motion_at_home(joint: Joint, robot: Robot) -> tuple[Rotation, Vec3] | None:
+    """The joint's motion at q = 0 (a rotation and a translation in the joint frame), ``None``
+    when it is the identity: every joint but a one-axis mimic whose offset moves it."""
+    if joint.mimic is None or joint.type.dof != 1:
+        return None
+    value = mimic_value(joint, {}, robot)
+    if value == 0.0:
+        return None
+    x, y, z = joint.axis
+    norm = math.sqrt(x * x + y * y + z * z)
+    unit = (x / norm, y / norm, z / norm) if norm > 0 else (1.0, 0.0, 0.0)
+    if joint.type in (JointType.REVOLUTE, JointType.CONTINUOUS):
+        (a, b, c), (d, e, f), (g, h, i) = axis_angle_matrix(unit, value).tolist()
+        return ((a, b, c), (d, e, f), (g, h, i)), _ORIGIN
+    if joint.type is JointType.PRISMATIC:
+        return IDENTITY, (unit[0] * value, unit[1] * value, unit[2] * value)
+    return None

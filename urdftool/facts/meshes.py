@@ -10,7 +10,9 @@ the contents. Nothing here imports trimesh; a robot without meshes never loads i
 
 from __future__ import annotations
 
+import math
 import os
+import stat
 from collections.abc import Iterator
 
 from urdftool.backends.mesh_formats import ENGINE_NAMES, MeshFormat, engines_refusing, sniff
@@ -18,10 +20,8 @@ from urdftool.backends.meshes import (
     MeshError,
     MeshFacts,
     MeshInfo,
-    box_diagonal,
     load_many,
     mesh_info,
-    scaled_bounds,
     scaled_info,
 )
 from urdftool.facts.context import CheckContext
@@ -143,12 +143,24 @@ def existing_files(ctx: CheckContext) -> list[tuple[MeshUse, str | None]]:
 
 
 def is_file(ctx: CheckContext, path: str) -> bool:
-    """``os.path.isfile(path)``, asked of the file system once per check (a robot's visual and
-    collision elements often share one file)."""
-    known: dict[str, bool] = ctx.cache.setdefault("mesh-is-file", {})
-    if path not in known:
-        known[path] = os.path.isfile(path)
-    return known[path]
+    """``os.path.isfile(path)``, from the file's :func:`status`."""
+    found = status(ctx, path)
+    return found is not None and stat.S_ISREG(found.st_mode)
+
+
+def status(ctx: CheckContext, path: str) -> os.stat_result | None:
+    """``os.stat(path)`` (``None`` when nothing is there), asked of the file system once per
+    check: a robot's visual and collision elements often share one file, and whether it
+    exists, its format and its content key all start from its status."""
+    known: dict[str, os.stat_result | None] = ctx.cache.setdefault("mesh-status", {})
+    if path in known:
+        return known[path]
+    try:
+        found: os.stat_result | None = os.stat(path)
+    except (OSError, ValueError):  # as os.path.isfile: a broken link, a NUL in the name
+        found = None
+    known[path] = found
+    return found
 
 
 def by_file(ctx: CheckContext, role: str | None = None) -> dict[str, list[MeshUse]]:
@@ -174,8 +186,13 @@ def scaled_diagonal(
     file and scale: a robot's links repeat a few meshes many times."""
     key = ("mesh-diagonal", path, scale)
     if key not in ctx.cache:
-        lo, hi = scaled_bounds(facts, scale)
-        ctx.cache[key] = box_diagonal(lo, hi)
+        # each side of the scaled box is |max·s − min·s|, the difference of the bounds that
+        # scaled_bounds() would sort; summed in floats, without NumPy's dispatch per mesh
+        lo, hi = facts.bounds_min, facts.bounds_max
+        dx = abs(hi[0] * scale[0] - lo[0] * scale[0])
+        dy = abs(hi[1] * scale[1] - lo[1] * scale[1])
+        dz = abs(hi[2] * scale[2] - lo[2] * scale[2])
+        ctx.cache[key] = math.sqrt(dx * dx + dy * dy + dz * dz)
     diagonal: float = ctx.cache[key]
     return diagonal
 
@@ -185,7 +202,7 @@ def mesh_format(ctx: CheckContext, path: str) -> MeshFormat | None:
     key = ("mesh-format", path)
     if key not in ctx.cache:
         try:
-            ctx.cache[key] = sniff(path)
+            ctx.cache[key] = sniff(path, status(ctx, path))
         except OSError:
             ctx.cache[key] = None
     found: MeshFormat | None = ctx.cache[key]
@@ -201,7 +218,8 @@ def contents(ctx: CheckContext) -> dict[str, MeshFacts | MeshError]:
             if (fmt := mesh_format(ctx, p)) is not None and fmt.trimesh_reads
         ]
         if paths:
-            ctx.cache["mesh-contents"] = load_many(paths, ctx.options.get("jobs"))
+            statuses = {path: status(ctx, path) for path in paths}
+            ctx.cache["mesh-contents"] = load_many(paths, ctx.options.get("jobs"), statuses)
         else:
             ctx.cache["mesh-contents"] = {}
     loaded: dict[str, MeshFacts | MeshError] = ctx.cache["mesh-contents"]

@@ -22,25 +22,19 @@ import dataclasses
 import math
 import re
 from collections.abc import Callable, Iterator, Sequence
-from typing import TYPE_CHECKING, TypeVar
-
-if TYPE_CHECKING:
-    import numpy as np
-else:
-    from urdftool.lazy import numpy as np
+from typing import TypeVar
 
 from urdftool.catalogue.registry import register
 from urdftool.diagnostics import Diagnostic, Related, Severity
 from urdftool.facts.context import CheckContext
+from urdftool.facts.home import Frame, Rotation, home_frames, rotate, rpy_rotation
 from urdftool.model import Joint, JointType, Link
 from urdftool.model.geometry import Mesh
-from urdftool.model.pose import vector_norm
+from urdftool.model.pose import Vec3
 from urdftool.physics.describe import fmt
 from urdftool.rules.intent_common import (
     IntentRule,
-    home_poses,
     option,
-    rotation_angle,
     shape_dims,
     where_joint,
     where_link,
@@ -172,7 +166,7 @@ def _with_other(diag: Diagnostic, span: Span | None, label: str) -> Diagnostic:
     return dataclasses.replace(diag, related=(*diag.related, Related(span, label)))
 
 
-def _vec(values: Sequence[float] | np.ndarray) -> str:
+def _vec(values: Sequence[float]) -> str:
     return " ".join(fmt(float(v)) for v in values)
 
 
@@ -204,9 +198,7 @@ def _joint_pairs(ctx: CheckContext) -> list[tuple[Joint, Joint]]:
     return found
 
 
-def _named_by_slot(
-    ctx: CheckContext, ja: Joint, jb: Joint, poses: dict[str, np.ndarray], middle: float
-) -> bool:
+def _named_by_slot(ctx: CheckContext, ja: Joint, jb: Joint, frames: dict[str, Frame], middle: float) -> bool:
     """Whether each joint's child, mirrored, lands where a child of its own parent is.
 
     A row of parts named by slot, not by mirror: the Create 3's seven IR sensors run
@@ -216,14 +208,13 @@ def _named_by_slot(
     lateral offset of the mirror plane, doubled (non-zero only for two parts on a bare frame).
     """
     for joint, partner in ((ja, jb), (jb, ja)):
-        pose = poses.get(joint.child)
-        if pose is None:
+        frame = frames.get(joint.child)
+        if frame is None:
             return False
-        flipped = pose[:3, 3] * [1, -1, 1] + [0, middle, 0]
-        row = [poses.get(j.child) for j in ctx.robot.joints if j.parent == joint.parent and j is not partner]
+        flipped = _flipped(frame[1], middle)
+        row = [frames.get(j.child) for j in ctx.robot.joints if j.parent == joint.parent and j is not partner]
         if not any(
-            other is not None
-            and all(_close(float(x), float(y), ctx) for x, y in zip(other[:3, 3], flipped, strict=False))
+            other is not None and all(_close(x, y, ctx) for x, y in zip(other[1], flipped, strict=True))
             for other in row
         ):
             return False
@@ -278,41 +269,41 @@ class MirroredPoseMismatch(IntentRule):
         yield from settled(_joint_pairs(ctx), lambda j: j.name, lambda a, b: self._judge(ctx, a, b))
 
     def _judge(self, ctx: CheckContext, ja: Joint, jb: Joint) -> Diagnostic | None:
-        poses = home_poses(ctx)
+        frames = home_frames(ctx)
         if True:
-            pa, pb = poses.get(ja.child), poses.get(jb.child)
-            if pa is None or pb is None:
+            fa, fb = frames.get(ja.child), frames.get(jb.child)
+            if fa is None or fb is None:
                 return None
-            wa, wb = pa[:3, 3], pb[:3, 3]
+            wa, wb = fa[1], fb[1]
             # two parts set down on one bare frame (a `world` link) mirror through the plane
             # between them: that frame's origin is where the author put it, not the robot's
             # middle (xArm's dual arm: bases at y = 0 and y = 1 m)
-            middle = float(wa[1] + wb[1]) if ja.parent == jb.parent and _bare_frame(ctx, ja.parent) else 0.0
-            flipped = wb * [1, -1, 1] + [0, middle, 0]
-            mirrored_world = all(_close(float(x), float(y), ctx) for x, y in zip(wa, flipped, strict=False))
+            middle = wa[1] + wb[1] if ja.parent == jb.parent and _bare_frame(ctx, ja.parent) else 0.0
+            flipped = _flipped(wb, middle)
+            mirrored_world = all(_close(x, y, ctx) for x, y in zip(wa, flipped, strict=True))
             written = _abs_match(ja.origin.xyz, jb.origin.xyz, ctx)
             lateral = option(ctx, "mirror_length_tolerance")
             turned = math.radians(option(ctx, "angle_tolerance_deg"))
             # prismatic fingers start at one point and slide apart: coinciding is their design
             same_side = (
                 JointType.PRISMATIC not in (ja.type, jb.type)
-                and abs(float(wa[1])) > 10 * lateral
-                and float(wa[1]) * float(wb[1]) > 0
-                and all(_close(float(x), float(y), ctx) for x, y in zip(wa, wb, strict=False))
+                and abs(wa[1]) > 10 * lateral
+                and wa[1] * wb[1] > 0
+                and all(_close(x, y, ctx) for x, y in zip(wa, wb, strict=True))
                 # a copy keeps its orientation too; two frames at one point turned apart are a
                 # design (Robonaut's arms both start at one shoulder point, turned left and right)
-                and rotation_angle(pa[:3, :3].T @ pb[:3, :3]) <= turned
+                and _angle_between_frames(fa[0], fb[0]) <= turned
             )
             if same_side:
                 message = (
                     f"joints '{ja.name}' and '{jb.name}' put their children at the same place, "
-                    f"{_vec(wa)} m, on the same side (y {fmt(float(wa[1]))} m): copied, not mirrored"
+                    f"{_vec(wa)} m, on the same side (y {fmt(wa[1])} m): copied, not mirrored"
                 )
             elif (
                 not written
                 and not mirrored_world
                 and not (_mount(ctx, ja) or _mount(ctx, jb))
-                and not _named_by_slot(ctx, ja, jb, poses, middle)
+                and not _named_by_slot(ctx, ja, jb, frames, middle)
             ):
                 message = (
                     f"joint '{jb.name}' at xyz=\"{_vec(jb.origin.xyz)}\" does not mirror "
@@ -373,13 +364,13 @@ class MirroredJointMismatch(IntentRule):
         yield from settled(_joint_pairs(ctx), lambda j: j.name, lambda a, b: self._judge(ctx, a, b))
 
     def _judge(self, ctx: CheckContext, ja: Joint, jb: Joint) -> Diagnostic | None:
-        poses = home_poses(ctx)
+        frames = home_frames(ctx)
         rel = option(ctx, "mirror_relative_tolerance")
         if True:
             problems = []
             if ja.type is not jb.type:
                 problems.append(f"type {jb.type.value} against {ja.type.value}")
-            elif ja.type.is_moving and not self._axes_mirror(ja, jb, poses, ctx):
+            elif ja.type.is_moving and not self._axes_mirror(ja, jb, frames):
                 problems.append(f"axis {_vec(jb.axis)} against {_vec(ja.axis)}")
             la, lb = ja.limit, jb.limit
             if la is not None and lb is not None and ja.type is jb.type:
@@ -406,22 +397,37 @@ class MirroredJointMismatch(IntentRule):
             return _with_other(diag, ja.span, f"the mirrored joint '{ja.name}'")
 
     @staticmethod
-    def _axes_mirror(ja: Joint, jb: Joint, poses: dict[str, np.ndarray], ctx: CheckContext) -> bool:
+    def _axes_mirror(ja: Joint, jb: Joint, frames: dict[str, Frame]) -> bool:
         tol = 0.02
-        if all(abs(abs(x) - abs(y)) <= tol for x, y in zip(_unit(ja.axis), _unit(jb.axis), strict=False)):
+        ua, ub = _unit(ja.axis), _unit(jb.axis)
+        if all(abs(abs(x) - abs(y)) <= tol for x, y in zip(ua, ub, strict=True)):
             return True
-        fa, fb = poses.get(ja.parent), poses.get(jb.parent)
+        fa, fb = frames.get(ja.parent), frames.get(jb.parent)
         if fa is None or fb is None:
             return True
-        wa = fa[:3, :3] @ ja.origin.rotation @ _unit(ja.axis)
-        wb = fb[:3, :3] @ jb.origin.rotation @ _unit(jb.axis)
-        return bool(np.all(np.abs(np.abs(wa) - np.abs(wb)) <= tol))
+        # each axis in the robot: its joint frame's rotation, then its parent link's at home
+        wa = rotate(fa[0], rotate(rpy_rotation(ja.origin.rpy), ua))
+        wb = rotate(fb[0], rotate(rpy_rotation(jb.origin.rpy), ub))
+        return all(abs(abs(x) - abs(y)) <= tol for x, y in zip(wa, wb, strict=True))
 
 
-def _unit(axis: Sequence[float]) -> np.ndarray:
-    v = np.asarray(axis, dtype=float)
-    n = vector_norm(v)
-    return v / n if n > 0 else v
+def _unit(axis: Vec3) -> Vec3:
+    """*axis* divided by its length (a zero axis as it is)."""
+    x, y, z = axis
+    n = math.sqrt(x * x + y * y + z * z)
+    return (x / n, y / n, z / n) if n > 0 else (x, y, z)
+
+
+def _flipped(origin: Vec3, middle: float) -> Vec3:
+    """*origin* mirrored through the root's x-z plane, moved by *middle* (twice the plane's y, m)."""
+    return (origin[0], -origin[1] + middle, origin[2])
+
+
+def _angle_between_frames(a: Rotation, b: Rotation) -> float:
+    """The angle (rad) of the rotation from frame *a* to frame *b*: ``rotation_angle(a.T @ b)``,
+    whose trace is the sum of the two matrices' entrywise products."""
+    trace = sum(x * y for row_a, row_b in zip(a, b, strict=True) for x, y in zip(row_a, row_b, strict=True))
+    return math.acos(max(-1.0, min(1.0, (trace - 1.0) / 2.0)))
 
 
 def _near(a: float, b: float, rel: float) -> bool:

@@ -18,7 +18,7 @@ else:
 
 from urdftool.budgets import DEFAULT_BUDGETS
 from urdftool.facts.context import CheckContext
-from urdftool.facts.home import home_poses
+from urdftool.facts.home import home_frames
 from urdftool.model import (
     Box,
     Capsule,
@@ -111,9 +111,11 @@ def robot_size(ctx: CheckContext) -> tuple[float, str] | None:
     with). Meshes are left out on purpose: a robot whose meshes are all in
     millimetres must not be its own yardstick.
     """
-    frames = np.array([pose[:3, 3] for pose in home_poses(ctx).values()])
-    if len(frames) >= 2:
-        spread = float(np.linalg.norm(frames.max(axis=0) - frames.min(axis=0)))
+    origins = [origin for _, origin in home_frames(ctx).values()]
+    if len(origins) >= 2:
+        xs, ys, zs = zip(*origins, strict=True)
+        dx, dy, dz = max(xs) - min(xs), max(ys) - min(ys), max(zs) - min(zs)
+        spread = math.sqrt(dx * dx + dy * dy + dz * dz)
         if spread > 1e-6:
             return spread, "between its farthest link frames"
     sizes = [size for link in ctx.robot.links for size in _primitive_sizes(link) if size > 0]
