@@ -104,11 +104,14 @@ def _dot(a: Vec3, b: tuple[float, ...]) -> float:
 
 
 def _frames_at_home(ctx: CheckContext) -> dict[str, Frame]:
-    robot = ctx.robot
+    robot, tree = ctx.robot, ctx.tree
     frames: dict[str, Frame] = {}
-    for depth, link, joint in ctx.tree.walk():
-        if depth == 0 or joint is None:
-            frames[link.name] = (IDENTITY, _ORIGIN)
+    # the tree's depth-first order (shared with other rules), each link after its parent; a
+    # root is a link without a parent joint
+    for name in tree.order:
+        joint = tree.parent_joint.get(name)
+        if joint is None:
+            frames[name] = (IDENTITY, _ORIGIN)
             continue
         rotation, origin = frames[joint.parent]
         rpy = joint.origin.rpy
@@ -126,7 +129,7 @@ def _frames_at_home(ctx: CheckContext) -> dict[str, Frame]:
             step = rotate(rotation, slide)
             origin = (origin[0] + step[0], origin[1] + step[1], origin[2] + step[2])
             rotation = multiply(rotation, turn)
-        frames[link.name] = (rotation, origin)
+        frames[name] = (rotation, origin)
     return frames
 
 

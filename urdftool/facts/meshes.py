@@ -228,11 +228,13 @@ def contents(ctx: CheckContext) -> dict[str, MeshFacts | MeshError]:
 
 def other_places(uses: list[MeshUse]) -> str:
     """ ", also used at file:line, …" for the second and later elements of a group."""
-    spots = [str(u.location) for u in uses[1:] if u.location is not None]
-    if not spots:
+    placed = [u.location for u in uses[1:] if u.location is not None]
+    if not placed:
         return ""
-    shown = ", ".join(dict.fromkeys(spots[:4]))
-    more = f" and {len(spots) - 4} more" if len(spots) > 4 else ""
+    # only the places shown are put into words: finding a span's line and column costs more
+    # than the rest of the finding
+    shown = ", ".join(dict.fromkeys(str(span) for span in placed[:4]))
+    more = f" and {len(placed) - 4} more" if len(placed) > 4 else ""
     return f"; also used at {shown}{more}"
 
 

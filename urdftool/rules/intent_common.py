@@ -20,7 +20,7 @@ from urdftool.catalogue.registry import Family, Rule
 from urdftool.facts import home
 from urdftool.facts.context import CheckContext
 from urdftool.model import Collision, Joint, Link, Visual
-from urdftool.model.geometry import Box, Capsule, Cylinder, Ellipsoid, Geometry, Sphere
+from urdftool.model.geometry import Box, Capsule, Cylinder, Ellipsoid, Geometry, Mesh, Sphere
 from urdftool.model.pose import Matrix, Vec3, vector_norm
 
 #: Defaults of every intent threshold, by option name (docs/intent.md explains each).
@@ -89,6 +89,8 @@ def home_poses(ctx: CheckContext) -> dict[str, Matrix]:
 
 def shape_dims(geometry: Geometry | None) -> tuple[float, ...] | None:
     """A primitive's full extents along its own axes (m), or ``None`` for meshes and planes."""
+    if type(geometry) is Mesh:  # the most common shape of all, answered first
+        return None
     if isinstance(geometry, Box):
         return tuple(float(v) for v in geometry.size)
     if isinstance(geometry, Sphere):

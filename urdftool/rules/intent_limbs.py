@@ -31,7 +31,7 @@ _SPINNING = re.compile(r"wheel|roller|caster|castor|rotor|prop|spin|lidar|laser|
 def limbs(tree: KinematicTree) -> list[list[Joint]]:
     """Every limb's moving joints, from its branch point (or root) to its leaf."""
     moving_below: dict[str, bool] = {}
-    order = [link.name for _, link, _ in tree.walk()]
+    order = tree.order
     for name in reversed(order):
         moving_below[name] = any(
             joint.type.is_moving or moving_below.get(joint.child, False)

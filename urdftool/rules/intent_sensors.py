@@ -42,16 +42,17 @@ def sensors(robot: Robot) -> Iterator[tuple[Any, str]]:
         for sensor in block.iter("sensor"):
             seen.add(id(sensor))
             yield sensor, owner
-    holders: list[tuple[str, Any]] = [(f"link[{link.name}]", link) for link in robot.links]
-    holders += [(f"joint[{joint.name}]", joint) for joint in robot.joints]
+    holders: list[tuple[str, Any]] = [("link", link) for link in robot.links if link.extensions]
+    holders += [("joint", joint) for joint in robot.joints if joint.extensions]
     holders.append(("model", robot))
-    for owner, holder in holders:
+    for kind, holder in holders:
         for extension in holder.extensions:
             element = extension.element
             if extension.tag != "sensor" or element is None or id(element) in seen:
                 continue
             seen.add(id(element))
-            yield element, owner
+            # the owner's path is written only for a sensor: most links carry none
+            yield element, (kind if holder is robot else f"{kind}[{holder.name}]")
 
 
 def _number(parent: Any, tag: str) -> tuple[float | None, Any]:

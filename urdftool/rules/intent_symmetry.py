@@ -69,12 +69,16 @@ def mirror_names(name: str, swaps: dict[str, list[str]] | None = None) -> list[s
     parts = _TOKENS.split(name)
     memo = {} if swaps is None else swaps
     tokens: list[list[str]] = []
+    sided = False
     for i in range(0, len(parts), 2):
         part = parts[i]
         found = memo.get(part)
         if found is None:
             found = memo[part] = _swap_token(part)
         tokens.append(found)
+        sided = sided or bool(found)
+    if not sided:  # letters of "link" or "roll", no side marker: most names of a robot
+        return []
     out: list[str] = []
     every = [(tokens[i // 2] or [p])[0] if i % 2 == 0 else p for i, p in enumerate(parts)]
     if every != parts:
@@ -84,6 +88,10 @@ def mirror_names(name: str, swaps: dict[str, list[str]] | None = None) -> list[s
             out.append("".join((*parts[:i], swapped, *parts[i + 1 :])))
     return out
 
+
+#: Deletes every letter that a side marker's swap can change (:func:`_swap_token` replaces the
+#: words and letters of ``_WORDS`` and ``_LETTERS`` only, and keeps every other character in order).
+_WITHOUT_SIDE_LETTERS = str.maketrans("", "", "".join(sorted({*"".join(_WORDS), *_LETTERS})))
 
 _WORD_LETTER = re.compile(r"^(.*)(left|right|Left|Right)([LR])$")
 
@@ -117,13 +125,23 @@ def pairs(names: Sequence[str]) -> list[tuple[str, str]]:
     the candidate that mirrors.
     """
     known = set(names)
+    # A name's mirrors differ from it only in the letters of the side markers: a name alone
+    # with its other letters cannot have one, and most names of a robot are alone.
+    alike: dict[str, int] = {}
+    for name in known:
+        rest = name.translate(_WITHOUT_SIDE_LETTERS)
+        alike[rest] = alike.get(rest, 0) + 1
     seen: set[frozenset[str]] = set()
     out: list[tuple[str, str]] = []
     swaps: dict[str, list[str]] = {}
     for name in names:
+        if alike[name.translate(_WITHOUT_SIDE_LETTERS)] < 2:
+            continue
         for other in mirror_names(name, swaps):
+            if other not in known or other == name:
+                continue
             key = frozenset((name, other))
-            if other in known and other != name and key not in seen:
+            if key not in seen:
                 seen.add(key)
                 out.append((name, other))
     return out

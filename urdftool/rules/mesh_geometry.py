@@ -52,6 +52,11 @@ UNITS_TOO_SMALL = 1.0 / 300.0
 
 def degenerate_shape(geometry: Geometry | None) -> str | None:
     """What is degenerate about a primitive shape or a mesh scale, in words; ``None`` if nothing."""
+    if isinstance(geometry, Mesh):  # the most common shape of all, answered first
+        if 0.0 in geometry.scale:
+            scale = " ".join(f"{s:g}" for s in geometry.scale)
+            return f"mesh '{geometry.filename}' has scale \"{scale}\", which flattens it to nothing"
+        return None
     if isinstance(geometry, Box):
         bad = [
             f"{axis}={value:g}"
@@ -73,9 +78,6 @@ def degenerate_shape(geometry: Geometry | None) -> str | None:
         if not all(r > 0 for r in geometry.radii):
             return "ellipsoid has radii " + " ".join(f"{r:g}" for r in geometry.radii) + " m"
         return None
-    if isinstance(geometry, Mesh) and any(s == 0 for s in geometry.scale):
-        scale = " ".join(f"{s:g}" for s in geometry.scale)
-        return f"mesh '{geometry.filename}' has scale \"{scale}\", which flattens it to nothing"
     return None
 
 
