@@ -81,9 +81,11 @@ def multiply(first: Rotation, second: Rotation) -> Rotation:
     )
 
 
-def transpose(rotation: Rotation) -> Rotation:
-    (a, b, c), (d, e, f), (g, h, i) = rotation
-    return ((a, d, g), (b, e, h), (c, f, i))
+def angle_between_frames(a: Rotation, b: Rotation) -> float:
+    """The angle (rad) of the rotation from frame *a* to frame *b*, both in one frame: the angle of
+    ``a.T @ b``, whose trace is the sum of the two matrices' entrywise products."""
+    trace = sum(x * y for row_a, row_b in zip(a, b, strict=True) for x, y in zip(row_a, row_b, strict=True))
+    return math.acos(max(-1.0, min(1.0, (trace - 1.0) / 2.0)))
 
 
 def rpy_rotation(rpy: Vec3) -> Rotation:

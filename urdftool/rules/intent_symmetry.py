@@ -27,7 +27,7 @@ from typing import TypeVar
 from urdftool.catalogue.registry import register
 from urdftool.diagnostics import Diagnostic, Related, Severity
 from urdftool.facts.context import CheckContext
-from urdftool.facts.home import Frame, Rotation, home_frames, rotate, rpy_rotation
+from urdftool.facts.home import Frame, angle_between_frames, home_frames, rotate, rpy_rotation
 from urdftool.model import Joint, JointType, Link
 from urdftool.model.geometry import Mesh
 from urdftool.model.pose import Vec3
@@ -127,15 +127,15 @@ def pairs(names: Sequence[str]) -> list[tuple[str, str]]:
     known = set(names)
     # A name's mirrors differ from it only in the letters of the side markers: a name alone
     # with its other letters cannot have one, and most names of a robot are alone.
+    rest = {name: name.translate(_WITHOUT_SIDE_LETTERS) for name in known}
     alike: dict[str, int] = {}
-    for name in known:
-        rest = name.translate(_WITHOUT_SIDE_LETTERS)
-        alike[rest] = alike.get(rest, 0) + 1
+    for letters in rest.values():
+        alike[letters] = alike.get(letters, 0) + 1
     seen: set[frozenset[str]] = set()
     out: list[tuple[str, str]] = []
     swaps: dict[str, list[str]] = {}
     for name in names:
-        if alike[name.translate(_WITHOUT_SIDE_LETTERS)] < 2:
+        if alike[rest[name]] < 2:
             continue
         for other in mirror_names(name, swaps):
             if other not in known or other == name:
@@ -167,15 +167,15 @@ def settled(
         yield diag
 
 
-def _close(a: float, b: float, ctx: CheckContext) -> bool:
-    tol = option(ctx, "mirror_length_tolerance") + option(ctx, "mirror_relative_tolerance") * max(
-        abs(a), abs(b)
-    )
-    return abs(a - b) <= tol
+def _all_close(a: Sequence[float], b: Sequence[float], ctx: CheckContext) -> bool:
+    """Whether every pair of *a*'s and *b*'s numbers (m) agrees within the mirror tolerance:
+    ``mirror_length_tolerance`` plus ``mirror_relative_tolerance`` of the larger."""
+    absolute, relative = option(ctx, "mirror_length_tolerance"), option(ctx, "mirror_relative_tolerance")
+    return all(abs(x - y) <= absolute + relative * max(abs(x), abs(y)) for x, y in zip(a, b, strict=False))
 
 
 def _abs_match(a: Sequence[float], b: Sequence[float], ctx: CheckContext) -> bool:
-    return all(_close(abs(x), abs(y), ctx) for x, y in zip(a, b, strict=False))
+    return _all_close([abs(x) for x in a], [abs(y) for y in b], ctx)
 
 
 def _with_other(diag: Diagnostic, span: Span | None, label: str) -> Diagnostic:
@@ -232,7 +232,7 @@ def _named_by_slot(ctx: CheckContext, ja: Joint, jb: Joint, frames: dict[str, Fr
         flipped = _flipped(frame[1], middle)
         row = [frames.get(j.child) for j in ctx.robot.joints if j.parent == joint.parent and j is not partner]
         if not any(
-            other is not None and all(_close(x, y, ctx) for x, y in zip(other[1], flipped, strict=True))
+            other is not None and _all_close(other[1], flipped, ctx)
             for other in row
         ):
             return False
@@ -298,7 +298,7 @@ class MirroredPoseMismatch(IntentRule):
             # middle (xArm's dual arm: bases at y = 0 and y = 1 m)
             middle = wa[1] + wb[1] if ja.parent == jb.parent and _bare_frame(ctx, ja.parent) else 0.0
             flipped = _flipped(wb, middle)
-            mirrored_world = all(_close(x, y, ctx) for x, y in zip(wa, flipped, strict=True))
+            mirrored_world = _all_close(wa, flipped, ctx)
             written = _abs_match(ja.origin.xyz, jb.origin.xyz, ctx)
             lateral = option(ctx, "mirror_length_tolerance")
             turned = math.radians(option(ctx, "angle_tolerance_deg"))
@@ -307,10 +307,10 @@ class MirroredPoseMismatch(IntentRule):
                 JointType.PRISMATIC not in (ja.type, jb.type)
                 and abs(wa[1]) > 10 * lateral
                 and wa[1] * wb[1] > 0
-                and all(_close(x, y, ctx) for x, y in zip(wa, wb, strict=True))
+                and _all_close(wa, wb, ctx)
                 # a copy keeps its orientation too; two frames at one point turned apart are a
                 # design (Robonaut's arms both start at one shoulder point, turned left and right)
-                and _angle_between_frames(fa[0], fb[0]) <= turned
+                and angle_between_frames(fa[0], fb[0]) <= turned
             )
             if same_side:
                 message = (
@@ -439,13 +439,6 @@ def _unit(axis: Vec3) -> Vec3:
 def _flipped(origin: Vec3, middle: float) -> Vec3:
     """*origin* mirrored through the root's x-z plane, moved by *middle* (twice the plane's y, m)."""
     return (origin[0], -origin[1] + middle, origin[2])
-
-
-def _angle_between_frames(a: Rotation, b: Rotation) -> float:
-    """The angle (rad) of the rotation from frame *a* to frame *b*: ``rotation_angle(a.T @ b)``,
-    whose trace is the sum of the two matrices' entrywise products."""
-    trace = sum(x * y for row_a, row_b in zip(a, b, strict=True) for x, y in zip(row_a, row_b, strict=True))
-    return math.acos(max(-1.0, min(1.0, (trace - 1.0) / 2.0)))
 
 
 def _near(a: float, b: float, rel: float) -> bool:
@@ -590,6 +583,6 @@ def _geometry_problem(a: object, b: object, ctx: CheckContext) -> str | None:
     kind_a, kind_b = getattr(a, "kind", ""), getattr(b, "kind", "")
     if kind_a != kind_b:
         return f"{kind_b} differs from the {kind_a}"
-    if all(_close(x, y, ctx) for x, y in zip(sorted(da), sorted(db), strict=False)):
+    if _all_close(sorted(da), sorted(db), ctx):
         return None
     return f"{kind_b} of {_vec(db)} m differs from the {kind_a} of {_vec(da)} m"
