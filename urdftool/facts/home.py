@@ -73,11 +73,12 @@ def rotate(rotation: Rotation, vector: Vec3) -> Vec3:
 
 def multiply(first: Rotation, second: Rotation) -> Rotation:
     """``first @ second`` in floats."""
-    columns = tuple(zip(*second, strict=True))
+    (a, b, c), (d, e, f), (g, h, i) = first
+    (p, q, r), (s, t, u), (v, w, x) = second
     return (
-        (_dot(first[0], columns[0]), _dot(first[0], columns[1]), _dot(first[0], columns[2])),
-        (_dot(first[1], columns[0]), _dot(first[1], columns[1]), _dot(first[1], columns[2])),
-        (_dot(first[2], columns[0]), _dot(first[2], columns[1]), _dot(first[2], columns[2])),
+        (a * p + b * s + c * v, a * q + b * t + c * w, a * r + b * u + c * x),
+        (d * p + e * s + f * v, d * q + e * t + f * w, d * r + e * u + f * x),
+        (g * p + h * s + i * v, g * q + h * t + i * w, g * r + h * u + i * x),
     )
 
 
@@ -101,10 +102,6 @@ def rpy_rotation(rpy: Vec3) -> Rotation:
     )
 
 
-def _dot(a: Vec3, b: tuple[float, ...]) -> float:
-    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-
-
 def _frames_at_home(ctx: CheckContext) -> dict[str, Frame]:
     robot, tree = ctx.robot, ctx.tree
     frames: dict[str, Frame] = {}
@@ -115,22 +112,21 @@ def _frames_at_home(ctx: CheckContext) -> dict[str, Frame]:
         if joint is None:
             frames[name] = (IDENTITY, _ORIGIN)
             continue
-        rotation, origin = frames[joint.parent]
-        rpy = joint.origin.rpy
-        # most joints sit at rpy="0 0 0": their frame turns with the parent's
-        if rpy != _ORIGIN:
-            local = rpy_rotation(rpy)
-            shift = rotate(rotation, joint.origin.xyz)
-            rotation = multiply(rotation, local)
-        else:
-            shift = rotate(rotation, joint.origin.xyz)
-        origin = (origin[0] + shift[0], origin[1] + shift[1], origin[2] + shift[2])
-        moved = _motion_at_home(joint, robot)
-        if moved is not None:
-            turn, slide = moved
-            step = rotate(rotation, slide)
-            origin = (origin[0] + step[0], origin[1] + step[1], origin[2] + step[2])
-            rotation = multiply(rotation, turn)
+        rotation, (ox, oy, oz) = frames[joint.parent]
+        # the joint frame: its origin turned with the parent's frame (written out: this runs
+        # once per joint, and a function call costs as much as the arithmetic)
+        (a, b, c), (d, e, f), (g, h, i) = rotation
+        x, y, z = joint.origin.xyz
+        origin = (ox + (a * x + b * y + c * z), oy + (d * x + e * y + f * z), oz + (g * x + h * y + i * z))
+        if joint.origin.rpy != _ORIGIN:  # most joints sit at rpy="0 0 0"
+            rotation = multiply(rotation, rpy_rotation(joint.origin.rpy))
+        if joint.mimic is not None:  # only a mimic joint is away from its 0 at home
+            moved = _motion_at_home(joint, robot)
+            if moved is not None:
+                turn, slide = moved
+                step = rotate(rotation, slide)
+                origin = (origin[0] + step[0], origin[1] + step[1], origin[2] + step[2])
+                rotation = multiply(rotation, turn)
         frames[name] = (rotation, origin)
     return frames
 

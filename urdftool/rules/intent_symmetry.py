@@ -69,16 +69,22 @@ def mirror_names(name: str, swaps: dict[str, list[str]] | None = None) -> list[s
     parts = _TOKENS.split(name)
     memo = {} if swaps is None else swaps
     tokens: list[list[str]] = []
-    sided = False
+    sided: list[int] = []  # where the parts with a side marker are
     for i in range(0, len(parts), 2):
         part = parts[i]
         found = memo.get(part)
         if found is None:
             found = memo[part] = _swap_token(part)
         tokens.append(found)
-        sided = sided or bool(found)
+        if found:
+            sided.append(i)
     if not sided:  # letters of "link" or "roll", no side marker: most names of a robot
         return []
+    if len(sided) == 1:  # one marker (``FL_hip``, ``left_knee``): the same list, built directly
+        i = sided[0]
+        head, tail = "".join(parts[:i]), "".join(parts[i + 1 :])
+        first = [head + tokens[i // 2][0] + tail] if tokens[i // 2][0] != parts[i] else []
+        return first + [head + swapped + tail for swapped in tokens[i // 2]]
     out: list[str] = []
     every = [(tokens[i // 2] or [p])[0] if i % 2 == 0 else p for i, p in enumerate(parts)]
     if every != parts:
@@ -117,12 +123,12 @@ def _swap_token(token: str) -> list[str]:
     return out
 
 
-def pairs(names: Sequence[str]) -> list[tuple[str, str]]:
+def pairs(names: Sequence[str], swaps: dict[str, list[str]] | None = None) -> list[tuple[str, str]]:
     """Every pair of *names* that may be each other's mirror, each pair once, in file order.
 
     A name can have more than one candidate (``r_gripper_l_finger`` against
     ``l_gripper_r_finger`` and ``r_gripper_r_finger``); :func:`settled` keeps
-    the candidate that mirrors.
+    the candidate that mirrors. *swaps*: as for :func:`mirror_names`.
     """
     known = set(names)
     # A name's mirrors differ from it only in the letters of the side markers: a name alone
@@ -133,7 +139,7 @@ def pairs(names: Sequence[str]) -> list[tuple[str, str]]:
         alike[letters] = alike.get(letters, 0) + 1
     seen: set[frozenset[str]] = set()
     out: list[tuple[str, str]] = []
-    swaps: dict[str, list[str]] = {}
+    swaps = {} if swaps is None else swaps
     for name in names:
         if alike[rest[name]] < 2:
             continue
@@ -201,13 +207,20 @@ def _bare_frame(ctx: CheckContext, name: str) -> bool:
     return link is not None and link.inertial is None and not link.visuals and not link.collisions
 
 
+def _token_swaps(ctx: CheckContext) -> dict[str, list[str]]:
+    """Each name token's :func:`_swap_token`, shared by the joints' and the links' pairs of one
+    check: their names repeat tokens (``left``, ``hip``, ``FL``)."""
+    swaps: dict[str, list[str]] = ctx.cache.setdefault("symmetry-token-swaps", {})
+    return swaps
+
+
 def _joint_pairs(ctx: CheckContext) -> list[tuple[Joint, Joint]]:
     """Joints named as mirrors that sit on different branches: a joint that moves the other
     is the next axis of one chain (Motoman's `joint_l` and `joint_r` are its L and R axes).
     Found once per check: two rules judge them."""
     if "symmetry-joint-pairs" not in ctx.cache:
         out = []
-        for a, b in pairs([j.name for j in ctx.robot.joints]):
+        for a, b in pairs([j.name for j in ctx.robot.joints], _token_swaps(ctx)):
             ja, jb = ctx.robot.joint(a), ctx.robot.joint(b)
             if ja is not None and jb is not None and not ctx.tree.lineal(ja.child, jb.child):
                 out.append((ja, jb))
@@ -454,7 +467,7 @@ def _link_pairs(ctx: CheckContext) -> list[tuple[Link, Link]]:
     Found once per check: two rules judge them."""
     if "symmetry-link-pairs" not in ctx.cache:
         out = []
-        for a, b in pairs([link.name for link in ctx.robot.links]):
+        for a, b in pairs([link.name for link in ctx.robot.links], _token_swaps(ctx)):
             la, lb = ctx.robot.link(a), ctx.robot.link(b)
             if la is not None and lb is not None and not ctx.tree.lineal(a, b):
                 out.append((la, lb))
