@@ -208,8 +208,7 @@ def _bare_frame(ctx: CheckContext, name: str) -> bool:
 
 
 def _token_swaps(ctx: CheckContext) -> dict[str, list[str]]:
-    """Each name token's :func:`_swap_token`, shared by the joints' and the links' pairs of one
-    check: their names repeat tokens (``left``, ``hip``, ``FL``)."""
+    """Each name token's :func:`_swap_token`, for the joints' and the links' names of one check."""
     swaps: dict[str, list[str]] = ctx.cache.setdefault("symmetry-token-swaps", {})
     return swaps
 
