@@ -28,6 +28,7 @@ from urdftool.parse import read
 from urdftool.parse.packages import PackageResolver
 from urdftool.physics import linkmass
 from urdftool.physics.inertia import MIN_MOMENT, assess
+from urdftool.rules.intent_common import on_one_chain
 from urdftool.rules.intent_symmetry import mirror_names, pairs
 
 WORDS = ["left", "right", "arm", "leg", "link", "joint", "hip", "knee", "wrist", "l", "r", "1", "2"]
@@ -210,3 +211,15 @@ def test_mirror_pairs_skip_only_names_without_a_mirror() -> None:
                  for _ in range(rng.randint(2, 30))]
         names += [rng.choice(mirror_names(n) or [n]) for n in names[:8]]
         assert pairs(names) == _pairs_unfiltered(names), names
+
+
+@pytest.mark.skipif(ERD is None, reason="example-robot-data is not installed")
+def test_links_on_one_chain_by_walking_up_are_lineal() -> None:
+    """The mirror rules' walk up the tree answers as the tree's numbering of subtrees does."""
+    rng = random.Random(5)
+    for robot in _robots():
+        tree = KinematicTree.of(robot)
+        names = [link.name for link in robot.links] + ["no_such_link"]
+        for _ in range(2000):
+            a, b = rng.choice(names), rng.choice(names)
+            assert on_one_chain(tree, a, b) == tree.lineal(a, b), (robot.name, a, b)

@@ -95,7 +95,13 @@ def uses_in(link: Link) -> Iterator[MeshUse]:
 def mesh_uses(ctx: CheckContext) -> list[MeshUse]:
     """Every mesh element of the robot, in link order, visuals before collisions."""
     if "mesh-uses" not in ctx.cache:
-        ctx.cache["mesh-uses"] = [use for link in ctx.robot.links for use in uses_in(link)]
+        uses = []
+        for link in ctx.robot.links:  # uses_in() written out: it runs for every link of a check
+            for role, items in (("visual", link.visuals), ("collision", link.collisions)):
+                for item in items:
+                    if isinstance(item.geometry, Mesh):
+                        uses.append(MeshUse(link.name, role, item.geometry, item.origin))
+        ctx.cache["mesh-uses"] = uses
     found: list[MeshUse] = ctx.cache["mesh-uses"]
     return found
 
@@ -132,11 +138,14 @@ def existing_files(ctx: CheckContext) -> list[tuple[MeshUse, str | None]]:
     """Every mesh element (:func:`mesh_uses`) with its :func:`existing_file`, each file looked
     at once per check (a robot's meshes are asked for by most of the mesh rules)."""
     if "mesh-files" not in ctx.cache:
-        found = []
+        found: list[tuple[MeshUse, str | None]] = []
         for use in mesh_uses(ctx):
             path = use.mesh.resolved
-            readable = path is not None and not has_substitution(use.mesh.filename) and is_file(ctx, path)
-            found.append((use, path if readable else None))
+            if path is None or has_substitution(use.mesh.filename):
+                found.append((use, None))
+                continue
+            known = status(ctx, path)
+            found.append((use, path if known is not None and stat.S_ISREG(known.st_mode) else None))
         ctx.cache["mesh-files"] = found
     files: list[tuple[MeshUse, str | None]] = ctx.cache["mesh-files"]
     return files

@@ -19,7 +19,7 @@ else:
 from urdftool.catalogue.registry import Family, Rule
 from urdftool.facts import home
 from urdftool.facts.context import CheckContext
-from urdftool.model import Collision, Joint, Link, Visual
+from urdftool.model import Collision, Joint, KinematicTree, Link, Visual
 from urdftool.model.geometry import Box, Capsule, Cylinder, Ellipsoid, Geometry, Mesh, Sphere
 from urdftool.model.pose import Matrix, Vec3, vector_norm
 
@@ -85,6 +85,24 @@ def where_link(link: Link, *parts: str) -> str:
 def home_poses(ctx: CheckContext) -> dict[str, Matrix]:
     """World pose of every link frame at q = 0 (the fact :func:`urdftool.facts.home.home_poses`)."""
     return home.home_poses(ctx)
+
+
+def on_one_chain(tree: KinematicTree, a: str, b: str) -> bool:
+    """``tree.lineal(a, b)``: whether one of the links lies on the other's path to the root.
+
+    Found by walking up from each link, a few joints per pair, where ``lineal()`` first numbers
+    every link of the tree: the mirror rules ask it of a few pairs of a large robot.
+    """
+    return a == b or _above(tree, a, b) or _above(tree, b, a)
+
+
+def _above(tree: KinematicTree, upper: str, link: str) -> bool:
+    joint = tree.parent_joint.get(link)
+    while joint is not None:  # the parent joints form a forest: the walk ends at a root
+        if joint.parent == upper:
+            return True
+        joint = tree.parent_joint.get(joint.parent)
+    return False
 
 
 def shape_dims(geometry: Geometry | None) -> tuple[float, ...] | None:

@@ -34,6 +34,7 @@ from urdftool.model.pose import Vec3
 from urdftool.physics.describe import fmt
 from urdftool.rules.intent_common import (
     IntentRule,
+    on_one_chain,
     option,
     shape_dims,
     where_joint,
@@ -207,21 +208,16 @@ def _bare_frame(ctx: CheckContext, name: str) -> bool:
     return link is not None and link.inertial is None and not link.visuals and not link.collisions
 
 
-def _token_swaps(ctx: CheckContext) -> dict[str, list[str]]:
-    """Each name token's :func:`_swap_token`, for the joints' and the links' names of one check."""
-    swaps: dict[str, list[str]] = ctx.cache.setdefault("symmetry-token-swaps", {})
-    return swaps
-
-
 def _joint_pairs(ctx: CheckContext) -> list[tuple[Joint, Joint]]:
     """Joints named as mirrors that sit on different branches: a joint that moves the other
     is the next axis of one chain (Motoman's `joint_l` and `joint_r` are its L and R axes).
     Found once per check: two rules judge them."""
     if "symmetry-joint-pairs" not in ctx.cache:
         out = []
-        for a, b in pairs([j.name for j in ctx.robot.joints], _token_swaps(ctx)):
+        # the joints' and the links' names share their tokens' swaps (``left``, ``FL``)
+        for a, b in pairs([j.name for j in ctx.robot.joints], ctx.cache.setdefault("symmetry-swaps", {})):
             ja, jb = ctx.robot.joint(a), ctx.robot.joint(b)
-            if ja is not None and jb is not None and not ctx.tree.lineal(ja.child, jb.child):
+            if ja is not None and jb is not None and not on_one_chain(ctx.tree, ja.child, jb.child):
                 out.append((ja, jb))
         ctx.cache["symmetry-joint-pairs"] = out
     found: list[tuple[Joint, Joint]] = ctx.cache["symmetry-joint-pairs"]
@@ -466,9 +462,9 @@ def _link_pairs(ctx: CheckContext) -> list[tuple[Link, Link]]:
     Found once per check: two rules judge them."""
     if "symmetry-link-pairs" not in ctx.cache:
         out = []
-        for a, b in pairs([link.name for link in ctx.robot.links], _token_swaps(ctx)):
+        for a, b in pairs([k.name for k in ctx.robot.links], ctx.cache.setdefault("symmetry-swaps", {})):
             la, lb = ctx.robot.link(a), ctx.robot.link(b)
-            if la is not None and lb is not None and not ctx.tree.lineal(a, b):
+            if la is not None and lb is not None and not on_one_chain(ctx.tree, a, b):
                 out.append((la, lb))
         ctx.cache["symmetry-link-pairs"] = out
     found: list[tuple[Link, Link]] = ctx.cache["symmetry-link-pairs"]
