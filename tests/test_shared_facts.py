@@ -3,7 +3,9 @@
 The default check measures each link's geometry, decomposes each declared tensor
 and finds did-you-mean suggestions once (docs/scale.md, "Fifth pass"); these
 tests hold the shared answers to the per-call functions they replace, on the
-robots of example-robot-data and on names made up here.
+robots of example-robot-data and on names made up here. The robot at home in
+plain floats (docs/scale.md, "Eleventh pass") is held to the 4x4 forward
+kinematics within 1e-12.
 """
 
 from __future__ import annotations
@@ -19,14 +21,16 @@ import pytest
 
 from tests.conftest import ERD, erd_urdfs
 from urdftool.catalogue.suggest import closest
-from urdftool.facts import link_mass
+from urdftool.facts import home, link_mass
 from urdftool.facts.context import CheckContext
-from urdftool.model import Box, Collision, KinematicTree, Link, Robot, Visual
+from urdftool.model import Box, Collision, Joint, JointType, KinematicTree, Link, Mimic, Pose, Robot, Visual
 from urdftool.parse import read
 from urdftool.parse.packages import PackageResolver
 from urdftool.physics import linkmass
 from urdftool.physics.inertia import MIN_MOMENT, assess
 from urdftool.physics.massprops import geometry_properties
+from urdftool.rules.intent_common import on_one_chain
+from urdftool.rules.intent_symmetry import mirror_names, pairs
 
 WORDS = ["left", "right", "arm", "leg", "link", "joint", "hip", "knee", "wrist", "l", "r", "1", "2"]
 
@@ -176,3 +180,69 @@ def test_a_solid_that_fails_raises_once(failing: str) -> None:
     with pytest.raises(RuntimeError, match="unreadable"):
         next(first)
     assert [s for s, _ in sources.read()] == ([] if failing == "collision" else ["collision"])
+
+
+def _home_robots() -> Iterator[Robot]:
+    """Every robot of example-robot-data, and one whose mimic joints sit away from 0 at home."""
+    resolver = PackageResolver.create()
+    for path in erd_urdfs():
+        yield from (m.robot for m in read(path, {}, resolver) if m.robot is not None)
+    links = tuple(Link(f"l{k}") for k in range(5))
+    turn = Pose((0.1, -0.2, 0.3), (0.4, -0.5, 0.6))
+    yield Robot("mimics", links=links, joints=(
+        Joint("lead", JointType.REVOLUTE, "l0", "l1", turn, (0.0, 0.0, 1.0)),
+        Joint("turned", JointType.REVOLUTE, "l1", "l2", turn, (1.0, 2.0, 2.0), mimic=Mimic("lead", 2.0, 0.3)),
+        Joint("slid", JointType.PRISMATIC, "l2", "l3", turn, (0.0, 3.0, 4.0),
+              mimic=Mimic("turned", 1.0, -0.2)),
+        Joint("welded", JointType.FIXED, "l3", "l4", turn),
+    ))
+
+
+@pytest.mark.skipif(ERD is None, reason="example-robot-data is not installed")
+def test_home_frames_in_floats_are_the_forward_kinematics() -> None:
+    """The rules' robot at home, in plain floats, is the exporters' 4x4 forward kinematics to the
+    last digit or two (the products are summed in another order)."""
+    for robot in _home_robots():
+        ctx = CheckContext(robot, KinematicTree.of(robot))
+        frames, poses = home.home_frames(ctx), ctx.tree.forward_kinematics()
+        assert frames.keys() == poses.keys(), robot.name
+        for name, (rotation, origin) in frames.items():
+            pose = poses[name]
+            scale = max(1.0, float(np.abs(pose[:3, 3]).max()))
+            np.testing.assert_allclose(rotation, pose[:3, :3], rtol=0, atol=1e-12, err_msg=name)
+            np.testing.assert_allclose(origin, pose[:3, 3], rtol=0, atol=1e-12 * scale, err_msg=name)
+
+
+def _pairs_unfiltered(names: list[str]) -> list[tuple[str, str]]:
+    """:func:`pairs` as first written: every name's mirror names, without the letters test."""
+    known, seen, out = set(names), set(), []
+    for name in names:
+        for other in mirror_names(name):
+            key = frozenset((name, other))
+            if other in known and other != name and key not in seen:
+                seen.add(key)
+                out.append((name, other))
+    return out
+
+
+def test_mirror_pairs_skip_only_names_without_a_mirror() -> None:
+    """Names left alone once their side letters are deleted are skipped, and nothing else."""
+    rng = random.Random(11)
+    tokens = ["l", "r", "L", "R", "left", "Right", "LEFT", "leftL", "FL", "RR", "lF", "Hl", "hip", "tight"]
+    for _ in range(3000):
+        names = ["".join(rng.choice(tokens) + rng.choice("_-.") for _ in range(rng.randint(1, 3)))
+                 for _ in range(rng.randint(2, 30))]
+        names += [rng.choice(mirror_names(n) or [n]) for n in names[:8]]
+        assert pairs(names) == _pairs_unfiltered(names), names
+
+
+@pytest.mark.skipif(ERD is None, reason="example-robot-data is not installed")
+def test_links_on_one_chain_by_walking_up_are_lineal() -> None:
+    """The mirror rules' walk up the tree answers as the tree's numbering of subtrees does."""
+    rng = random.Random(5)
+    for robot in _robots():
+        tree = KinematicTree.of(robot)
+        names = [link.name for link in robot.links] + ["no_such_link"]
+        for _ in range(2000):
+            a, b = rng.choice(names), rng.choice(names)
+            assert on_one_chain(tree, a, b) == tree.lineal(a, b), (robot.name, a, b)

@@ -65,13 +65,31 @@ class MeshFormat:
         return self.extension in TRIMESH_EXTENSIONS
 
 
-def sniff(path: str) -> MeshFormat:
-    """The format of the mesh at *path* (which must exist). Raises ``OSError``."""
+#: (path, size, mtime, inode) -> the format sniffed from an STL file's header: each file is read
+#: once per process, as :func:`urdftool.backends.meshes.content_key` hashes it once
+_STL_FORMATS: dict[tuple[str, int, int, int], MeshFormat] = {}
+
+
+def sniff(path: str, status: os.stat_result | None = None) -> MeshFormat:
+    """The format of the mesh at *path* (which must exist). Raises ``OSError``.
+
+    *status*, the file's ``os.stat`` when the caller has it, saves asking again; then an STL
+    file's header is read once per process, for as long as its size, time and inode stay.
+    """
     extension = os.path.splitext(path)[1].lower()
     if extension != ".stl":
         kind = {".obj": "obj", ".dae": "dae"}.get(extension, extension.lstrip(".") or "none")
         return MeshFormat(kind, extension)
-    size = os.path.getsize(path)
+    if status is None:
+        return _sniff_stl(path, extension, os.path.getsize(path))
+    memo = (path, status.st_size, status.st_mtime_ns, status.st_ino)
+    found = _STL_FORMATS.get(memo)
+    if found is None:
+        found = _STL_FORMATS[memo] = _sniff_stl(path, extension, status.st_size)
+    return found
+
+
+def _sniff_stl(path: str, extension: str, size: int) -> MeshFormat:
     head = read_head(path, 84)
     if len(head) == 84:
         (count,) = struct.unpack("<I", head[80:84])

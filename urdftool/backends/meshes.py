@@ -23,7 +23,7 @@ import os
 import re
 import threading
 import warnings
-from collections.abc import Iterable, Iterator
+from collections.abc import Iterable, Iterator, Mapping
 from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:
@@ -134,12 +134,12 @@ _KEYS: dict[tuple[str, int, int, int], str] = {}
 _LOCK = threading.Lock()
 
 
-def content_key(path: str) -> str:
+def content_key(path: str, status: os.stat_result | None = None) -> str:
     """SHA-256 of the file's bytes (the cache key: the same mesh under two names loads once).
 
-    Raises ``OSError`` when the file cannot be read.
+    *status*: its ``os.stat``, when the caller has it. Raises ``OSError`` when it cannot be read.
     """
-    stat = os.stat(path)
+    stat = os.stat(path) if status is None else status
     memo = (os.path.abspath(path), stat.st_size, stat.st_mtime_ns, stat.st_ino)
     with _LOCK:
         if memo in _KEYS:
@@ -472,18 +472,21 @@ def facts_for(path: str) -> MeshFacts:
     return result
 
 
-def load_many(paths: Iterable[str], jobs: int | None = None) -> dict[str, MeshFacts | MeshError]:
+def load_many(
+    paths: Iterable[str], jobs: int | None = None, statuses: Mapping[str, os.stat_result | None] | None = None
+) -> dict[str, MeshFacts | MeshError]:
     """Facts for every path (or its error), reading uncached files in parallel.
 
     *jobs* caps the worker processes (default: one per available core, at most
     8). Inside a worker process of ``check -j`` files are read in-process, since
-    the run is parallel already.
+    the run is parallel already. *statuses*: each path's ``os.stat``, when the caller has it.
     """
     out: dict[str, MeshFacts | MeshError] = {}
     todo: dict[str, list[str]] = {}  # content hash -> paths with those bytes
+    statuses = statuses or {}
     for path in dict.fromkeys(paths):
         try:
-            key = content_key(path)
+            key = content_key(path, statuses.get(path))
         except OSError as exc:
             out[path] = MeshError(exc.strerror or str(exc))
             continue

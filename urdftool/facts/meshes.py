@@ -10,7 +10,9 @@ the contents. Nothing here imports trimesh; a robot without meshes never loads i
 
 from __future__ import annotations
 
+import math
 import os
+import stat
 from collections.abc import Iterator
 
 from urdftool.backends.mesh_formats import ENGINE_NAMES, MeshFormat, engines_refusing, sniff
@@ -18,10 +20,8 @@ from urdftool.backends.meshes import (
     MeshError,
     MeshFacts,
     MeshInfo,
-    box_diagonal,
     load_many,
     mesh_info,
-    scaled_bounds,
     scaled_info,
 )
 from urdftool.facts.context import CheckContext
@@ -95,7 +95,13 @@ def uses_in(link: Link) -> Iterator[MeshUse]:
 def mesh_uses(ctx: CheckContext) -> list[MeshUse]:
     """Every mesh element of the robot, in link order, visuals before collisions."""
     if "mesh-uses" not in ctx.cache:
-        ctx.cache["mesh-uses"] = [use for link in ctx.robot.links for use in uses_in(link)]
+        uses = []
+        for link in ctx.robot.links:  # uses_in() written out: it runs for every link of a check
+            for role, items in (("visual", link.visuals), ("collision", link.collisions)):
+                for item in items:
+                    if isinstance(item.geometry, Mesh):
+                        uses.append(MeshUse(link.name, role, item.geometry, item.origin))
+        ctx.cache["mesh-uses"] = uses
     found: list[MeshUse] = ctx.cache["mesh-uses"]
     return found
 
@@ -132,23 +138,38 @@ def existing_files(ctx: CheckContext) -> list[tuple[MeshUse, str | None]]:
     """Every mesh element (:func:`mesh_uses`) with its :func:`existing_file`, each file looked
     at once per check (a robot's meshes are asked for by most of the mesh rules)."""
     if "mesh-files" not in ctx.cache:
-        found = []
+        found: list[tuple[MeshUse, str | None]] = []
         for use in mesh_uses(ctx):
             path = use.mesh.resolved
-            readable = path is not None and not has_substitution(use.mesh.filename) and is_file(ctx, path)
-            found.append((use, path if readable else None))
+            if path is None or has_substitution(use.mesh.filename):
+                found.append((use, None))
+                continue
+            known = status(ctx, path)
+            found.append((use, path if known is not None and stat.S_ISREG(known.st_mode) else None))
         ctx.cache["mesh-files"] = found
     files: list[tuple[MeshUse, str | None]] = ctx.cache["mesh-files"]
     return files
 
 
 def is_file(ctx: CheckContext, path: str) -> bool:
-    """``os.path.isfile(path)``, asked of the file system once per check (a robot's visual and
-    collision elements often share one file)."""
-    known: dict[str, bool] = ctx.cache.setdefault("mesh-is-file", {})
-    if path not in known:
-        known[path] = os.path.isfile(path)
-    return known[path]
+    """``os.path.isfile(path)``, from the file's :func:`status`."""
+    found = status(ctx, path)
+    return found is not None and stat.S_ISREG(found.st_mode)
+
+
+def status(ctx: CheckContext, path: str) -> os.stat_result | None:
+    """``os.stat(path)`` (``None`` when nothing is there), asked of the file system once per
+    check: a robot's visual and collision elements often share one file, and whether it
+    exists, its format and its content key all start from its status."""
+    known: dict[str, os.stat_result | None] = ctx.cache.setdefault("mesh-status", {})
+    if path in known:
+        return known[path]
+    try:
+        found: os.stat_result | None = os.stat(path)
+    except (OSError, ValueError):  # as os.path.isfile: a broken link, a NUL in the name
+        found = None
+    known[path] = found
+    return found
 
 
 def by_file(ctx: CheckContext, role: str | None = None) -> dict[str, list[MeshUse]]:
@@ -174,8 +195,13 @@ def scaled_diagonal(
     file and scale: a robot's links repeat a few meshes many times."""
     key = ("mesh-diagonal", path, scale)
     if key not in ctx.cache:
-        lo, hi = scaled_bounds(facts, scale)
-        ctx.cache[key] = box_diagonal(lo, hi)
+        # each side of the scaled box is |max·s − min·s|, the difference of the bounds that
+        # scaled_bounds() would sort; summed in floats, without NumPy's dispatch per mesh
+        lo, hi = facts.bounds_min, facts.bounds_max
+        dx = abs(hi[0] * scale[0] - lo[0] * scale[0])
+        dy = abs(hi[1] * scale[1] - lo[1] * scale[1])
+        dz = abs(hi[2] * scale[2] - lo[2] * scale[2])
+        ctx.cache[key] = math.sqrt(dx * dx + dy * dy + dz * dz)
     diagonal: float = ctx.cache[key]
     return diagonal
 
@@ -185,7 +211,7 @@ def mesh_format(ctx: CheckContext, path: str) -> MeshFormat | None:
     key = ("mesh-format", path)
     if key not in ctx.cache:
         try:
-            ctx.cache[key] = sniff(path)
+            ctx.cache[key] = sniff(path, status(ctx, path))
         except OSError:
             ctx.cache[key] = None
     found: MeshFormat | None = ctx.cache[key]
@@ -201,7 +227,8 @@ def contents(ctx: CheckContext) -> dict[str, MeshFacts | MeshError]:
             if (fmt := mesh_format(ctx, p)) is not None and fmt.trimesh_reads
         ]
         if paths:
-            ctx.cache["mesh-contents"] = load_many(paths, ctx.options.get("jobs"))
+            statuses = {path: status(ctx, path) for path in paths}
+            ctx.cache["mesh-contents"] = load_many(paths, ctx.options.get("jobs"), statuses)
         else:
             ctx.cache["mesh-contents"] = {}
     loaded: dict[str, MeshFacts | MeshError] = ctx.cache["mesh-contents"]
@@ -210,11 +237,13 @@ def contents(ctx: CheckContext) -> dict[str, MeshFacts | MeshError]:
 
 def other_places(uses: list[MeshUse]) -> str:
     """ ", also used at file:line, …" for the second and later elements of a group."""
-    spots = [str(u.location) for u in uses[1:] if u.location is not None]
-    if not spots:
+    placed = [u.location for u in uses[1:] if u.location is not None]
+    if not placed:
         return ""
-    shown = ", ".join(dict.fromkeys(spots[:4]))
-    more = f" and {len(spots) - 4} more" if len(spots) > 4 else ""
+    # only the places shown are put into words: finding a span's line and column costs more
+    # than the rest of the finding
+    shown = ", ".join(dict.fromkeys(str(span) for span in placed[:4]))
+    more = f" and {len(placed) - 4} more" if len(placed) > 4 else ""
     return f"; also used at {shown}{more}"
 
 

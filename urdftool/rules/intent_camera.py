@@ -19,10 +19,10 @@ from typing import Any
 from urdftool.catalogue.registry import register
 from urdftool.diagnostics import Diagnostic, Severity
 from urdftool.facts.context import CheckContext
-from urdftool.model.pose import rpy_to_matrix
+from urdftool.facts.home import Rotation, angle_between_frames, home_frames, multiply, rpy_rotation
 from urdftool.parse.locate import span_of
 from urdftool.rules import gazebo_plugins as gz
-from urdftool.rules.intent_common import IntentRule, home_poses, option, rotation_angle
+from urdftool.rules.intent_common import IntentRule, option
 
 #: Gazebo sensor types whose ROS plugins publish optical-convention data.
 CAMERA_SENSORS = frozenset({"camera", "depth", "depth_camera", "rgbd", "rgbd_camera"})
@@ -34,7 +34,7 @@ def _is_ros_camera_plugin(plugin: Any) -> bool:
     return "gazebo_ros" in filename and any(k in filename for k in ("camera", "openni", "depth"))
 
 
-def _pose_rotation(element: Any) -> Any:
+def _pose_rotation(element: Any) -> Rotation:
     """The rotation of an element's ``<pose>`` child (identity when absent or unreadable)."""
     pose = element.find("pose") if element is not None else None
     values = (pose.text or "").split() if pose is not None else []
@@ -42,14 +42,14 @@ def _pose_rotation(element: Any) -> Any:
     if len(values) == 6:
         with contextlib.suppress(ValueError):
             rpy = (float(values[3]), float(values[4]), float(values[5]))
-    return rpy_to_matrix(rpy)  # non-finite angles count as 0
+    return rpy_rotation(rpy)  # non-finite angles count as 0
 
 
-def _sensor_rotation(sensor: Any) -> Any:
+def _sensor_rotation(sensor: Any) -> Rotation:
     """The rotation of the camera that takes the images, in the reference link's frame: the
     ``<sensor><pose>``, then the ``<camera><pose>`` inside it (SDF: relative to the sensor;
     Baxter turns its head camera there)."""
-    return _pose_rotation(sensor) @ _pose_rotation(sensor.find("camera"))
+    return multiply(_pose_rotation(sensor), _pose_rotation(sensor.find("camera")))
 
 
 @register
@@ -99,7 +99,7 @@ class CameraFrameNotOptical(IntentRule):
 
     def check(self, ctx: CheckContext) -> Iterator[Diagnostic]:
         tolerance = math.radians(option(ctx, "angle_tolerance_deg"))
-        poses = None
+        frames = None
         for block in gz.gazebo_blocks(ctx.robot):
             reference = block.get("reference")
             for sensor in block.iter("sensor"):
@@ -112,13 +112,12 @@ class CameraFrameNotOptical(IntentRule):
                         if not isinstance(child.tag, str) or child.tag not in FRAME_TAGS:
                             continue
                         frame = gz.text_of(child).lstrip("/")
-                        if poses is None:
-                            poses = home_poses(ctx)
-                        if frame not in poses or reference not in poses:
+                        if frames is None:
+                            frames = home_frames(ctx)
+                        if frame not in frames or reference not in frames:
                             continue  # not a link of the robot: plugin-frame-missing says so
-                        sensor_rotation = poses[reference][:3, :3] @ _sensor_rotation(sensor)
-                        relative = sensor_rotation.T @ poses[frame][:3, :3]
-                        if rotation_angle(relative) > tolerance:
+                        sensor_rotation = multiply(frames[reference][0], _sensor_rotation(sensor))
+                        if angle_between_frames(sensor_rotation, frames[frame][0]) > tolerance:
                             continue
                         yield self.diagnostic(
                             f"sensor '{sensor.get('name') or 'unnamed'}' ({sensor.get('type')}) "

@@ -19,9 +19,9 @@ else:
 from urdftool.catalogue.registry import Family, Rule
 from urdftool.facts import home
 from urdftool.facts.context import CheckContext
-from urdftool.model import Collision, Joint, Link, Visual
-from urdftool.model.geometry import Box, Capsule, Cylinder, Ellipsoid, Geometry, Sphere
-from urdftool.model.pose import Matrix, vector_norm
+from urdftool.model import Collision, Joint, KinematicTree, Link, Visual
+from urdftool.model.geometry import Box, Capsule, Cylinder, Ellipsoid, Geometry, Mesh, Sphere
+from urdftool.model.pose import Matrix, Vec3, vector_norm
 
 #: Defaults of every intent threshold, by option name (docs/intent.md explains each).
 DEFAULTS: dict[str, float] = {
@@ -87,8 +87,28 @@ def home_poses(ctx: CheckContext) -> dict[str, Matrix]:
     return home.home_poses(ctx)
 
 
+def on_one_chain(tree: KinematicTree, a: str, b: str) -> bool:
+    """``tree.lineal(a, b)``: whether one of the links lies on the other's path to the root.
+
+    Found by walking up from each link, a few joints per pair, where ``lineal()`` first numbers
+    every link of the tree: the mirror rules ask it of a few pairs of a large robot.
+    """
+    return a == b or _above(tree, a, b) or _above(tree, b, a)
+
+
+def _above(tree: KinematicTree, upper: str, link: str) -> bool:
+    joint = tree.parent_joint.get(link)
+    while joint is not None:  # the parent joints form a forest: the walk ends at a root
+        if joint.parent == upper:
+            return True
+        joint = tree.parent_joint.get(joint.parent)
+    return False
+
+
 def shape_dims(geometry: Geometry | None) -> tuple[float, ...] | None:
     """A primitive's full extents along its own axes (m), or ``None`` for meshes and planes."""
+    if type(geometry) is Mesh:  # the most common shape of all, answered first
+        return None
     if isinstance(geometry, Box):
         return tuple(float(v) for v in geometry.size)
     if isinstance(geometry, Sphere):
@@ -113,9 +133,8 @@ def robot_extent(ctx: CheckContext) -> float:
     if key in ctx.cache:
         return float(ctx.cache[key])
     limit = option(ctx, "length_min")
-    points: list[Matrix] = []
-    for name, pose in home_poses(ctx).items():
-        origin = pose[:3, 3]
+    points: list[Vec3] = []
+    for name, (rotation, origin) in home.home_frames(ctx).items():
         points.append(origin)
         link = ctx.robot.link(name)
         elements: list[Collision | Visual] = [*link.collisions, *link.visuals] if link else []
@@ -123,15 +142,18 @@ def robot_extent(ctx: CheckContext) -> float:
             dims = shape_dims(element.geometry)
             if dims is None or max(dims) > limit:
                 continue
-            centre = pose[:3, :3] @ np.array(element.origin.xyz) + origin
+            x, y, z = home.rotate(rotation, element.origin.xyz)
+            x, y, z = x + origin[0], y + origin[1], z + origin[2]
             half = max(dims) / 2
-            points.extend((centre - half, centre + half))
-    if not points:
+            points.extend(((x - half, y - half, z - half), (x + half, y + half, z + half)))
+    # a point with a coordinate that is not finite (a shape written as inf) does not count
+    finite = [point for point in points if all(map(math.isfinite, point))]
+    if not finite:
         extent = 0.0
     else:
-        stacked = np.array(points, dtype=float)
-        stacked = stacked[np.all(np.isfinite(stacked), axis=1)]
-        extent = float(np.linalg.norm(stacked.max(axis=0) - stacked.min(axis=0))) if len(stacked) else 0.0
+        xs, ys, zs = zip(*finite, strict=True)
+        dx, dy, dz = max(xs) - min(xs), max(ys) - min(ys), max(zs) - min(zs)
+        extent = math.sqrt(dx * dx + dy * dy + dz * dz)
     ctx.cache[key] = extent
     return extent
 

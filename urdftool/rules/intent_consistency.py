@@ -97,6 +97,8 @@ class CollisionVisualScaleSlip(IntentRule):
     def check(self, ctx: CheckContext) -> Iterator[Diagnostic]:
         tol = option(ctx, "scale_slip_tolerance")
         for link in ctx.robot.links:
+            if not link.collisions:
+                continue
             visuals = [(v, _sizes(v.geometry)) for v in link.visuals]
             for collision in link.collisions:
                 mine = _sizes(collision.geometry)

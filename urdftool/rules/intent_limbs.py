@@ -31,17 +31,17 @@ _SPINNING = re.compile(r"wheel|roller|caster|castor|rotor|prop|spin|lidar|laser|
 def limbs(tree: KinematicTree) -> list[list[Joint]]:
     """Every limb's moving joints, from its branch point (or root) to its leaf."""
     moving_below: dict[str, bool] = {}
-    order = [link.name for _, link, _ in tree.walk()]
-    for name in reversed(order):
-        moving_below[name] = any(
-            joint.type.is_moving or moving_below.get(joint.child, False)
-            for joint in tree.child_joints.get(name, [])
-        )
-    branches = {
-        name for name in order
-        if sum(1 for j in tree.child_joints.get(name, [])
-               if j.type.is_moving or moving_below.get(j.child, False)) >= 2
-    }
+    branches: set[str] = set()
+    order = tree.order
+    for name in reversed(order):  # children before their parents
+        # the child joints that move, or lead to one that does
+        chains = 0
+        for below in tree.child_joints.get(name, ()):
+            if below.type is not JointType.FIXED or moving_below.get(below.child, False):
+                chains += 1
+        moving_below[name] = chains > 0
+        if chains >= 2:
+            branches.add(name)
     out: list[list[Joint]] = []
     for name in order:
         if moving_below.get(name, False):
@@ -95,8 +95,12 @@ class ContinuousInLimitedLimb(IntentRule):
     severity = Severity.WARNING
 
     def check(self, ctx: CheckContext) -> Iterator[Diagnostic]:
+        if all(joint.type is not JointType.CONTINUOUS for joint in ctx.robot.joints):
+            return  # most arms: no limb can have its one continuous joint
         for limb in limbs(ctx.tree):
             continuous = [j for j in limb if j.type is JointType.CONTINUOUS]
+            if len(continuous) != 1:
+                continue
             limited = [j for j in limb if j.type is JointType.REVOLUTE and j.limit is not None
                        and j.limit.lower is not None and j.limit.upper is not None]
             if len(continuous) != 1 or len(limited) < LIMITED_MIN:

@@ -22,25 +22,20 @@ import dataclasses
 import math
 import re
 from collections.abc import Callable, Iterator, Sequence
-from typing import TYPE_CHECKING, TypeVar
-
-if TYPE_CHECKING:
-    import numpy as np
-else:
-    from urdftool.lazy import numpy as np
+from typing import TypeVar
 
 from urdftool.catalogue.registry import register
 from urdftool.diagnostics import Diagnostic, Related, Severity
 from urdftool.facts.context import CheckContext
+from urdftool.facts.home import Frame, angle_between_frames, home_frames, rotate, rpy_rotation
 from urdftool.model import Joint, JointType, Link
 from urdftool.model.geometry import Mesh
-from urdftool.model.pose import vector_norm
+from urdftool.model.pose import Vec3
 from urdftool.physics.describe import fmt
 from urdftool.rules.intent_common import (
     IntentRule,
-    home_poses,
+    on_one_chain,
     option,
-    rotation_angle,
     shape_dims,
     where_joint,
     where_link,
@@ -75,12 +70,22 @@ def mirror_names(name: str, swaps: dict[str, list[str]] | None = None) -> list[s
     parts = _TOKENS.split(name)
     memo = {} if swaps is None else swaps
     tokens: list[list[str]] = []
+    sided: list[int] = []  # where the parts with a side marker are
     for i in range(0, len(parts), 2):
         part = parts[i]
         found = memo.get(part)
         if found is None:
             found = memo[part] = _swap_token(part)
         tokens.append(found)
+        if found:
+            sided.append(i)
+    if not sided:  # letters of "link" or "roll", no side marker: most names of a robot
+        return []
+    if len(sided) == 1:  # one marker (``FL_hip``, ``left_knee``): the same list, built directly
+        i = sided[0]
+        head, tail = "".join(parts[:i]), "".join(parts[i + 1 :])
+        first = [head + tokens[i // 2][0] + tail] if tokens[i // 2][0] != parts[i] else []
+        return first + [head + swapped + tail for swapped in tokens[i // 2]]
     out: list[str] = []
     every = [(tokens[i // 2] or [p])[0] if i % 2 == 0 else p for i, p in enumerate(parts)]
     if every != parts:
@@ -90,6 +95,10 @@ def mirror_names(name: str, swaps: dict[str, list[str]] | None = None) -> list[s
             out.append("".join((*parts[:i], swapped, *parts[i + 1 :])))
     return out
 
+
+#: Deletes every letter that a side marker's swap can change (:func:`_swap_token` replaces the
+#: words and letters of ``_WORDS`` and ``_LETTERS`` only, and keeps every other character in order).
+_WITHOUT_SIDE_LETTERS = str.maketrans("", "", "".join(sorted({*"".join(_WORDS), *_LETTERS})))
 
 _WORD_LETTER = re.compile(r"^(.*)(left|right|Left|Right)([LR])$")
 
@@ -115,21 +124,31 @@ def _swap_token(token: str) -> list[str]:
     return out
 
 
-def pairs(names: Sequence[str]) -> list[tuple[str, str]]:
+def pairs(names: Sequence[str], swaps: dict[str, list[str]] | None = None) -> list[tuple[str, str]]:
     """Every pair of *names* that may be each other's mirror, each pair once, in file order.
 
     A name can have more than one candidate (``r_gripper_l_finger`` against
     ``l_gripper_r_finger`` and ``r_gripper_r_finger``); :func:`settled` keeps
-    the candidate that mirrors.
+    the candidate that mirrors. *swaps*: as for :func:`mirror_names`.
     """
     known = set(names)
+    # A name's mirrors differ from it only in the letters of the side markers: a name alone
+    # with its other letters cannot have one, and most names of a robot are alone.
+    rest = {name: name.translate(_WITHOUT_SIDE_LETTERS) for name in known}
+    alike: dict[str, int] = {}
+    for letters in rest.values():
+        alike[letters] = alike.get(letters, 0) + 1
     seen: set[frozenset[str]] = set()
     out: list[tuple[str, str]] = []
-    swaps: dict[str, list[str]] = {}
+    swaps = {} if swaps is None else swaps
     for name in names:
+        if alike[rest[name]] < 2:
+            continue
         for other in mirror_names(name, swaps):
+            if other not in known or other == name:
+                continue
             key = frozenset((name, other))
-            if other in known and other != name and key not in seen:
+            if key not in seen:
                 seen.add(key)
                 out.append((name, other))
     return out
@@ -155,15 +174,15 @@ def settled(
         yield diag
 
 
-def _close(a: float, b: float, ctx: CheckContext) -> bool:
-    tol = option(ctx, "mirror_length_tolerance") + option(ctx, "mirror_relative_tolerance") * max(
-        abs(a), abs(b)
-    )
-    return abs(a - b) <= tol
+def _all_close(a: Sequence[float], b: Sequence[float], ctx: CheckContext) -> bool:
+    """Whether every pair of *a*'s and *b*'s numbers (m) agrees within the mirror tolerance:
+    ``mirror_length_tolerance`` plus ``mirror_relative_tolerance`` of the larger."""
+    absolute, relative = option(ctx, "mirror_length_tolerance"), option(ctx, "mirror_relative_tolerance")
+    return all(abs(x - y) <= absolute + relative * max(abs(x), abs(y)) for x, y in zip(a, b, strict=False))
 
 
 def _abs_match(a: Sequence[float], b: Sequence[float], ctx: CheckContext) -> bool:
-    return all(_close(abs(x), abs(y), ctx) for x, y in zip(a, b, strict=False))
+    return _all_close([abs(x) for x in a], [abs(y) for y in b], ctx)
 
 
 def _with_other(diag: Diagnostic, span: Span | None, label: str) -> Diagnostic:
@@ -172,7 +191,7 @@ def _with_other(diag: Diagnostic, span: Span | None, label: str) -> Diagnostic:
     return dataclasses.replace(diag, related=(*diag.related, Related(span, label)))
 
 
-def _vec(values: Sequence[float] | np.ndarray) -> str:
+def _vec(values: Sequence[float]) -> str:
     return " ".join(fmt(float(v)) for v in values)
 
 
@@ -195,18 +214,17 @@ def _joint_pairs(ctx: CheckContext) -> list[tuple[Joint, Joint]]:
     Found once per check: two rules judge them."""
     if "symmetry-joint-pairs" not in ctx.cache:
         out = []
-        for a, b in pairs([j.name for j in ctx.robot.joints]):
+        # the joints' and the links' names share their tokens' swaps (``left``, ``FL``)
+        for a, b in pairs([j.name for j in ctx.robot.joints], ctx.cache.setdefault("symmetry-swaps", {})):
             ja, jb = ctx.robot.joint(a), ctx.robot.joint(b)
-            if ja is not None and jb is not None and not ctx.tree.lineal(ja.child, jb.child):
+            if ja is not None and jb is not None and not on_one_chain(ctx.tree, ja.child, jb.child):
                 out.append((ja, jb))
         ctx.cache["symmetry-joint-pairs"] = out
     found: list[tuple[Joint, Joint]] = ctx.cache["symmetry-joint-pairs"]
     return found
 
 
-def _named_by_slot(
-    ctx: CheckContext, ja: Joint, jb: Joint, poses: dict[str, np.ndarray], middle: float
-) -> bool:
+def _named_by_slot(ctx: CheckContext, ja: Joint, jb: Joint, frames: dict[str, Frame], middle: float) -> bool:
     """Whether each joint's child, mirrored, lands where a child of its own parent is.
 
     A row of parts named by slot, not by mirror: the Create 3's seven IR sensors run
@@ -216,14 +234,13 @@ def _named_by_slot(
     lateral offset of the mirror plane, doubled (non-zero only for two parts on a bare frame).
     """
     for joint, partner in ((ja, jb), (jb, ja)):
-        pose = poses.get(joint.child)
-        if pose is None:
+        frame = frames.get(joint.child)
+        if frame is None:
             return False
-        flipped = pose[:3, 3] * [1, -1, 1] + [0, middle, 0]
-        row = [poses.get(j.child) for j in ctx.robot.joints if j.parent == joint.parent and j is not partner]
+        flipped = _flipped(frame[1], middle)
+        row = [frames.get(j.child) for j in ctx.robot.joints if j.parent == joint.parent and j is not partner]
         if not any(
-            other is not None
-            and all(_close(float(x), float(y), ctx) for x, y in zip(other[:3, 3], flipped, strict=False))
+            other is not None and _all_close(other[1], flipped, ctx)
             for other in row
         ):
             return False
@@ -278,41 +295,41 @@ class MirroredPoseMismatch(IntentRule):
         yield from settled(_joint_pairs(ctx), lambda j: j.name, lambda a, b: self._judge(ctx, a, b))
 
     def _judge(self, ctx: CheckContext, ja: Joint, jb: Joint) -> Diagnostic | None:
-        poses = home_poses(ctx)
+        frames = home_frames(ctx)
         if True:
-            pa, pb = poses.get(ja.child), poses.get(jb.child)
-            if pa is None or pb is None:
+            fa, fb = frames.get(ja.child), frames.get(jb.child)
+            if fa is None or fb is None:
                 return None
-            wa, wb = pa[:3, 3], pb[:3, 3]
+            wa, wb = fa[1], fb[1]
             # two parts set down on one bare frame (a `world` link) mirror through the plane
             # between them: that frame's origin is where the author put it, not the robot's
             # middle (xArm's dual arm: bases at y = 0 and y = 1 m)
-            middle = float(wa[1] + wb[1]) if ja.parent == jb.parent and _bare_frame(ctx, ja.parent) else 0.0
-            flipped = wb * [1, -1, 1] + [0, middle, 0]
-            mirrored_world = all(_close(float(x), float(y), ctx) for x, y in zip(wa, flipped, strict=False))
+            middle = wa[1] + wb[1] if ja.parent == jb.parent and _bare_frame(ctx, ja.parent) else 0.0
+            flipped = _flipped(wb, middle)
+            mirrored_world = _all_close(wa, flipped, ctx)
             written = _abs_match(ja.origin.xyz, jb.origin.xyz, ctx)
             lateral = option(ctx, "mirror_length_tolerance")
             turned = math.radians(option(ctx, "angle_tolerance_deg"))
             # prismatic fingers start at one point and slide apart: coinciding is their design
             same_side = (
                 JointType.PRISMATIC not in (ja.type, jb.type)
-                and abs(float(wa[1])) > 10 * lateral
-                and float(wa[1]) * float(wb[1]) > 0
-                and all(_close(float(x), float(y), ctx) for x, y in zip(wa, wb, strict=False))
+                and abs(wa[1]) > 10 * lateral
+                and wa[1] * wb[1] > 0
+                and _all_close(wa, wb, ctx)
                 # a copy keeps its orientation too; two frames at one point turned apart are a
                 # design (Robonaut's arms both start at one shoulder point, turned left and right)
-                and rotation_angle(pa[:3, :3].T @ pb[:3, :3]) <= turned
+                and angle_between_frames(fa[0], fb[0]) <= turned
             )
             if same_side:
                 message = (
                     f"joints '{ja.name}' and '{jb.name}' put their children at the same place, "
-                    f"{_vec(wa)} m, on the same side (y {fmt(float(wa[1]))} m): copied, not mirrored"
+                    f"{_vec(wa)} m, on the same side (y {fmt(wa[1])} m): copied, not mirrored"
                 )
             elif (
                 not written
                 and not mirrored_world
                 and not (_mount(ctx, ja) or _mount(ctx, jb))
-                and not _named_by_slot(ctx, ja, jb, poses, middle)
+                and not _named_by_slot(ctx, ja, jb, frames, middle)
             ):
                 message = (
                     f"joint '{jb.name}' at xyz=\"{_vec(jb.origin.xyz)}\" does not mirror "
@@ -373,13 +390,13 @@ class MirroredJointMismatch(IntentRule):
         yield from settled(_joint_pairs(ctx), lambda j: j.name, lambda a, b: self._judge(ctx, a, b))
 
     def _judge(self, ctx: CheckContext, ja: Joint, jb: Joint) -> Diagnostic | None:
-        poses = home_poses(ctx)
+        frames = home_frames(ctx)
         rel = option(ctx, "mirror_relative_tolerance")
         if True:
             problems = []
             if ja.type is not jb.type:
                 problems.append(f"type {jb.type.value} against {ja.type.value}")
-            elif ja.type.is_moving and not self._axes_mirror(ja, jb, poses, ctx):
+            elif ja.type.is_moving and not self._axes_mirror(ja, jb, frames):
                 problems.append(f"axis {_vec(jb.axis)} against {_vec(ja.axis)}")
             la, lb = ja.limit, jb.limit
             if la is not None and lb is not None and ja.type is jb.type:
@@ -406,22 +423,30 @@ class MirroredJointMismatch(IntentRule):
             return _with_other(diag, ja.span, f"the mirrored joint '{ja.name}'")
 
     @staticmethod
-    def _axes_mirror(ja: Joint, jb: Joint, poses: dict[str, np.ndarray], ctx: CheckContext) -> bool:
+    def _axes_mirror(ja: Joint, jb: Joint, frames: dict[str, Frame]) -> bool:
         tol = 0.02
-        if all(abs(abs(x) - abs(y)) <= tol for x, y in zip(_unit(ja.axis), _unit(jb.axis), strict=False)):
+        ua, ub = _unit(ja.axis), _unit(jb.axis)
+        if all(abs(abs(x) - abs(y)) <= tol for x, y in zip(ua, ub, strict=True)):
             return True
-        fa, fb = poses.get(ja.parent), poses.get(jb.parent)
+        fa, fb = frames.get(ja.parent), frames.get(jb.parent)
         if fa is None or fb is None:
             return True
-        wa = fa[:3, :3] @ ja.origin.rotation @ _unit(ja.axis)
-        wb = fb[:3, :3] @ jb.origin.rotation @ _unit(jb.axis)
-        return bool(np.all(np.abs(np.abs(wa) - np.abs(wb)) <= tol))
+        # each axis in the robot: its joint frame's rotation, then its parent link's at home
+        wa = rotate(fa[0], rotate(rpy_rotation(ja.origin.rpy), ua))
+        wb = rotate(fb[0], rotate(rpy_rotation(jb.origin.rpy), ub))
+        return all(abs(abs(x) - abs(y)) <= tol for x, y in zip(wa, wb, strict=True))
 
 
-def _unit(axis: Sequence[float]) -> np.ndarray:
-    v = np.asarray(axis, dtype=float)
-    n = vector_norm(v)
-    return v / n if n > 0 else v
+def _unit(axis: Vec3) -> Vec3:
+    """*axis* divided by its length (a zero axis as it is)."""
+    x, y, z = axis
+    n = math.sqrt(x * x + y * y + z * z)
+    return (x / n, y / n, z / n) if n > 0 else (x, y, z)
+
+
+def _flipped(origin: Vec3, middle: float) -> Vec3:
+    """*origin* mirrored through the root's x-z plane, moved by *middle* (twice the plane's y, m)."""
+    return (origin[0], -origin[1] + middle, origin[2])
 
 
 def _near(a: float, b: float, rel: float) -> bool:
@@ -437,9 +462,9 @@ def _link_pairs(ctx: CheckContext) -> list[tuple[Link, Link]]:
     Found once per check: two rules judge them."""
     if "symmetry-link-pairs" not in ctx.cache:
         out = []
-        for a, b in pairs([link.name for link in ctx.robot.links]):
+        for a, b in pairs([k.name for k in ctx.robot.links], ctx.cache.setdefault("symmetry-swaps", {})):
             la, lb = ctx.robot.link(a), ctx.robot.link(b)
-            if la is not None and lb is not None and not ctx.tree.lineal(a, b):
+            if la is not None and lb is not None and not on_one_chain(ctx.tree, a, b):
                 out.append((la, lb))
         ctx.cache["symmetry-link-pairs"] = out
     found: list[tuple[Link, Link]] = ctx.cache["symmetry-link-pairs"]
@@ -566,6 +591,6 @@ def _geometry_problem(a: object, b: object, ctx: CheckContext) -> str | None:
     kind_a, kind_b = getattr(a, "kind", ""), getattr(b, "kind", "")
     if kind_a != kind_b:
         return f"{kind_b} differs from the {kind_a}"
-    if all(_close(x, y, ctx) for x, y in zip(sorted(da), sorted(db), strict=False)):
+    if _all_close(sorted(da), sorted(db), ctx):
         return None
     return f"{kind_b} of {_vec(db)} m differs from the {kind_a} of {_vec(da)} m"

@@ -265,6 +265,8 @@ class LengthLooksLikeMillimetres(IntentRule):
         ordered = sorted(finite)
         for joint in ctx.robot.joints:
             length = offsets[joint.name]
+            if not length > minimum:  # what _judge() says first, without the median
+                continue
             # the median of the other joints' offsets, without sorting again per joint (chains
             # of thousands of joints)
             counted = math.isfinite(length) and length > 1e-6
@@ -277,7 +279,7 @@ class LengthLooksLikeMillimetres(IntentRule):
             for kind, elements in (("collision", link.collisions), ("visual", link.visuals)):
                 for element in elements:
                     dims = shape_dims(element.geometry)
-                    if dims is None:
+                    if dims is None or not max(dims) > minimum:  # _judge()'s first test
                         continue
                     found = _judge(max(dims), scale, factor, minimum)
                     if found is not None:

@@ -386,9 +386,9 @@ class DegenerateGeometry(_Meshes):
 
 
 def _extents(facts: MeshFacts) -> tuple[float, float, float]:
-    lo, hi = np.asarray(facts.bounds_min), np.asarray(facts.bounds_max)
-    e = hi - lo
-    return (float(e[0]), float(e[1]), float(e[2]))
+    # the same subtractions NumPy did on the bounds, on the floats themselves
+    lo, hi = facts.bounds_min, facts.bounds_max
+    return (hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2])
 
 
 def _is_flat(facts: MeshFacts) -> bool:

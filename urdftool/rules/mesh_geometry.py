@@ -18,7 +18,7 @@ else:
 
 from urdftool.budgets import DEFAULT_BUDGETS
 from urdftool.facts.context import CheckContext
-from urdftool.facts.home import home_poses
+from urdftool.facts.home import home_frames
 from urdftool.model import (
     Box,
     Capsule,
@@ -52,6 +52,11 @@ UNITS_TOO_SMALL = 1.0 / 300.0
 
 def degenerate_shape(geometry: Geometry | None) -> str | None:
     """What is degenerate about a primitive shape or a mesh scale, in words; ``None`` if nothing."""
+    if isinstance(geometry, Mesh):  # the most common shape of all, answered first
+        if 0.0 in geometry.scale:
+            scale = " ".join(f"{s:g}" for s in geometry.scale)
+            return f"mesh '{geometry.filename}' has scale \"{scale}\", which flattens it to nothing"
+        return None
     if isinstance(geometry, Box):
         bad = [
             f"{axis}={value:g}"
@@ -73,9 +78,6 @@ def degenerate_shape(geometry: Geometry | None) -> str | None:
         if not all(r > 0 for r in geometry.radii):
             return "ellipsoid has radii " + " ".join(f"{r:g}" for r in geometry.radii) + " m"
         return None
-    if isinstance(geometry, Mesh) and any(s == 0 for s in geometry.scale):
-        scale = " ".join(f"{s:g}" for s in geometry.scale)
-        return f"mesh '{geometry.filename}' has scale \"{scale}\", which flattens it to nothing"
     return None
 
 
@@ -111,9 +113,11 @@ def robot_size(ctx: CheckContext) -> tuple[float, str] | None:
     with). Meshes are left out on purpose: a robot whose meshes are all in
     millimetres must not be its own yardstick.
     """
-    frames = np.array([pose[:3, 3] for pose in home_poses(ctx).values()])
-    if len(frames) >= 2:
-        spread = float(np.linalg.norm(frames.max(axis=0) - frames.min(axis=0)))
+    origins = [origin for _, origin in home_frames(ctx).values()]
+    if len(origins) >= 2:
+        xs, ys, zs = zip(*origins, strict=True)
+        dx, dy, dz = max(xs) - min(xs), max(ys) - min(ys), max(zs) - min(zs)
+        spread = math.sqrt(dx * dx + dy * dy + dz * dz)
         if spread > 1e-6:
             return spread, "between its farthest link frames"
     sizes = [size for link in ctx.robot.links for size in _primitive_sizes(link) if size > 0]
