@@ -451,13 +451,14 @@ def _read_for_pool(path: str) -> tuple[str, MeshFacts | str]:
 # -- public entry points -------------------------------------------------------------
 
 
-def facts_for(path: str) -> MeshFacts:
-    """The facts of the mesh at *path*, from memory, the disk cache, or by reading it.
+def facts_for(path: str, status: os.stat_result | None = None) -> MeshFacts:
+    """The facts of the mesh at *path*, from memory, the disk cache, or by reading it;
+    *status*: its ``os.stat``, when the caller has it.
 
     Raises :class:`MeshError`.
     """
     try:
-        key = content_key(path)
+        key = content_key(path, status)
     except OSError as exc:
         raise MeshError(exc.strerror or str(exc)) from exc
     result = _recall(key)

@@ -21,6 +21,7 @@ else:
     from urdftool.lazy import numpy as np
 
 from urdftool.facts.context import CheckContext
+from urdftool.facts.meshes import status
 from urdftool.model import Geometry, Inertial, Link, Mesh
 from urdftool.physics import linkmass
 from urdftool.physics.inertia import (
@@ -31,7 +32,7 @@ from urdftool.physics.inertia import (
     principal_moments_many,
 )
 from urdftool.physics.linkmass import InertiaComparison, Moments, Prepared
-from urdftool.physics.massprops import SolidProperties, geometry_properties
+from urdftool.physics.massprops import SolidProperties, geometry_properties, mesh_properties
 
 
 def declared_verdict(ctx: CheckContext, inertial: Inertial, abs_tol: float = 0.0) -> InertiaVerdict:
@@ -209,7 +210,9 @@ def _measurer(ctx: CheckContext) -> linkmass.Measure:
         # The file name is in the key because the solid's label quotes it.
         key = (geometry.resolved, geometry.filename, geometry.scale)
         if key not in meshes:
-            meshes[key] = geometry_properties(geometry)
+            # the mesh survey's status of the file: one os.stat per file per check
+            known = status(ctx, geometry.resolved) if geometry.resolved is not None else None
+            meshes[key] = mesh_properties(geometry, known)
         return meshes[key]
 
     ctx.cache["mesh-measurer"] = measure

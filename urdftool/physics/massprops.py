@@ -15,6 +15,7 @@ theorem). Overlapping shapes count twice; URDF gives no way to tell.
 from __future__ import annotations
 
 import math
+import os
 import sys
 from collections.abc import Iterable
 
@@ -119,8 +120,9 @@ def shape_properties(geometry: Geometry) -> SolidProperties | None:
     return None
 
 
-def mesh_properties(mesh: Mesh) -> SolidProperties | None:
-    """The unit-density properties of a mesh file (after ``scale``), in the mesh frame.
+def mesh_properties(mesh: Mesh, status: os.stat_result | None = None) -> SolidProperties | None:
+    """The unit-density properties of a mesh file (after ``scale``), in the mesh frame; *status*:
+    the file's ``os.stat``, when the caller has it.
 
     A closed (watertight) mesh is measured as the solid it encloses; an open one
     by its convex hull, which is exact for convex parts and over-estimates
@@ -130,7 +132,7 @@ def mesh_properties(mesh: Mesh) -> SolidProperties | None:
     if mesh.resolved is None:
         return None
     try:
-        facts = facts_for(mesh.resolved)
+        facts = facts_for(mesh.resolved, status)
     except MeshError:
         return None
     return _scaled_mesh(facts, mesh.scale, f"mesh {mesh.filename.rsplit('/', 1)[-1]}")
