@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import functools
-from collections.abc import Iterable
+from collections.abc import Callable, Iterable
 from typing import TYPE_CHECKING
 
 from urdftool.lazy import LazyModule
@@ -49,7 +49,8 @@ def _closest(word: str, candidates: Iterable[str], cutoff: float) -> str | None:
     bounded: list[tuple[float, str]] = []
     for candidate in set(candidates):
         length = len(candidate) + size
-        if _ratio(min(len(candidate), size), length) >= cutoff:
+        # _ratio(min(len(candidate), size), length), written out: this runs for every name.
+        if not length or 2.0 * min(len(candidate), size) / length >= cutoff:
             bound = _ratio(sum(map(min, map(candidate.count, letters), counts)), length)
             if bound >= cutoff:
                 bounded.append((bound, candidate))
@@ -77,3 +78,19 @@ def did_you_mean(word: str, candidates: Iterable[str]) -> str:
     """``"; did you mean 'x'?"`` or the empty string."""
     match = closest(word, candidates)
     return f"; did you mean '{match}'?" if match else ""
+
+
+def suggester(candidates: Iterable[str]) -> Callable[[str], str]:
+    """:func:`did_you_mean` against one set of names, each word answered once: a model that
+    misspells one name in several places (four ``<gazebo>`` blocks of one caster, a link in many
+    SRDF entries) pays for one search among its names, not one per place."""
+    names = set(candidates)
+    answers: dict[str, str] = {}
+
+    def suggest(word: str) -> str:
+        answer = answers.get(word)
+        if answer is None:
+            answer = answers[word] = did_you_mean(word, names)
+        return answer
+
+    return suggest

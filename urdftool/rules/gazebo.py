@@ -13,7 +13,7 @@ from collections.abc import Iterable, Iterator
 from typing import Any
 
 from urdftool.catalogue.registry import Family, Rule, register
-from urdftool.catalogue.suggest import did_you_mean
+from urdftool.catalogue.suggest import suggester
 from urdftool.diagnostics import Diagnostic, Severity
 from urdftool.facts import ros2_control as rc
 from urdftool.facts.context import CheckContext
@@ -121,13 +121,14 @@ class GazeboReferenceMissing(_Gazebo):
             for child in block
             if isinstance(child.tag, str) and child.tag in ("link", "joint") and (name := child.get("name"))
         }
+        suggest = suggester(names)
         for block in blocks:
             reference = block.get("reference")
             if reference is None or reference in names or "$" in reference:
                 continue
             yield self.diagnostic(
                 f'<gazebo reference="{reference}"> names no link or joint'
-                + did_you_mean(reference, names),
+                + suggest(reference),
                 span_of(block),
                 element=f"gazebo[{reference}]",
                 help="Gazebo ignores the whole block; use the exact name of a link or joint",
@@ -217,12 +218,13 @@ def _joint_refs(
     joints = {joint.name: joint for joint in ctx.robot.joints}
     extra = gz.gazebo_defined_joints(ctx.robot)
     kept = gz.preserved_fixed_joints(ctx.robot)
+    suggest = suggester(joints)
     for ref in refs:
         joint = joints.get(ref.name)
         if joint is None and ref.name not in extra:
             yield rule.diagnostic(
                 f"{ref.owner} names joint '{ref.name}', which the robot does not have"
-                + did_you_mean(ref.name, joints),
+                + suggest(ref.name),
                 span_of(ref.element),
                 element=f"{what}/{ref.element.tag}[{ref.name}]",
                 help="use the exact name of one of the robot's joints",
