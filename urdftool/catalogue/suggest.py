@@ -43,15 +43,20 @@ def _closest(word: str, candidates: Iterable[str], cutoff: float) -> str | None:
     # Both bounds are computed here as difflib computes them (real_quick_ratio: the shorter
     # length; quick_ratio: the letters in common, counted with multiplicity), the same floats,
     # without a matcher per name: str.count over the word's distinct letters, in C.
+    # A letter the word holds once is in common when the name has it at all: one set
+    # intersection for those (most of a name's letters), a count only for the repeated ones.
     letters = tuple(dict.fromkeys(word))
-    counts = tuple(word.count(letter) for letter in letters)
+    once = frozenset(letter for letter in letters if word.count(letter) == 1)
+    repeated = tuple(letter for letter in letters if letter not in once)
+    counts = tuple(word.count(letter) for letter in repeated)
     size = len(word)
     bounded: list[tuple[float, str]] = []
     for candidate in set(candidates):
         length = len(candidate) + size
         # _ratio(min(len(candidate), size), length), written out: this runs for every name.
         if not length or 2.0 * min(len(candidate), size) / length >= cutoff:
-            bound = _ratio(sum(map(min, map(candidate.count, letters), counts)), length)
+            common = len(once.intersection(candidate)) + sum(map(min, map(candidate.count, repeated), counts))
+            bound = _ratio(common, length)
             if bound >= cutoff:
                 bounded.append((bound, candidate))
     if not bounded:

@@ -438,7 +438,7 @@ class MimicTargetMissing(_Joints):
 
     def check(self, ctx: CheckContext) -> Iterator[Diagnostic]:
         names = {joint.name for joint in ctx.robot.joints}
-        suggest = suggester(names)  # fingers of one hand often mimic the same misspelt joint
+        suggest = suggester(names)  # both hands of a robot may mimic the same missing joint
         for joint in ctx.robot.joints:
             mimic = joint.mimic
             if mimic is None or mimic.joint in names:
@@ -446,8 +446,7 @@ class MimicTargetMissing(_Joints):
             yield self.diagnostic(
                 f"joint '{joint.name}' mimics '{mimic.joint}', which is not a joint of this robot"
                 + suggest(mimic.joint),
-                mimic.span or joint.span,
-                element=_where(joint, "mimic"),
+                mimic.span or joint.span, element=_where(joint, "mimic"),
                 data={"target": mimic.joint},
             )
 
