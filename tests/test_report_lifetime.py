@@ -8,14 +8,17 @@ no reference cycles for the collector (``check_file`` pauses it while the model 
 
 from __future__ import annotations
 
+import dataclasses
 import gc
+from typing import Any
 
 import pytest
 from lxml import etree
 
 from tests.conftest import FIXTURES, erd_urdfs
+from urdftool.diagnostics import Applicability, Diagnostic, Edit, Fix, Related, Severity
 from urdftool.pipeline.check import CheckOptions, check_file
-from urdftool.source import Span, is_deferred
+from urdftool.source import Span, deferred_span, is_deferred
 
 #: rule fixtures whose findings are located by the reader: on an element (S008), on an
 #: attribute (S009), on a repeated element (S007); and a real robot with findings (PR2)
@@ -81,3 +84,28 @@ def test_settled_span_keeps_every_field() -> None:
     located = [d for r in reports for d in r.diagnostics if d.code == "S009"]
     assert located and all(d.location.line and d.location.column for d in located)
     assert all(type(d.location) is Span for d in located)
+
+
+def test_detached_keeps_every_field_of_a_finding() -> None:
+    """``Diagnostic.detached`` builds the finding field by field (not by ``dataclasses.replace``):
+    every field, including one added to the record later, must come through, with its spans
+    settled."""
+    deferred = deferred_span("robot.urdf", lambda key: Span("robot.urdf", 3, 5), "link")
+    values: dict[str, Any] = {
+        "code": "X999", "name": "some-rule", "severity": Severity.WARNING, "message": "a message",
+        "location": deferred, "element": "link[a]", "help": "a help", "data": {"mass": 1.5},
+        "related": (Related(deferred, "the other"),),
+        "fix": Fix("a fix", (Edit(deferred, "text"),), Applicability.UNSAFE),
+    }
+    assert [f.name for f in dataclasses.fields(Diagnostic)] == list(values), \
+        "a field was added to Diagnostic: give it a value here and keep it in Diagnostic.detached"
+    kept = Diagnostic(**values).detached()
+    plain = Span("robot.urdf", 3, 5)
+    assert type(kept.location) is Span and kept.location == plain
+    assert kept.related == (Related(plain, "the other"),) and type(kept.related[0].span) is Span
+    assert kept.fix == Fix("a fix", (Edit(plain, "text"),), Applicability.UNSAFE)
+    assert type(kept.fix.edits[0].span) is Span
+    for name in ("code", "name", "severity", "message", "element", "help", "data"):
+        assert getattr(kept, name) is values[name]
+    already = Diagnostic("X999", "some-rule", Severity.ERROR, "m", plain)
+    assert already.detached() is already

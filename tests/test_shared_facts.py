@@ -20,7 +20,7 @@ import numpy as np
 import pytest
 
 from tests.conftest import ERD, erd_urdfs
-from urdftool.catalogue.suggest import closest
+from urdftool.catalogue.suggest import closest, did_you_mean, suggester
 from urdftool.facts import home, link_mass
 from urdftool.facts.context import CheckContext
 from urdftool.model import Box, Collision, Joint, JointType, KinematicTree, Link, Mimic, Pose, Robot, Visual
@@ -51,6 +51,16 @@ def test_closest_is_difflibs_best_match(cutoff: float) -> None:
         # a fixed vocabulary's answers are kept: asked twice, the same answer as for a list
         assert closest(word, frozenset(names), cutoff) == closest(word, frozenset(names), cutoff) \
             == closest(word, names, cutoff)
+
+
+def test_suggester_answers_as_did_you_mean() -> None:
+    """A rule's suggester answers each word once, with did_you_mean's answer among the same names."""
+    rng = random.Random(11)
+    for _ in range(200):
+        names = [_name(rng) for _ in range(rng.randint(0, 40))]
+        suggest = suggester(names)
+        for word in [_name(rng) for _ in range(5)] * 2:  # each word asked twice
+            assert suggest(word) == did_you_mean(word, names), (word, names)
 
 
 def _robots() -> list[Robot]:

@@ -188,8 +188,12 @@ def test_collision_pairs_are_built_when_first_read_and_pickle_built(tmp_path: Pa
     assert [(d.name, d.location.line if d.location else None) for d in srdf.diagnostics] == [
         ("missing-attribute", 3)]
     assert "collisions" not in vars(srdf)  # not built yet
+    # The rules test every pair's names first, without building the pairs and their spans.
+    names = [("base", "upper", "Adjacent", False), ("upper", "lower", None, True)]
+    assert srdf.collision_names == names and "collisions" not in vars(srdf)
     pairs = [(p.link1.name, p.link2.name, p.reason, p.enable, p.span.line if p.span else None)
              for p in srdf.collisions]
     assert pairs == [("base", "upper", "Adjacent", False, 2), ("upper", "lower", None, True, 4)]
     copied = pickle.loads(pickle.dumps(read_srdf(str(path))))
     assert copied.collisions == srdf.collisions and copied.collision_pairs is None
+    assert copied.collision_names == names and copied.collision_names_of is None

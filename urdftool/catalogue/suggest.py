@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import functools
-from collections.abc import Iterable
+from collections.abc import Callable, Iterable
 from typing import TYPE_CHECKING
 
 from urdftool.lazy import LazyModule
@@ -43,14 +43,20 @@ def _closest(word: str, candidates: Iterable[str], cutoff: float) -> str | None:
     # Both bounds are computed here as difflib computes them (real_quick_ratio: the shorter
     # length; quick_ratio: the letters in common, counted with multiplicity), the same floats,
     # without a matcher per name: str.count over the word's distinct letters, in C.
+    # A letter the word holds once is in common when the name has it at all: one set
+    # intersection for those (most of a name's letters), a count only for the repeated ones.
     letters = tuple(dict.fromkeys(word))
-    counts = tuple(word.count(letter) for letter in letters)
+    once = frozenset(letter for letter in letters if word.count(letter) == 1)
+    repeated = tuple(letter for letter in letters if letter not in once)
+    counts = tuple(word.count(letter) for letter in repeated)
     size = len(word)
     bounded: list[tuple[float, str]] = []
     for candidate in set(candidates):
         length = len(candidate) + size
-        if _ratio(min(len(candidate), size), length) >= cutoff:
-            bound = _ratio(sum(map(min, map(candidate.count, letters), counts)), length)
+        # _ratio(min(len(candidate), size), length), written out: this runs for every name.
+        if not length or 2.0 * min(len(candidate), size) / length >= cutoff:
+            common = len(once.intersection(candidate)) + sum(map(min, map(candidate.count, repeated), counts))
+            bound = _ratio(common, length)
             if bound >= cutoff:
                 bounded.append((bound, candidate))
     if not bounded:
@@ -77,3 +83,19 @@ def did_you_mean(word: str, candidates: Iterable[str]) -> str:
     """``"; did you mean 'x'?"`` or the empty string."""
     match = closest(word, candidates)
     return f"; did you mean '{match}'?" if match else ""
+
+
+def suggester(candidates: Iterable[str]) -> Callable[[str], str]:
+    """:func:`did_you_mean` against one set of names, each word answered once: a model that
+    misspells one name in several places (four ``<gazebo>`` blocks of one caster, a link in many
+    SRDF entries) pays for one search among its names, not one per place."""
+    names = set(candidates)
+    answers: dict[str, str] = {}
+
+    def suggest(word: str) -> str:
+        answer = answers.get(word)
+        if answer is None:
+            answer = answers[word] = did_you_mean(word, names)
+        return answer
+
+    return suggest

@@ -121,6 +121,10 @@ class CollisionPair:
     enable: bool = False
 
 
+#: ``(link1, link2, reason, enable)`` of a collision entry (:attr:`Srdf.collision_names`)
+PairNames = tuple[str, str, str | None, bool]
+
+
 @record(frozen=False)
 class Srdf:
     """One SRDF file, read; ``diagnostics`` are the reader's findings."""
@@ -140,6 +144,8 @@ class Srdf:
     files: list[str] = field(default_factory=list)
     #: builds :attr:`collisions` when they are first read (``None``: there are none)
     collision_pairs: Callable[[], list[CollisionPair]] | None = field(default=None, repr=False, compare=False)
+    #: builds :attr:`collision_names` when they are first read (``None``: from :attr:`collisions`)
+    collision_names_of: Callable[[], list[PairNames]] | None = field(default=None, repr=False, compare=False)
 
     @functools.cached_property
     def collisions(self) -> list[CollisionPair]:
@@ -149,13 +155,22 @@ class Srdf:
         reported the entries it skips."""
         return self.collision_pairs() if self.collision_pairs is not None else []
 
+    @functools.cached_property
+    def collision_names(self) -> list[PairNames]:
+        """``(link1, link2, reason, enable)`` of each pair of :attr:`collisions`, in the same order,
+        without their spans and records: what a rule tests every pair for, at a fifth of the cost
+        of building the pairs. A rule reads :attr:`collisions` only when a pair has a finding."""
+        if self.collision_names_of is None or "collisions" in self.__dict__:
+            return [(p.link1.name, p.link2.name, p.reason, p.enable) for p in self.collisions]
+        return self.collision_names_of()
+
     def group(self, name: str) -> Group | None:
         return next((g for g in self.groups if g.name == name), None)
 
     def __getstate__(self) -> dict[str, object]:
         """Pickled with its pairs built, and without the reader that builds them."""
         state = dict(self.__dict__)
-        state.update(collisions=self.collisions, collision_pairs=None)
+        state.update(collisions=self.collisions, collision_pairs=None, collision_names_of=None)
         return state
 
 
@@ -279,6 +294,7 @@ class _Reader:
                 self.unknown(element, where, SRDF_ELEMENTS)
         if pairs:
             srdf.collision_pairs = functools.partial(self.collision_pairs, pairs)
+            srdf.collision_names_of = functools.partial(_collision_names, pairs)
         srdf.diagnostics = self.diagnostics
         return srdf
 
@@ -392,6 +408,12 @@ class _Reader:
         return pairs
 
 
+def _collision_names(elements: list[etree._Element]) -> list[PairNames]:
+    """The names of :meth:`_Reader.collision_pairs`, without their spans and records."""
+    return [((e.get("link1") or "").strip(), (e.get("link2") or "").strip(), e.get("reason"),
+             e.tag == "enable_collisions") for e in elements]
+
+
 __all__ = [
     "KNOWN_REASONS",
     "VIRTUAL_JOINT_TYPES",
@@ -402,6 +424,7 @@ __all__ = [
     "GroupState",
     "JointValue",
     "Named",
+    "PairNames",
     "Srdf",
     "VirtualJoint",
     "is_srdf_xacro",

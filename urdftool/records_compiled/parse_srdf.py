@@ -87,7 +87,7 @@ def _init_parse_srdf_Named(__defaults__, __factories__, __sentinel__, __set__, _
 
 # urdftool.parse.srdf.Srdf
 def _init_parse_srdf_Srdf(__defaults__, __factories__, __sentinel__, __set__, __slot__):
-    def __init__(self, path, robot_name=__defaults__['robot_name'], groups=__sentinel__, group_states=__sentinel__, end_effectors=__sentinel__, virtual_joints=__sentinel__, passive_joints=__sentinel__, default_disabled=__sentinel__, diagnostics=__sentinel__, span=__defaults__['span'], files=__sentinel__, collision_pairs=__defaults__['collision_pairs']):
+    def __init__(self, path, robot_name=__defaults__['robot_name'], groups=__sentinel__, group_states=__sentinel__, end_effectors=__sentinel__, virtual_joints=__sentinel__, passive_joints=__sentinel__, default_disabled=__sentinel__, diagnostics=__sentinel__, span=__defaults__['span'], files=__sentinel__, collision_pairs=__defaults__['collision_pairs'], collision_names_of=__defaults__['collision_names_of']):
         self.path = path
         self.robot_name = robot_name
         self.groups = __factories__['groups']() if groups is __sentinel__ else groups
@@ -100,6 +100,7 @@ def _init_parse_srdf_Srdf(__defaults__, __factories__, __sentinel__, __set__, __
         self.span = span
         self.files = __factories__['files']() if files is __sentinel__ else files
         self.collision_pairs = collision_pairs
+        self.collision_names_of = collision_names_of
     return __init__
 
 
@@ -123,6 +124,6 @@ COMPILED = {
     'urdftool.parse.srdf.GroupState': ('name,group,joints=,span=|slots', _init_parse_srdf_GroupState),
     'urdftool.parse.srdf.JointValue': ('name,values,span=|slots', _init_parse_srdf_JointValue),
     'urdftool.parse.srdf.Named': ('name,span=|slots', _init_parse_srdf_Named),
-    'urdftool.parse.srdf.Srdf': ('path,robot_name=,groups*,group_states*,end_effectors*,virtual_joints*,passive_joints*,default_disabled*,diagnostics*,span=,files*,collision_pairs=|plain', _init_parse_srdf_Srdf),
+    'urdftool.parse.srdf.Srdf': ('path,robot_name=,groups*,group_states*,end_effectors*,virtual_joints*,passive_joints*,default_disabled*,diagnostics*,span=,files*,collision_pairs=,collision_names_of=|plain', _init_parse_srdf_Srdf),
     'urdftool.parse.srdf.VirtualJoint': ('name,type,parent_frame,child_link,span=|slots', _init_parse_srdf_VirtualJoint),
 }

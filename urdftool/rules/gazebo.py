@@ -13,8 +13,9 @@ from collections.abc import Iterable, Iterator
 from typing import Any
 
 from urdftool.catalogue.registry import Family, Rule, register
-from urdftool.catalogue.suggest import did_you_mean
+from urdftool.catalogue.suggest import suggester
 from urdftool.diagnostics import Diagnostic, Severity
+from urdftool.facts import gazebo
 from urdftool.facts import ros2_control as rc
 from urdftool.facts.context import CheckContext
 from urdftool.model import Extension, JointType, Link
@@ -111,7 +112,7 @@ class GazeboReferenceMissing(_Gazebo):
 
     def check(self, ctx: CheckContext) -> Iterator[Diagnostic]:
         names = {link.name for link in ctx.robot.links} | {joint.name for joint in ctx.robot.joints}
-        blocks = list(gz.gazebo_blocks(ctx.robot))
+        blocks = gazebo.gazebo_blocks(ctx)
         # A reference-less block may hold raw SDF <link>/<joint> elements that Gazebo merges into
         # the model (PR2's gripper parallel links); they are as real as the URDF's own.
         names |= {
@@ -121,13 +122,14 @@ class GazeboReferenceMissing(_Gazebo):
             for child in block
             if isinstance(child.tag, str) and child.tag in ("link", "joint") and (name := child.get("name"))
         }
+        suggest = suggester(names)
         for block in blocks:
             reference = block.get("reference")
             if reference is None or reference in names or "$" in reference:
                 continue
             yield self.diagnostic(
                 f'<gazebo reference="{reference}"> names no link or joint'
-                + did_you_mean(reference, names),
+                + suggest(reference),
                 span_of(block),
                 element=f"gazebo[{reference}]",
                 help="Gazebo ignores the whole block; use the exact name of a link or joint",
@@ -207,7 +209,7 @@ class PluginJointMissing(_Gazebo):
     severity = Severity.ERROR
 
     def check(self, ctx: CheckContext) -> Iterator[Diagnostic]:
-        refs = (ref for plugin in gz.plugins(ctx.robot) for ref in gz.plugin_joint_refs(plugin))
+        refs = (ref for plugin in gazebo.plugins(ctx) for ref in gz.plugin_joint_refs(plugin))
         yield from _joint_refs(self, ctx, refs, "plugin")
 
 
@@ -215,14 +217,15 @@ def _joint_refs(
     rule: Rule, ctx: CheckContext, refs: Iterable[gz.JointRef], what: str
 ) -> Iterator[Diagnostic]:
     joints = {joint.name: joint for joint in ctx.robot.joints}
-    extra = gz.gazebo_defined_joints(ctx.robot)
-    kept = gz.preserved_fixed_joints(ctx.robot)
+    extra = gazebo.defined_joints(ctx)
+    kept = gazebo.preserved_fixed_joints(ctx)
+    suggest = suggester(joints)
     for ref in refs:
         joint = joints.get(ref.name)
         if joint is None and ref.name not in extra:
             yield rule.diagnostic(
                 f"{ref.owner} names joint '{ref.name}', which the robot does not have"
-                + did_you_mean(ref.name, joints),
+                + suggest(ref.name),
                 span_of(ref.element),
                 element=f"{what}/{ref.element.tag}[{ref.name}]",
                 help="use the exact name of one of the robot's joints",
@@ -280,7 +283,7 @@ class DriveGeometryMismatch(_Gazebo):
 
     def check(self, ctx: CheckContext) -> Iterator[Diagnostic]:
         yield from self._controllers(ctx)
-        plugins = list(gz.drive_plugins(ctx.robot))
+        plugins = list(gz.drive_plugins(gazebo.plugins(ctx)))
         if not plugins:
             return
         poses = ctx.tree.forward_kinematics()
@@ -470,7 +473,7 @@ class SdfElementInUrdf(_Gazebo):
         )
 
     def _legacy_keys(self, ctx: CheckContext) -> Iterator[Diagnostic]:
-        for block, child in gz.legacy_value_keys(ctx.robot):
+        for block, child in gz.legacy_value_keys(gazebo.gazebo_blocks(ctx)):
             value = child.get("value")
             where = (
                 f'<gazebo reference="{block.get("reference")}">'

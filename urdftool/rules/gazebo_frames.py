@@ -20,6 +20,7 @@ from typing import Any
 from urdftool.catalogue.registry import Family, Rule, register
 from urdftool.catalogue.suggest import did_you_mean
 from urdftool.diagnostics import Diagnostic, Severity
+from urdftool.facts import gazebo
 from urdftool.facts.context import CheckContext
 from urdftool.parse.locate import span_of
 from urdftool.rules import gazebo_plugins as gz
@@ -28,6 +29,7 @@ from urdftool.rules import gazebo_plugins as gz
 BODY_TAGS = frozenset({"bodyName", "body_name"})
 #: Plugin children whose text names the TF frame the plugin publishes in.
 FRAME_TAGS = frozenset({"robotBaseFrame", "robot_base_frame", "frameName", "frame_name"})
+_NAMING_TAGS = BODY_TAGS | FRAME_TAGS
 #: Frames that are not links of a robot by convention (REP 105) or by Gazebo's naming.
 EXTERNAL_FRAMES = frozenset({"world", "map", "odom", "earth", "/world", "/map", "/odom"})
 
@@ -76,12 +78,12 @@ class PluginFrameMissing(Rule):
 
     def check(self, ctx: CheckContext) -> Iterator[Diagnostic]:
         links = {link.name for link in ctx.robot.links}
-        for plugin in gz.plugins(ctx.robot):
+        for plugin in gazebo.plugins(ctx):
             if not _is_gazebo_ros(plugin):
                 continue
             label = gz.plugin_label(plugin)
             for child in plugin:
-                if not isinstance(child.tag, str) or child.tag not in BODY_TAGS | FRAME_TAGS:
+                if not isinstance(child.tag, str) or child.tag not in _NAMING_TAGS:
                     continue
                 name = gz.text_of(child)
                 if (

@@ -15,10 +15,11 @@ Element tags are those of the plugins' own documentation:
 from __future__ import annotations
 
 import re
-from collections.abc import Iterator
+from collections.abc import Iterable, Iterator
 from dataclasses import field
 from typing import Any
 
+from urdftool.facts import gazebo as facts
 from urdftool.model import Robot
 from urdftool.records import record
 from urdftool.source import SRC_ATTRIBUTE
@@ -75,21 +76,12 @@ class JointRef:
     owner: str
 
 
-def gazebo_blocks(robot: Robot) -> Iterator[Any]:
-    """Every top-level ``<gazebo>`` element, as lxml elements."""
-    for extension in robot.extensions:
-        if extension.tag == "gazebo" and extension.element is not None:
-            yield extension.element
-
-
-def plugins(robot: Robot) -> Iterator[Any]:
-    """Every ``<plugin>`` in ``<gazebo>`` blocks (at any depth: sensors carry plugins too)
-    and at the top level of the robot."""
-    for block in gazebo_blocks(robot):
-        yield from block.iter("plugin")
-    for extension in robot.extensions:
-        if extension.tag == "plugin" and extension.element is not None:
-            yield extension.element
+#: Every top-level ``<gazebo>`` element, as lxml elements. A rule asks
+#: :func:`urdftool.facts.gazebo.gazebo_blocks` instead, which finds them once per model.
+gazebo_blocks = facts.blocks_of
+#: Every ``<plugin>`` in ``<gazebo>`` blocks (at any depth: sensors carry plugins too) and at the
+#: top level of the robot; once per model: :func:`urdftool.facts.gazebo.plugins`.
+plugins = facts.plugins_of
 
 
 def plugin_label(plugin: Any) -> str:
@@ -146,29 +138,6 @@ def _named(element: Any, owner: str) -> Iterator[JointRef]:
         yield JointRef(name, element, owner)
 
 
-def preserved_fixed_joints(robot: Robot) -> set[str]:
-    """Fixed joints that Gazebo keeps (``preserveFixedJoint`` or ``disableFixedJointLumping``)."""
-    kept: set[str] = set()
-    for block in gazebo_blocks(robot):
-        reference = block.get("reference")
-        for child in block:
-            if child.tag in ("preserveFixedJoint", "disableFixedJointLumping") and reference:
-                value = (child.get("value") or text_of(child)).lower()
-                if value in ("true", "yes", "1"):
-                    kept.add(reference)
-    return kept
-
-
-def gazebo_defined_joints(robot: Robot) -> set[str]:
-    """Joints defined in SDF inside ``<gazebo>`` blocks (Gazebo adds them to the model)."""
-    names: set[str] = set()
-    for block in gazebo_blocks(robot):
-        for child in block:
-            if child.tag == "joint" and child.get("name"):
-                names.add(child.get("name"))
-    return names
-
-
 # -- drive plugins -------------------------------------------------------------------------
 
 
@@ -199,8 +168,9 @@ def drive_kind(plugin: Any) -> str | None:
     return None
 
 
-def drive_plugins(robot: Robot) -> Iterator[DrivePlugin]:
-    for plugin in plugins(robot):
+def drive_plugins(elements: Iterable[Any]) -> Iterator[DrivePlugin]:
+    """The drive plugins among the ``<plugin>`` *elements* (:func:`urdftool.facts.gazebo.plugins`)."""
+    for plugin in elements:
         kind = drive_kind(plugin)
         if kind is not None:
             yield _read_drive(plugin, kind)
@@ -240,9 +210,10 @@ def _number(element: Any) -> float | None:
         return None
 
 
-def legacy_value_keys(robot: Robot) -> Iterator[tuple[Any, Any]]:
-    """``(gazebo block, child)`` for each child written ``<key value="…"/>`` with no text."""
-    for block in gazebo_blocks(robot):
+def legacy_value_keys(blocks: Iterable[Any]) -> Iterator[tuple[Any, Any]]:
+    """``(gazebo block, child)`` for each child of the ``<gazebo>`` *blocks*
+    (:func:`urdftool.facts.gazebo.gazebo_blocks`) written ``<key value="…"/>`` with no text."""
+    for block in blocks:
         for child in block:
             if not isinstance(child.tag, str) or child.tag.startswith("{"):
                 continue

@@ -16,6 +16,7 @@ from typing import Any
 from urdftool.catalogue.registry import Family, Rule, register
 from urdftool.catalogue.suggest import closest, did_you_mean
 from urdftool.diagnostics import Diagnostic, Severity
+from urdftool.facts import gazebo
 from urdftool.facts import ros2_control as rc
 from urdftool.facts.context import CheckContext
 from urdftool.model import JointType, Robot
@@ -34,7 +35,7 @@ def systems(ctx: CheckContext) -> list[known.System]:
     """Every gz-sim system of the model (and of its world), read once."""
     key = ("gz-systems",)
     if key not in ctx.cache:
-        elements = [*gz.plugins(ctx.robot), *ctx.robot.world_plugins]
+        elements = [*gazebo.plugins(ctx), *ctx.robot.world_plugins]
         ctx.cache[key] = [s for e in elements if (s := known.read_system(e)) is not None]
     return ctx.cache[key]  # type: ignore[no-any-return]
 
@@ -154,9 +155,11 @@ class SystemLinkMissing(_GzSim):
     severity = Severity.ERROR
 
     def check(self, ctx: CheckContext) -> Iterator[Diagnostic]:
+        if not systems(ctx):
+            return  # most models: no gz-sim system, so no link named by one
         names = {link.name for link in ctx.robot.links} | _gazebo_links(ctx.robot)
         parents = {joint.child: joint for joint in ctx.robot.joints}
-        kept = gz.preserved_fixed_joints(ctx.robot)
+        kept = gazebo.preserved_fixed_joints(ctx)
         urdf = ctx.robot.format in ("urdf", "xacro")
         world = {id(e) for e in ctx.robot.world_plugins}
         for system in systems(ctx):
@@ -437,7 +440,7 @@ class Ros2ControlPluginMismatch(_GzSim):
     def check(self, ctx: CheckContext) -> Iterator[Diagnostic]:
         if ctx.robot.format not in ("urdf", "xacro") or not ctx.robot.links:
             return
-        found = [(p, f) for p in gz.plugins(ctx.robot) if (f := known.ros2_control_flavour(p)) is not None]
+        found = [(p, f) for p in gazebo.plugins(ctx) if (f := known.ros2_control_flavour(p)) is not None]
         if not found:
             return
         blocks = rc.blocks(ctx)

@@ -18,6 +18,7 @@ from typing import Any
 
 from urdftool.catalogue.registry import Family, Rule, register
 from urdftool.diagnostics import Diagnostic, Severity
+from urdftool.facts import gazebo
 from urdftool.facts.context import CheckContext
 from urdftool.model import JointType, Robot
 from urdftool.parse.locate import span_of
@@ -135,10 +136,12 @@ class SensorSystemMissing(_GzWorld):
     def check(self, ctx: CheckContext) -> Iterator[Diagnostic]:
         world = world_plugins(ctx.robot)
         listed = [s for p in world if (s := known.read_system(p)) is not None]
-        own = [s for p in gz.plugins(ctx.robot) if (s := known.read_system(p)) is not None]
+        if not listed and (world or ctx.robot.world is None):
+            return  # no world, or a world of another simulator
+        own = [s for p in gazebo.plugins(ctx) if (s := known.read_system(p)) is not None]
         if listed:
             severity = None
-        elif not world and ctx.robot.world is not None and (own or _gz_gui(ctx.robot.world)):
+        elif own or _gz_gui(ctx.robot.world):
             # No world plugin: gz-sim loads a server configuration, whose installed default
             # (Physics, UserCommands, SceneBroadcaster) runs no sensor; GZ_SIM_SERVER_CONFIG_PATH
             # may name one that does (PX4's worlds rely on it), so this is only an info.
@@ -231,6 +234,8 @@ class ClassicPluginInGzSim(_GzWorld):
 
     def check(self, ctx: CheckContext) -> Iterator[Diagnostic]:
         world = world_plugins(ctx.robot)
+        if not world:
+            return  # a model read alone, or a world without plugins: neither kind of runner is known
         world_gz = any(known.read_system(p) is not None for p in world)
         world_classic = any(classic_plugin(p) for p in world)
         first = bool(ctx.robot.world_plugins)  # the world's own plugins are reported with its first model

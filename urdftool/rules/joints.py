@@ -11,7 +11,7 @@ import math
 from collections.abc import Iterator
 
 from urdftool.catalogue.registry import Family, Rule, register
-from urdftool.catalogue.suggest import did_you_mean
+from urdftool.catalogue.suggest import suggester
 from urdftool.diagnostics import Diagnostic, Severity
 from urdftool.facts.context import CheckContext
 from urdftool.model import Joint, JointType, Limit, Robot
@@ -438,15 +438,15 @@ class MimicTargetMissing(_Joints):
 
     def check(self, ctx: CheckContext) -> Iterator[Diagnostic]:
         names = {joint.name for joint in ctx.robot.joints}
+        suggest = suggester(names)  # both hands of a robot may mimic the same missing joint
         for joint in ctx.robot.joints:
             mimic = joint.mimic
             if mimic is None or mimic.joint in names:
                 continue
             yield self.diagnostic(
                 f"joint '{joint.name}' mimics '{mimic.joint}', which is not a joint of this robot"
-                + did_you_mean(mimic.joint, names),
-                mimic.span or joint.span,
-                element=_where(joint, "mimic"),
+                + suggest(mimic.joint),
+                mimic.span or joint.span, element=_where(joint, "mimic"),
                 data={"target": mimic.joint},
             )
 

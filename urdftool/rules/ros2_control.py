@@ -14,6 +14,7 @@ from collections.abc import Iterator
 from urdftool.catalogue.registry import Family, Rule, register
 from urdftool.catalogue.suggest import closest
 from urdftool.diagnostics import Diagnostic, Severity
+from urdftool.facts import gazebo
 from urdftool.facts import ros2_control as rc
 from urdftool.facts.context import CheckContext
 from urdftool.model import JointType
@@ -87,10 +88,8 @@ class HardwareMissing(_Ros2Control):
                     "mock_components/GenericSystem, or gz_ros2_control/GazeboSimSystem",
                     data={"block": block.name},
                 )
-        for extension in ctx.robot.extensions:
-            if extension.tag != "gazebo" or extension.element is None:
-                continue
-            for nested in extension.element.iter("ros2_control"):
+        for gazebo_block in gazebo.gazebo_blocks(ctx):
+            for nested in gazebo_block.iter("ros2_control"):
                 yield self.diagnostic(
                     f"ros2_control '{nested.get('name') or 'unnamed'}' is inside <gazebo>; the "
                     "controller manager reads only top-level <ros2_control> blocks",
@@ -413,8 +412,11 @@ class MimicInconsistent(_Ros2Control):
     severity = Severity.ERROR
 
     def check(self, ctx: CheckContext) -> Iterator[Diagnostic]:
+        blocks = rc.blocks(ctx)
+        if not blocks:
+            return  # most models: no <ros2_control>, and no joint to look up
         joints = {joint.name: joint for joint in ctx.robot.joints}
-        for block in rc.blocks(ctx):
+        for block in blocks:
             for component in block.joints():
                 joint = joints.get(component.name)
                 if joint is None:

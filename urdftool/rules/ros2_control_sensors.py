@@ -16,6 +16,7 @@ from collections.abc import Iterator
 from urdftool.catalogue.registry import Family, Rule, register
 from urdftool.catalogue.suggest import did_you_mean
 from urdftool.diagnostics import Diagnostic, Severity
+from urdftool.facts import gazebo
 from urdftool.facts import ros2_control as rc
 from urdftool.facts.context import CheckContext
 from urdftool.parse.locate import span_of
@@ -54,14 +55,18 @@ class _Sensors(Rule):
 
 
 def gazebo_sensors(ctx: CheckContext) -> dict[str, str]:
-    """Sensor name -> SDF type, for every ``<sensor>`` inside the robot's ``<gazebo>`` blocks."""
-    out: dict[str, str] = {}
-    for block in gz.gazebo_blocks(ctx.robot):
-        for sensor in block.iter("sensor"):
-            name = (sensor.get("name") or "").strip()
-            if name:
-                out.setdefault(name, (sensor.get("type") or "").strip().replace("-", "_"))
-    return out
+    """Sensor name -> SDF type, for every ``<sensor>`` inside the robot's ``<gazebo>`` blocks; read
+    once per model (every ros2_control sensor asks)."""
+    key = ("gazebo-sensors",)
+    if key not in ctx.cache:
+        out: dict[str, str] = {}
+        for block in gazebo.gazebo_blocks(ctx):
+            for sensor in block.iter("sensor"):
+                name = (sensor.get("name") or "").strip()
+                if name:
+                    out.setdefault(name, (sensor.get("type") or "").strip().replace("-", "_"))
+        ctx.cache[key] = out
+    return ctx.cache[key]  # type: ignore[no-any-return]
 
 
 def bound_type(ctx: CheckContext, block: rc.Block, sensor: rc.Component) -> str | None:
@@ -116,9 +121,12 @@ class SensorUnknown(_Sensors):
     severity = Severity.WARNING
 
     def check(self, ctx: CheckContext) -> Iterator[Diagnostic]:
+        blocks = rc.blocks(ctx)
+        if not blocks:
+            return
         simulated = gazebo_sensors(ctx)
         links = {link.name for link in ctx.robot.links}
-        for block in rc.blocks(ctx):
+        for block in blocks:
             for sensor in _sensors(block):
                 where = f"ros2_control[{block.name}]/sensor[{sensor.name}]"
                 if block.plugin in known.GZ_HARDWARE and bound_type(ctx, block, sensor) is None:

@@ -14,12 +14,12 @@ import math
 from collections.abc import Iterator
 
 from urdftool.catalogue.registry import Family, Rule, register
-from urdftool.catalogue.suggest import did_you_mean
+from urdftool.catalogue.suggest import did_you_mean, suggester
 from urdftool.diagnostics import Diagnostic, Severity
 from urdftool.facts import srdf as facts
 from urdftool.facts.context import CheckContext
 from urdftool.model import JointType
-from urdftool.parse.srdf import Named
+from urdftool.parse.srdf import JointValue, Named
 
 #: Values within this of a limit are inside it (SRDFs round to 6 digits).
 _TOLERANCE = 1e-6
@@ -113,14 +113,18 @@ class SrdfUnknownLink(_Srdf):
                          (chain.tip, f"the chain of group '{group.name}'")]
         refs += [(e.parent_link, f"end effector '{e.name}'") for e in found.end_effectors]
         refs += [(v.child_link, f"virtual joint '{v.name}'") for v in found.virtual_joints]
-        for pair in found.collisions:
-            refs += [(pair.link1, "a collision pair"), (pair.link2, "a collision pair")]
+        # The collision matrix is most of an SRDF: its names are tested first, and its pairs (with
+        # their spans) are built only when one names a link the robot does not have.
+        if not links.issuperset(name for pair in found.collision_names for name in pair[:2]):
+            for pair in found.collisions:
+                refs += [(pair.link1, "a collision pair"), (pair.link2, "a collision pair")]
         refs += [(ref, "disable_default_collisions") for ref in found.default_disabled]
+        suggest = suggester(links)
         for ref, owner in refs:
             if ref.name not in links:
                 yield self.diagnostic(
                     f"{owner} names link '{ref.name}', which the robot does not have"
-                    + did_you_mean(ref.name, links),
+                    + suggest(ref.name),
                     ref.span,
                     element=f"link[{ref.name}]",
                     help="use the exact name of one of the URDF's links",
@@ -160,18 +164,21 @@ class SrdfUnknownJoint(_Srdf):
         if found is None:
             return
         joints = {joint.name for joint in ctx.robot.joints} | facts.virtual_joint_names(ctx)
-        refs: list[tuple[Named, str]] = []
+        # (the name with its span, who names it, the owner's name): the owner is written out
+        # only for a finding, not for every joint of every group state.
+        refs: list[tuple[Named | JointValue, str, str | None]] = []
         for group in found.groups:
-            refs += [(ref, f"group '{group.name}'") for ref in group.joints]
+            refs += [(ref, "group", group.name) for ref in group.joints]
         for state in found.group_states:
-            refs += [(Named(value.name, value.span), f"group state '{state.name}'") for value in state.joints
+            refs += [(value, "group state", state.name) for value in state.joints
                      if value.name != facts.PINOCCHIO_ROOT_JOINT]
-        refs += [(ref, "a passive joint") for ref in found.passive_joints]
-        for ref, owner in refs:
+        refs += [(ref, "a passive joint", None) for ref in found.passive_joints]
+        suggest = suggester(joints)
+        for ref, kind, owner in refs:
             if ref.name not in joints:
                 yield self.diagnostic(
-                    f"{owner} names joint '{ref.name}', which the robot does not have"
-                    + did_you_mean(ref.name, joints),
+                    (kind if owner is None else f"{kind} '{owner}'") + f" names joint '{ref.name}', "
+                    "which the robot does not have" + suggest(ref.name),
                     ref.span,
                     element=f"joint[{ref.name}]",
                     help="use the exact name of one of the URDF's joints or the SRDF's virtual joints",

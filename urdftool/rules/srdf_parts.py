@@ -172,6 +172,10 @@ class SrdfCollisionPairInvalid(_Srdf):
         found = facts.srdf(ctx)
         if found is None:
             return
+        # Most SRDFs have no such pair: their names are tested first, without building the pairs.
+        if not any(link1 == link2 or (not enable and reason is not None and reason not in KNOWN_REASONS)
+                   for link1, link2, reason, enable in found.collision_names):
+            return
         for pair in found.collisions:
             where = f"disable_collisions[{pair.link1.name},{pair.link2.name}]"
             if pair.link1.name == pair.link2.name:
@@ -188,3 +192,4 @@ class SrdfCollisionPairInvalid(_Srdf):
                     help="use Adjacent, Default, Always, Never or User",
                     data={"reason": pair.reason},
                 )
+

@@ -386,6 +386,8 @@ class FloatingJointNotAtRoot(_Syntax):
     severity = Severity.WARNING
 
     def check(self, ctx: CheckContext) -> Iterator[Diagnostic]:
+        if not any(joint.type is JointType.FLOATING for joint in ctx.robot.joints):
+            return  # most robots: no floating joint, and no walk of the tree to order them
         roots = set(ctx.tree.roots)
         for joint in ctx.tree.joints_in_order:
             if joint.type is not JointType.FLOATING or joint.parent in roots:

@@ -121,6 +121,8 @@ class TargetMeshFormat(_Targets):
             t for t in targets(ctx)
             if t.collision_formats is not None and t.name not in survey.ENGINE_NAMES
         ]
+        if not chosen:
+            return  # no target that limits collision formats: no mesh to look at
         for use in survey.mesh_uses(ctx):
             if use.role != "collision" or survey.has_substitution(use.mesh.filename):
                 continue

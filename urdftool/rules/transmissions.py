@@ -13,11 +13,11 @@ decisions: ``docs/gazebo.md``.
 
 from __future__ import annotations
 
-import difflib
 from collections.abc import Iterator
 from typing import Any
 
 from urdftool.catalogue.registry import Family, Rule, register
+from urdftool.catalogue.suggest import closest
 from urdftool.diagnostics import Diagnostic, Severity
 from urdftool.facts.context import CheckContext
 from urdftool.parse.locate import span_of
@@ -159,10 +159,10 @@ class TransmissionHardwareInterface(Rule):
                     severity=Severity.INFO,
                 )
             return
-        matches = difflib.get_close_matches(bare, sorted(KNOWN_INTERFACES), n=1, cutoff=TYPO_SIMILARITY)
-        if not matches:
+        # difflib's closest match, each misspelling looked up once (a transmission per joint)
+        match = closest(bare, KNOWN_INTERFACES, TYPO_SIMILARITY)
+        if match is None:
             return  # far from every ros_control name: a vendor's own interface
-        match = matches[0]
         meant = PREFIX + match if value.startswith(PREFIX) else match
         yield self.diagnostic(
             f"transmission '{label}': '{value}' is not a ros_control hardware interface; "
