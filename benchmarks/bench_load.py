@@ -83,7 +83,8 @@ def in_process() -> None:
         theirs.append(theirs_time)
         ours.append(ours_time)
         check_file(path, static)  # fills the mesh cache
-        nodyn.append(best_of(lambda p=path: check_file(p, static)))
+        # the best of as many runs as yourdfpy's load had: the same estimator on both sides
+        nodyn.append(best_of(lambda p=path: check_file(p, static), INTERLEAVED))
     # The dynamics pass in a loop of its own, after every other figure: a `check --no-dynamics`
     # never loads Pinocchio, and a file checked right after the dynamics pass of another ran
     # 5-10 % slower (the heap and caches that pass leaves), which no such run pays.
