@@ -75,17 +75,24 @@ def run_rules(
     found = [d for d in robot.diagnostics if selection.enabled_code(d.code)]
     options = dict(options or {})
     ctx = CheckContext(robot, KinematicTree.of(robot), options, simulator=_simulator(options))
-    for rule in _selected_rules(selection):
-        try:
-            found.extend(rule().check(ctx))
-        except Exception as exc:  # a rule bug must not hide the other findings
-            found.append(
-                InternalError.diagnostic(
-                    f"rule {rule.code} ({rule.name}) failed: {type(exc).__name__}: {exc}",
-                    robot.span,
-                    data={"rule": rule.code},
+    try:
+        for rule in _selected_rules(selection):
+            try:
+                found.extend(rule().check(ctx))
+            except Exception as exc:  # a rule bug must not hide the other findings
+                found.append(
+                    InternalError.diagnostic(
+                        f"rule {rule.code} ({rule.name}) failed: {type(exc).__name__}: {exc}",
+                        robot.span,
+                        data={"rule": rule.code},
+                    )
                 )
-            )
+    finally:
+        # Some facts keep a closure over the context (a memo of the link solids, say): a cycle
+        # that held the whole robot, its XML tree and every span until the cyclic collector
+        # walked them, 50 ms a pass over example-robot-data (a fifth of the structural check).
+        # The rules are done with the facts; dropping them lets reference counting free the robot.
+        ctx.cache.clear()
     if not found:
         return found
     return sorted(provenance.trace(_unique(found), robot), key=Diagnostic.sort_key)
