@@ -316,7 +316,6 @@ def expand(
             xacro.all_includes = []
             doc = xacro.process_file(top, mappings=dict(args or {}), verbosity=1)
             text = doc.documentElement.toxml()
-            doc.unlink()  # minidom's parent links are cycles: freed now, not by the cyclic collector
         except Exception as exc:  # xacro raises many kinds; each becomes a diagnostic
             stack = list(xacro.filestack or [top])
             doc = None
