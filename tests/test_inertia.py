@@ -31,6 +31,7 @@ from urdftool.model import (
 )
 from urdftool.physics.bodies import mass_role, rigid_bodies
 from urdftool.physics.inertia import MIN_MOMENT, assess
+from urdftool.pipeline.check import CheckOptions, check_file
 from urdftool.physics.massprops import combine, place, rotate_into, shape_properties
 from urdftool.pipeline.check import CheckOptions, check_file, run_rules
 from urdftool.rules import Selection
@@ -258,3 +259,18 @@ def test_placeholder_wheel_inertia_of_my_robot_is_reported(seeds: Path) -> None:
     # the hokuyo's placeholder is 60x its 0.1 m box, but it is welded to the chassis, whose
     # inertia it changes by far less than 3x: nothing any consumer computes depends on it
     assert "link[hokuyo]/inertial/inertia" not in found
+
+
+def test_geometry_tensor_data_has_no_rounding_residue() -> None:
+    """I006's ``computed`` tensor in ``data``: the products of a wheel's cylinder turned about x
+    are zero, not residues of the rotation (1e-26 beside moments of 1e-2, digits that moved with
+    the order of the operations between versions)."""
+    path = SEEDS / "go_chase_it" / "my_robot" / "urdf" / "my_robot.xacro"
+    [report] = check_file(str(path), CheckOptions(select=("I006",)))
+    wheels = [d for d in report.diagnostics if "wheel" in d.message]
+    assert len(wheels) == 2
+    for finding in wheels:
+        computed = (finding.data or {})["computed"]
+        assert [computed[0][1], computed[0][2], computed[1][2], computed[1][0], computed[2][0],
+                computed[2][1]] == [0.0] * 6
+        assert computed[2][2] == pytest.approx(0.025050025)

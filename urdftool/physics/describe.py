@@ -6,6 +6,7 @@ geometry, a valid tensor for a link from its geometry at its mass.
 
 from __future__ import annotations
 
+import math
 from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:
@@ -46,6 +47,22 @@ def fmt_tensor(tensor: Matrix | Tensor3) -> str:
         if abs(rows[i][j]) > 1e-6 * scale:
             text += f" {name}={fmt(rows[i][j])}"
     return text
+
+
+#: An entry of a computed tensor this small against its largest is a rounding residue.
+RESIDUE = 1e-12
+
+
+def tensor_rows(tensor: Matrix | Tensor3) -> list[list[float]]:
+    """*tensor* as three rows for a finding's ``data``, its rounding residues written as 0.0.
+
+    A product of inertia that is zero in exact arithmetic comes out of the rotations and sums as
+    a residue (1e-26 beside moments of 1e-2) whose digits depend on the order of the operations;
+    JSON readers would see noise that changes between versions."""
+    rows = tensor if isinstance(tensor, tuple) else tensor.tolist()
+    scale = max((abs(v) for row in rows for v in row), default=0.0)
+    floor = RESIDUE * scale if math.isfinite(scale) else 0.0
+    return [[0.0 if abs(v) < floor else float(v) for v in row] for row in rows]
 
 
 def tensor_data(tensor: Matrix) -> dict[str, Any]:

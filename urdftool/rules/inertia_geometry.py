@@ -25,7 +25,7 @@ from urdftool.facts.context import CheckContext
 from urdftool.model import Link
 from urdftool.physics import vec3
 from urdftool.physics.bodies import MIN_VALUE
-from urdftool.physics.describe import fmt, fmt_tensor
+from urdftool.physics.describe import fmt, fmt_tensor, tensor_rows
 from urdftool.physics.linkmass import InertiaComparison
 from urdftool.rules.inertia import _Inertia, _where, body_of_link
 
@@ -131,7 +131,7 @@ class InertiaGeometryMismatch(_Inertia):
                 "ratio": best.ratio,
                 "source": best.source,
                 "geometry": best.solid.label,
-                "computed": [list(row) for row in best.computed],
+                "computed": tensor_rows(best.computed),
                 "declared": link.inertial.inertia_matrix.tolist(),
             },
         )
@@ -158,7 +158,7 @@ class InertiaGeometryMismatch(_Inertia):
                     "flipped": [name for name, _ in flipped],
                     "source": comparison.source,
                     "geometry": comparison.solid.label,
-                    "computed": [list(row) for row in comparison.computed],
+                    "computed": tensor_rows(comparison.computed),
                     "declared": link.inertial.inertia_matrix.tolist(),
                 },
             )
@@ -175,7 +175,7 @@ class InertiaGeometryMismatch(_Inertia):
                 "axis_factor": factor,
                 "source": comparison.source,
                 "geometry": comparison.solid.label,
-                "computed": [list(row) for row in comparison.computed],
+                "computed": tensor_rows(comparison.computed),
                 "declared": link.inertial.inertia_matrix.tolist(),
             },
         )
