@@ -31,7 +31,6 @@ from urdftool.model import (
 )
 from urdftool.physics.bodies import mass_role, rigid_bodies
 from urdftool.physics.inertia import MIN_MOMENT, assess
-from urdftool.pipeline.check import CheckOptions, check_file
 from urdftool.physics.massprops import combine, place, rotate_into, shape_properties
 from urdftool.pipeline.check import CheckOptions, check_file, run_rules
 from urdftool.rules import Selection
