@@ -24,8 +24,9 @@ else:
 
 from urdftool.facts.context import CheckContext
 from urdftool.model import Joint, JointType, Robot
-from urdftool.model.pose import Matrix, Vec3, axis_angle_matrix, finite3, homogeneous
+from urdftool.model.pose import Matrix, Vec3, axis_angle_matrix, homogeneous
 from urdftool.model.tree import mimic_value
+from urdftool.physics import vec3
 
 #: A rotation matrix as its three rows.
 Rotation = tuple[Vec3, Vec3, Vec3]
@@ -64,42 +65,11 @@ def home_poses(ctx: CheckContext) -> dict[str, Matrix]:
     return poses
 
 
-def rotate(rotation: Rotation, vector: Vec3) -> Vec3:
-    """``rotation @ vector`` in floats."""
-    x, y, z = vector
-    (a, b, c), (d, e, f), (g, h, i) = rotation
-    return (a * x + b * y + c * z, d * x + e * y + f * z, g * x + h * y + i * z)
-
-
-def multiply(first: Rotation, second: Rotation) -> Rotation:
-    """``first @ second`` in floats."""
-    (a, b, c), (d, e, f), (g, h, i) = first
-    (p, q, r), (s, t, u), (v, w, x) = second
-    return (
-        (a * p + b * s + c * v, a * q + b * t + c * w, a * r + b * u + c * x),
-        (d * p + e * s + f * v, d * q + e * t + f * w, d * r + e * u + f * x),
-        (g * p + h * s + i * v, g * q + h * t + i * w, g * r + h * u + i * x),
-    )
-
-
 def angle_between_frames(a: Rotation, b: Rotation) -> float:
     """The angle (rad) of the rotation from frame *a* to frame *b*, both in one frame: the angle of
     ``a.T @ b``, whose trace is the sum of the two matrices' entrywise products."""
     trace = sum(x * y for row_a, row_b in zip(a, b, strict=True) for x, y in zip(row_a, row_b, strict=True))
     return math.acos(max(-1.0, min(1.0, (trace - 1.0) / 2.0)))
-
-
-def rpy_rotation(rpy: Vec3) -> Rotation:
-    """:func:`urdftool.model.pose.rpy_to_matrix` as rows of floats (the same expressions)."""
-    r, p, y = finite3(rpy)
-    cr, sr = math.cos(r), math.sin(r)
-    cp, sp = math.cos(p), math.sin(p)
-    cy, sy = math.cos(y), math.sin(y)
-    return (
-        (cy * cp, cy * sp * sr - sy * cr, cy * sp * cr + sy * sr),
-        (sy * cp, sy * sp * sr + cy * cr, sy * sp * cr - cy * sr),
-        (-sp, cp * sr, cp * cr),
-    )
 
 
 def _frames_at_home(ctx: CheckContext) -> dict[str, Frame]:
@@ -119,14 +89,14 @@ def _frames_at_home(ctx: CheckContext) -> dict[str, Frame]:
         x, y, z = joint.origin.xyz
         origin = (ox + (a * x + b * y + c * z), oy + (d * x + e * y + f * z), oz + (g * x + h * y + i * z))
         if joint.origin.rpy != _ORIGIN:  # most joints sit at rpy="0 0 0"
-            rotation = multiply(rotation, rpy_rotation(joint.origin.rpy))
+            rotation = vec3.product(rotation, vec3.rotation(joint.origin.rpy))
         if joint.mimic is not None:  # only a mimic joint is away from its 0 at home
             moved = _motion_at_home(joint, robot)
             if moved is not None:
                 turn, slide = moved
-                step = rotate(rotation, slide)
+                step = vec3.apply(rotation, slide)
                 origin = (origin[0] + step[0], origin[1] + step[1], origin[2] + step[2])
-                rotation = multiply(rotation, turn)
+                rotation = vec3.product(rotation, turn)
         frames[name] = (rotation, origin)
     return frames
 

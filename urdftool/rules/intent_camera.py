@@ -19,8 +19,9 @@ from typing import Any
 from urdftool.catalogue.registry import register
 from urdftool.diagnostics import Diagnostic, Severity
 from urdftool.facts.context import CheckContext
-from urdftool.facts.home import Rotation, angle_between_frames, home_frames, multiply, rpy_rotation
+from urdftool.facts.home import Rotation, angle_between_frames, home_frames
 from urdftool.parse.locate import span_of
+from urdftool.physics import vec3
 from urdftool.rules import gazebo_plugins as gz
 from urdftool.rules.intent_common import IntentRule, option
 
@@ -42,14 +43,14 @@ def _pose_rotation(element: Any) -> Rotation:
     if len(values) == 6:
         with contextlib.suppress(ValueError):
             rpy = (float(values[3]), float(values[4]), float(values[5]))
-    return rpy_rotation(rpy)  # non-finite angles count as 0
+    return vec3.rotation(rpy)  # non-finite angles count as 0
 
 
 def _sensor_rotation(sensor: Any) -> Rotation:
     """The rotation of the camera that takes the images, in the reference link's frame: the
     ``<sensor><pose>``, then the ``<camera><pose>`` inside it (SDF: relative to the sensor;
     Baxter turns its head camera there)."""
-    return multiply(_pose_rotation(sensor), _pose_rotation(sensor.find("camera")))
+    return vec3.product(_pose_rotation(sensor), _pose_rotation(sensor.find("camera")))
 
 
 @register
@@ -116,7 +117,7 @@ class CameraFrameNotOptical(IntentRule):
                             frames = home_frames(ctx)
                         if frame not in frames or reference not in frames:
                             continue  # not a link of the robot: plugin-frame-missing says so
-                        sensor_rotation = multiply(frames[reference][0], _sensor_rotation(sensor))
+                        sensor_rotation = vec3.product(frames[reference][0], _sensor_rotation(sensor))
                         if angle_between_frames(sensor_rotation, frames[frame][0]) > tolerance:
                             continue
                         yield self.diagnostic(

@@ -22,6 +22,7 @@ from urdftool.facts.context import CheckContext
 from urdftool.model import Collision, Joint, KinematicTree, Link, Visual
 from urdftool.model.geometry import Box, Capsule, Cylinder, Ellipsoid, Geometry, Mesh, Sphere
 from urdftool.model.pose import Matrix, Vec3, vector_norm
+from urdftool.physics import vec3
 
 #: Defaults of every intent threshold, by option name (docs/intent.md explains each).
 DEFAULTS: dict[str, float] = {
@@ -142,7 +143,7 @@ def robot_extent(ctx: CheckContext) -> float:
             dims = shape_dims(element.geometry)
             if dims is None or max(dims) > limit:
                 continue
-            x, y, z = home.rotate(rotation, element.origin.xyz)
+            x, y, z = vec3.apply(rotation, element.origin.xyz)
             x, y, z = x + origin[0], y + origin[1], z + origin[2]
             half = max(dims) / 2
             points.extend(((x - half, y - half, z - half), (x + half, y + half, z + half)))

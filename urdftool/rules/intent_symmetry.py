@@ -27,10 +27,11 @@ from typing import TypeVar
 from urdftool.catalogue.registry import register
 from urdftool.diagnostics import Diagnostic, Related, Severity
 from urdftool.facts.context import CheckContext
-from urdftool.facts.home import Frame, angle_between_frames, home_frames, rotate, rpy_rotation
+from urdftool.facts.home import Frame, angle_between_frames, home_frames
 from urdftool.model import Joint, JointType, Link
 from urdftool.model.geometry import Mesh
 from urdftool.model.pose import Vec3
+from urdftool.physics import vec3
 from urdftool.physics.describe import fmt
 from urdftool.rules.intent_common import (
     IntentRule,
@@ -432,8 +433,8 @@ class MirroredJointMismatch(IntentRule):
         if fa is None or fb is None:
             return True
         # each axis in the robot: its joint frame's rotation, then its parent link's at home
-        wa = rotate(fa[0], rotate(rpy_rotation(ja.origin.rpy), ua))
-        wb = rotate(fb[0], rotate(rpy_rotation(jb.origin.rpy), ub))
+        wa = vec3.apply(fa[0], vec3.apply(vec3.rotation(ja.origin.rpy), ua))
+        wb = vec3.apply(fb[0], vec3.apply(vec3.rotation(jb.origin.rpy), ub))
         return all(abs(abs(x) - abs(y)) <= tol for x, y in zip(wa, wb, strict=True))
 
 
