@@ -27,7 +27,7 @@ from urdftool.diagnostics import Severity
 from urdftool.pipeline.check import CheckOptions, check_file
 from urdftool.pipeline.settings import Overrides, resolve
 from urdftool.rules import Selection, all_rules, lookup
-from urdftool.rules.intent_symmetry import mirror_names, pairs
+from urdftool.rules.mirror_names import mirror_names, pairs
 
 INTENT = tuple(r.code for r in all_rules() if r.code.startswith("N"))
 

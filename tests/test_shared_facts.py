@@ -30,7 +30,7 @@ from urdftool.physics import linkmass
 from urdftool.physics.inertia import MIN_MOMENT, assess
 from urdftool.physics.massprops import geometry_properties
 from urdftool.rules.intent_common import on_one_chain
-from urdftool.rules.intent_symmetry import mirror_names, pairs
+from urdftool.rules.mirror_names import mirror_names, pairs
 
 WORDS = ["left", "right", "arm", "leg", "link", "joint", "hip", "knee", "wrist", "l", "r", "1", "2"]
 
