@@ -15,8 +15,6 @@ from lxml import etree
 from urdftool.catalogue.suggest import closest, did_you_mean
 from urdftool.catalogue.syntax import (
     JointMissingParentOrChild,
-    MissingAttribute,
-    MissingElement,
     NotARobot,
     RepeatedElement,
     RobotNameMissing,
@@ -28,26 +26,18 @@ from urdftool.catalogue.units import ONE_TURN, AngleLooksLikeDegrees
 from urdftool.diagnostics import Diagnostic, Severity
 from urdftool.model import (
     IDENTITY,
-    Box,
-    Capsule,
-    Collision,
-    Cylinder,
     Extension,
-    Geometry,
-    Inertial,
     Joint,
     Link,
     Material,
-    Mesh,
     Pose,
     Robot,
-    Sphere,
-    Visual,
 )
 from urdftool.parse.angles import degree_poses
 from urdftool.parse.locate import span_of
 from urdftool.parse.packages import PackageResolver
 from urdftool.parse.urdf_joints import JointParts
+from urdftool.parse.urdf_links import LinkParts
 from urdftool.parse.urdf_schema import (
     ATTRIBUTES,
     CHILDREN,
@@ -65,8 +55,6 @@ from urdftool.records import record
 from urdftool.source import SRC_ATTRIBUTE, SourceIndex, Span
 
 _ZERO = (0.0, 0.0, 0.0)
-_UNSCALED = (1.0, 1.0, 1.0)
-_INERTIA_COMPONENTS = ("ixx", "ixy", "ixz", "iyy", "iyz", "izz")
 
 #: Attribute layouts (the names of one element, in lxml's order) already judged to hold only
 #: names its tag allows, by tag. A file repeats a few layouts thousands of times (``xyz rpy``,
@@ -78,7 +66,7 @@ _LAYOUTS_KEPT = 8
 
 
 @record(frozen=False, eq=False)  # one run's state, equal only to itself
-class UrdfReader(JointParts):
+class UrdfReader(JointParts, LinkParts):
     """Reads one URDF document. Create, call :meth:`read`, take ``values.diagnostics``."""
 
     path: str
@@ -329,171 +317,6 @@ class UrdfReader(JointParts):
             for item in items
         )
         return Link(name, inertial, visuals, collisions, self.span(element), extras)
-
-    def _inertial(self, element: etree._Element, where: str) -> Inertial | None:
-        here = f"{where}/inertial"
-        groups = self._children(element, here)
-        origin = self._origin(groups, here)
-        mass_el = groups.get("mass", [None])[0]
-        inertia_el = groups.get("inertia", [None])[0]
-        for tag, el in (("mass", mass_el), ("inertia", inertia_el)):
-            if el is None:
-                self._report(
-                    MissingElement.diagnostic(
-                        f"{here}: <inertial> has no <{tag}>", self.span(element), element=here
-                    )
-                )
-        mass = 0.0
-        if mass_el is not None:
-            self._check_attributes(mass_el, f"{here}/mass")
-            value = self.values.number(mass_el, "value", f"{here}/mass", required=True)
-            mass = value if value is not None else 0.0
-        components = [0.0] * 6  # ixx, ixy, ixz, iyy, iyz, izz
-        if inertia_el is not None:
-            at = f"{here}/inertia"
-            self._check_attributes(inertia_el, at)
-            for index, key in enumerate(_INERTIA_COMPONENTS):
-                value = self.values.number(inertia_el, key, at, required=True)
-                if value is not None:
-                    components[index] = value
-        tensor = Inertial.tensor(*components)
-        return Inertial(
-            mass=mass,
-            inertia=tensor,
-            origin=origin,
-            span=self.span(element),
-            mass_span=self.span(mass_el) if mass_el is not None else None,
-            inertia_span=self.span(inertia_el) if inertia_el is not None else None,
-        )
-
-    def _visual(self, element: etree._Element, where: str) -> Visual:
-        self._check_attributes(element, where)
-        groups = self._children(element, where)
-        material = None
-        if "material" in groups:
-            material = self._material(groups["material"][0], f"{where}/material")
-        return Visual(
-            geometry=self._geometry(element, groups, where),
-            origin=self._origin(groups, where),
-            name=element.get("name"),
-            material=material,
-            span=self.span(element),
-        )
-
-    def _collision(self, element: etree._Element, where: str) -> Collision:
-        self._check_attributes(element, where)
-        groups = self._children(element, where)
-        return Collision(
-            geometry=self._geometry(element, groups, where),
-            origin=self._origin(groups, where),
-            name=element.get("name"),
-            span=self.span(element),
-        )
-
-    def _geometry(
-        self, parent: etree._Element, groups: dict[str, list[etree._Element]], where: str
-    ) -> Geometry | None:
-        items = groups.get("geometry")
-        if not items:
-            self._report(
-                MissingElement.diagnostic(
-                    f"{where}: <{parent.tag}> has no <geometry>", self.span(parent), element=where
-                )
-            )
-            return None
-        geometry = items[0]
-        here = f"{where}/geometry"
-        shapes = [c for c in geometry if isinstance(c.tag, str)]
-        known = [c for c in shapes if c.tag in ("box", "cylinder", "sphere", "mesh", "capsule")]
-        for other in shapes:
-            if other.tag not in ("box", "cylinder", "sphere", "mesh", "capsule"):
-                self._report(
-                    UnknownElement.diagnostic(
-                        f"{here}: <geometry> has no shape <{other.tag}>"
-                        + did_you_mean(other.tag, ["box", "cylinder", "sphere", "mesh"]),
-                        self.span(other),
-                        element=here,
-                    )
-                )
-        if not known:
-            if not shapes:
-                self._report(
-                    MissingElement.diagnostic(
-                        f"{here}: <geometry> has no shape (box, cylinder, sphere or mesh)",
-                        self.span(geometry),
-                        element=here,
-                    )
-                )
-            return None
-        for extra in known[1:]:
-            self._report(
-                RepeatedElement.diagnostic(
-                    f"{here}: <geometry> has more than one shape; <{known[0].tag}> is used, "
-                    f"<{extra.tag}> ignored",
-                    self.span(extra),
-                    element=here,
-                )
-            )
-        return self._shape(known[0], f"{here}/{known[0].tag}")
-
-    def _shape(self, shape: etree._Element, where: str) -> Geometry | None:
-        self._check_attributes(shape, where)
-        v = self.values
-        span = self.span(shape)
-        if shape.tag == "box":
-            size = v.vector(shape, "size", where, required=True)
-            return Box(size, span) if size else None
-        if shape.tag == "sphere":
-            radius = v.number(shape, "radius", where, required=True)
-            return Sphere(radius, span) if radius is not None else None
-        if shape.tag in ("cylinder", "capsule"):
-            radius = v.number(shape, "radius", where, required=True)
-            length = v.number(shape, "length", where, required=True)
-            if shape.tag == "capsule":
-                self._report(
-                    UnknownElement.diagnostic(
-                        f"{where}: <capsule> is not URDF (PyBullet and MuJoCo read it; urdfdom, "
-                        "ROS and Gazebo reject it)",
-                        span,
-                        element=where,
-                        help="use a cylinder (and two spheres) for portability",
-                    )
-                )
-            if radius is None or length is None:
-                return None
-            return (
-                Cylinder(radius, length, span) if shape.tag == "cylinder" else Capsule(radius, length, span)
-            )
-        filename = v.text(shape, "filename", where, required=True)
-        if filename is None:
-            return None
-        scale = v.vector(shape, "scale", where) or _UNSCALED
-        found = self.resolver.resolution(filename, span.path if span else self.path)
-        return Mesh(filename, found.path, scale, span, found)
-
-    def _material(self, element: etree._Element, where: str) -> Material:
-        name = element.get("name")
-        if where == "robot/material" and not name:
-            self._report(
-                MissingAttribute.diagnostic(
-                    "top-level <material> needs a 'name' attribute", self.span(element), element=where
-                )
-            )
-        here = f"{where}[{name}]" if where == "robot/material" else where
-        self._check_attributes(element, here)
-        groups = self._children(element, here)
-        color = None
-        texture = None
-        if "color" in groups:
-            self._check_attributes(groups["color"][0], f"{here}/color")
-            rgba = self.values.vector(groups["color"][0], "rgba", f"{here}/color", length=4, required=True)
-            color = (rgba[0], rgba[1], rgba[2], rgba[3]) if rgba else None
-        if "texture" in groups:
-            self._check_attributes(groups["texture"][0], f"{here}/texture")
-            texture = groups["texture"][0].get("filename")
-        return Material(name, color, texture, self.span(element))
-
-    # -- joints ------------------------------------------------------------------
 
     def _joint(self, element: etree._Element) -> Joint | None:
         v = self.values
