@@ -146,8 +146,6 @@ class SdfWriter:
     tree: KinematicTree
     diagnostics: list[Diagnostic] = field(default_factory=list)
     frames: FramePlan = field(default_factory=FramePlan)
-    #: names of the visuals and collisions of the link being written (unique per SDF link)
-    _names: set[str] = field(default_factory=set)
 
     def build(self) -> etree._Element:
         robot = self.robot
@@ -162,8 +160,9 @@ class SdfWriter:
             if link.name in self.frames.body:
                 model.append(self.frame(link, joint, gazebo.get(link.name, [])))
                 continue
-            element = self.link(link, joint, world, gazebo.get(link.name, []))
-            self.lump(element, link, gazebo)
+            names: set[str] = set()  # of the visuals and collisions: unique per SDF link
+            element = self.link(link, joint, world, gazebo.get(link.name, []), names)
+            self.lump(element, link, gazebo, names)
             model.append(element)
         for joint in self.tree.joints_in_order:
             if joint.child in self.frames.body or self.frames.link_for(joint.parent) == joint.child:
@@ -194,7 +193,7 @@ class SdfWriter:
     # -- links -----------------------------------------------------------------
 
     def link(self, link: Link, joint: Joint | None, world: str | None,
-             gazebo: list[etree._Element]) -> etree._Element:
+             gazebo: list[etree._Element], names: set[str]) -> etree._Element:
         element = etree.Element("link", name=link.name)
         if joint is not None and joint.parent != world:
             etree.SubElement(element, "pose", relative_to=joint.parent).text = pose_text(joint.origin)
@@ -220,20 +219,7 @@ class SdfWriter:
             self._drop(f"link '{link.name}' has no <inertial> and stays an SDF link, not a <frame>, because "
                        f"{self.frames.kept[link.name]}; SDF readers give it 1 kg and unit inertia",
                        link.span, f"link[{link.name}]", "missing inertial", Severity.WARNING)
-        names: set[str] = set()
-        self._names = names
-        for index, visual in enumerate(link.visuals):
-            item = self.shaped("visual", visual, link, index, names)
-            if item is not None:
-                material = self.material(visual.material, gazebo)
-                if material is not None:
-                    item.append(material)
-                element.append(item)
-        for index, collision in enumerate(link.collisions):
-            item = self.shaped("collision", collision, link, index, names)
-            if item is not None:
-                item.extend(self.friction(gazebo))
-                element.append(item)
+        self.shapes(element, link, gazebo, names)
         element.extend(self.link_extras(link, gazebo))
         return element
 
@@ -261,7 +247,8 @@ class SdfWriter:
                     self._drop_element(child, where)
         return element
 
-    def lump(self, element: etree._Element, link: Link, gazebo: dict[str, list[etree._Element]]) -> None:
+    def lump(self, element: etree._Element, link: Link, gazebo: dict[str, list[etree._Element]],
+             names: set[str]) -> None:
         """Into *link*'s element, the visuals, collisions and sensors of the frames it carries,
         with their poses composed into *link*'s frame (Gazebo reads them there)."""
         for name in self.frames.lumped(link.name):
@@ -269,24 +256,32 @@ class SdfWriter:
             assert frame is not None
             offset = self.frames.in_body[name]
             blocks = gazebo.get(name, [])
-            for index, visual in enumerate(frame.visuals):
-                moved = replace(visual, origin=composed(offset, visual.origin))
-                item = self.shaped("visual", moved, frame, index, self._names)
-                if item is not None:
-                    material = self.material(visual.material, blocks)
-                    if material is not None:
-                        item.append(material)
-                    element.append(item)
-            for index, collision in enumerate(frame.collisions):
-                moved_collision = replace(collision, origin=composed(offset, collision.origin))
-                item = self.shaped("collision", moved_collision, frame, index, self._names)
-                if item is not None:
-                    item.extend(self.friction(blocks))
-                    element.append(item)
+            self.shapes(element, frame, blocks, names, offset)
             for block in blocks:
                 for child in block:
                     if isinstance(child.tag, str) and child.tag == "sensor":
                         element.append(_sensor_moved(clean_copy(child), offset))
+
+    def shapes(self, element: etree._Element, link: Link, gazebo: list[etree._Element], names: set[str],
+               offset: Pose | None = None) -> None:
+        """Into *element*, *link*'s visuals (with their materials) and collisions (with their
+        friction); *offset*: *link*'s frame in the SDF link's, for a frame lumped into it."""
+        for index, visual in enumerate(link.visuals):
+            if offset is not None:
+                visual = replace(visual, origin=composed(offset, visual.origin))
+            item = self.shaped("visual", visual, link, index, names)
+            if item is not None:
+                material = self.material(visual.material, gazebo)
+                if material is not None:
+                    item.append(material)
+                element.append(item)
+        for index, collision in enumerate(link.collisions):
+            if offset is not None:
+                collision = replace(collision, origin=composed(offset, collision.origin))
+            item = self.shaped("collision", collision, link, index, names)
+            if item is not None:
+                item.extend(self.friction(gazebo))
+                element.append(item)
 
     def shaped(self, tag: str, item: Visual | Collision, link: Link, index: int,
                names: set[str]) -> etree._Element | None:

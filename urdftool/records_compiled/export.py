@@ -197,12 +197,11 @@ def _init_export_pybullet_verify_Worst(__defaults__, __factories__, __sentinel__
 
 # urdftool.export.sdf.SdfWriter
 def _init_export_sdf_SdfWriter(__defaults__, __factories__, __sentinel__, __set__, __slot__):
-    def __init__(self, robot, tree, diagnostics=__sentinel__, frames=__sentinel__, _names=__sentinel__):
+    def __init__(self, robot, tree, diagnostics=__sentinel__, frames=__sentinel__):
         self.robot = robot
         self.tree = tree
         self.diagnostics = __factories__['diagnostics']() if diagnostics is __sentinel__ else diagnostics
         self.frames = __factories__['frames']() if frames is __sentinel__ else frames
-        self._names = __factories__['_names']() if _names is __sentinel__ else _names
     return __init__
 
 
@@ -254,7 +253,7 @@ COMPILED = {
     'urdftool.export.pybullet_meshes.MeshPlan': ('files,filenames*,diagnostics*,_colours*|plain', _init_export_pybullet_meshes_MeshPlan),
     'urdftool.export.pybullet_verify.Comparison': ('robot,rows*|plain', _init_export_pybullet_verify_Comparison),
     'urdftool.export.pybullet_verify.Worst': ('quantity,tolerance=,error=,element=,span=|plain', _init_export_pybullet_verify_Worst),
-    'urdftool.export.sdf.SdfWriter': ('robot,tree,diagnostics*,frames*,_names*|plain', _init_export_sdf_SdfWriter),
+    'urdftool.export.sdf.SdfWriter': ('robot,tree,diagnostics*,frames*|plain', _init_export_sdf_SdfWriter),
     'urdftool.export.sdf_frames.FramePlan': ('body*,in_body*,kept*,root=|plain', _init_export_sdf_frames_FramePlan),
     'urdftool.export.urdf.UrdfFlavor': ('name=,joint_types*,extra_shapes=|slots', _init_export_urdf_UrdfFlavor),
     'urdftool.export.urdf.UrdfWriter': ('robot,flavor=,diagnostics*|plain', _init_export_urdf_UrdfWriter),
