@@ -22,7 +22,7 @@ from lxml import etree
 
 from tests.conftest import ERD, SEEDS
 from urdftool.parse import read
-from urdftool.parse.locate import PositionTable, span_of
+from urdftool.parse.locate import PositionTable, position_table, span_of
 from urdftool.parse.xmlio import parse_bytes
 from urdftool.pipeline.check import CheckOptions, check_file
 from urdftool.source import SRC_ATTRIBUTE, LinePositions, Span, element_starts, expat_element_starts
@@ -258,3 +258,63 @@ def test_line_positions_asked_in_any_order_are_counted_as_from_the_start() -> No
         line_start = data.rfind(b"\n", 0, offset) + 1
         expected = (data.count(b"\n", 0, line_start) + 1, len(data[line_start:offset].decode("utf-8")) + 1)
         assert lines.position(offset) == expected
+
+
+#: start tags that the line lxml records for an element does not settle: a tag over two lines
+#: followed by one of the same name, '<link' in a comment beside a link, two on one line, '>'
+#: in text before a tag
+LINE_TRAPS = """<robot name="traps">
+  <link name="a"><visual><origin
+      xyz="1 0 0"/><origin xyz="2 0 0"/><geometry><box size="1 1 1"/></geometry></visual></link>
+  <!-- <link name="commented"/> --><link name="b"/>
+  <link name="c"/><link name="d"/>
+  <gazebo reference="a"><description>a > b</description><plugin name="p" filename="p.so"/></gazebo>
+  <link name="\u00e4"/>
+</robot>
+"""
+
+
+def _lines_decide(data: bytes) -> tuple[int, int]:
+    """Over every element of *data*: how many the line lookup settles, and how many of those
+    differ from the full table."""
+    document, _ = parse_bytes(data, "lines.urdf", table=True)
+    assert document is not None and document.table is not None
+    table = document.table
+    full = position_table(table.root, data)
+    decided = wrong = 0
+    for element in table.root.iter(etree.Element):
+        position = table._position_on_line(element)
+        decided += position is not None
+        wrong += position is not None and position != full[element]
+    return decided, wrong
+
+
+def test_the_line_lxml_records_settles_a_position_only_when_it_must_be_right() -> None:
+    data = LINE_TRAPS.encode("utf-8")
+    document, _ = parse_bytes(data, "traps.urdf", table=True)
+    assert document is not None and document.table is not None
+    table = document.table
+    full = position_table(table.root, data)
+    settled = {(e.tag, e.get("name") or e.get("xyz")): table._position_on_line(e)
+               for e in table.root.iter(etree.Element)}
+    # left to the start-tag offsets: the line opens inside a tag (the origins and the box after
+    # them), a '<link' in a comment beside one, two links on one line
+    for key in (("origin", "1 0 0"), ("origin", "2 0 0"), ("box", None), ("link", "b"), ("link", "c"),
+                ("link", "d")):
+        assert settled[key] is None, key
+    # settled: a character of two bytes before the name, a '>' in text before the tag
+    assert settled[("link", "\u00e4")] == (7, 3) and settled[("plugin", "p")] == (6, 57)
+    # and whichever way each is found, every span is the full table's
+    assert {e: (s.line, s.column) for e in table.root.iter(etree.Element)
+            if (s := table.span(e)) is not None} == full
+
+
+@pytest.mark.skipif(ERD is None, reason="example-robot-data is a test dependency")
+def test_the_line_lxml_records_agrees_with_the_full_table_on_real_files() -> None:
+    assert ERD is not None
+    decided = wrong = 0
+    for path in sorted(glob.glob(str(ERD / "**" / "*.urdf"), recursive=True)):
+        with open(path, "rb") as handle:
+            found = _lines_decide(handle.read())
+        decided, wrong = decided + found[0], wrong + found[1]
+    assert wrong == 0 and decided > 10_000

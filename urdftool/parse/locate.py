@@ -18,6 +18,7 @@ A document's elements find their start tags in one of two ways:
 from __future__ import annotations
 
 import itertools
+import re
 import sys
 import weakref
 from collections.abc import Iterator
@@ -32,6 +33,7 @@ from urdftool.source import (
     deferred_span,
     element_starts,
     expat_element_starts,
+    needs_expat,
     start_tag_offsets,
 )
 
@@ -74,6 +76,9 @@ class PositionTable:
     #: every element's position, when the offsets cannot serve
     _found: dict[etree._Element, tuple[int, int]] | None = None
     _key: str | None = None
+    #: the byte offset where each line starts (index 0: line 1), once a lookup by line ran
+    _line_starts: list[int] | None = None
+    _line_scan: Iterator[int] | None = None
 
     def span(self, element: etree._Element) -> Span:
         """Where *element*'s start tag was written, looked up when first read."""
@@ -82,7 +87,7 @@ class PositionTable:
     def locate(self, element: etree._Element) -> Span | None:
         """The span of *element*, or of its nearest ancestor in the table."""
         if self._found is None:
-            position = self._position(element)
+            position = self._position_on_line(element) or self._position(element)
             if position is not None:
                 return Span(self.path, position[0], position[1])
             if self._found is None:
@@ -94,6 +99,54 @@ class PositionTable:
                 return Span(self.path, found[0], found[1])
             node = node.getparent()
         return None
+
+    def _position_on_line(self, element: etree._Element) -> tuple[int, int] | None:
+        """*element*'s position found on the line lxml records for it, or ``None`` when that line
+        does not settle it (the other lookups then decide).
+
+        lxml's ``sourceline`` is the line of the ``>`` that ends the start tag. When that line
+        holds exactly one ``<name`` and no ``>`` stands between the line's start and it before
+        a ``<`` does, the start tag began on this line and that ``<name`` is its own: had the tag
+        begun on an earlier line, the line would open inside the tag, whose text holds no ``<``,
+        and its ``>`` would come first. A tag split over lines, a second element of the same
+        name on the line, or a ``<name`` in a comment leave the answer to the start-tag offsets.
+        """
+        line = element.sourceline
+        data = self.data
+        if not line or line >= 65535 or element.getroottree().getroot() is not self.root:
+            return None  # libxml2 caps the lines it counts; a copy has no line of this document
+        starts = self._line_starts
+        if starts is None:
+            if needs_expat(data):  # a DOCTYPE or a lone carriage return: lines lxml counts otherwise
+                return None
+            starts = self._line_starts = [0]
+            self._line_scan = (match.end() for match in _LINE_BREAK.finditer(data))
+        if line >= len(starts) and self._line_scan is not None:  # scan as far as the line's end
+            starts.extend(itertools.islice(self._line_scan, line + 1 - len(starts)))
+        if line > len(starts):
+            return None
+        begin = starts[line - 1]
+        end = starts[line] if line < len(starts) else len(data)
+        name = element.tag if element.prefix is None else f"{element.prefix}:{etree.QName(element).localname}"
+        if not isinstance(name, str):
+            return None
+        opening = b"<" + name.encode("utf-8")
+        found = -1
+        at = data.find(opening, begin, end)
+        while at != -1:
+            if data[at + len(opening):at + len(opening) + 1] in _AFTER_NAME:
+                if found != -1:
+                    return None  # two start tags of this name on the line
+                found = at
+            at = data.find(opening, at + 1, end)
+        if found == -1:
+            return None
+        closing = data.find(b">", begin, found)
+        if closing != -1 and not -1 < data.find(b"<", begin, found) < closing:
+            return None  # the line may open inside a tag begun on an earlier line
+        prefix = data[begin:found]
+        column = len(prefix) if prefix.isascii() else len(prefix.decode("utf-8", "replace"))
+        return line, column + 1
 
     def _position(self, element: etree._Element) -> tuple[int, int] | None:
         """*element*'s position from the start-tag offsets, or ``None`` to take the full table."""
@@ -158,6 +211,7 @@ class PositionTable:
 
 #: What may follow an element's name in its start tag.
 _AFTER_NAME = frozenset({b" ", b"\t", b"\r", b"\n", b"/", b">"})
+_LINE_BREAK = re.compile(b"\n")
 
 
 def encode_src(path: str, line: int, column: int) -> str:

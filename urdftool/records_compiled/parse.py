@@ -64,7 +64,7 @@ def _init_parse_controllers_Value(__defaults__, __factories__, __sentinel__, __s
 
 # urdftool.parse.locate.PositionTable
 def _init_parse_locate_PositionTable(__defaults__, __factories__, __sentinel__, __set__, __slot__):
-    def __init__(self, root, data, path, _offsets=__defaults__['_offsets'], _scan=__defaults__['_scan'], _lines=__defaults__['_lines'], _index=__defaults__['_index'], _lookups=__defaults__['_lookups'], _found=__defaults__['_found'], _key=__defaults__['_key']):
+    def __init__(self, root, data, path, _offsets=__defaults__['_offsets'], _scan=__defaults__['_scan'], _lines=__defaults__['_lines'], _index=__defaults__['_index'], _lookups=__defaults__['_lookups'], _found=__defaults__['_found'], _key=__defaults__['_key'], _line_starts=__defaults__['_line_starts'], _line_scan=__defaults__['_line_scan']):
         self.root = root
         self.data = data
         self.path = path
@@ -75,6 +75,8 @@ def _init_parse_locate_PositionTable(__defaults__, __factories__, __sentinel__, 
         self._lookups = _lookups
         self._found = _found
         self._key = _key
+        self._line_starts = _line_starts
+        self._line_scan = _line_scan
     return __init__
 
 
@@ -177,7 +179,7 @@ COMPILED = {
     'urdftool.parse.controllers.ControllerConfig': ('path,controllers*,diagnostics*|plain', _init_parse_controllers_ControllerConfig),
     'urdftool.parse.controllers.Controllers': ('configs*,missing*,given=|plain', _init_parse_controllers_Controllers),
     'urdftool.parse.controllers.Value': ('value,span|slots', _init_parse_controllers_Value),
-    'urdftool.parse.locate.PositionTable': ('root,data,path,_offsets=,_scan=,_lines=,_index=,_lookups=,_found=,_key=|plain', _init_parse_locate_PositionTable),
+    'urdftool.parse.locate.PositionTable': ('root,data,path,_offsets=,_scan=,_lines=,_index=,_lookups=,_found=,_key=,_line_starts=,_line_scan=|plain', _init_parse_locate_PositionTable),
     'urdftool.parse.packages.Lookup': ('path,tried*,package=,package_missing=,package_dir=|plain', _init_parse_packages_Lookup),
     'urdftool.parse.packages.PackageResolver': ('packages*,package_paths*,environ*,_scanned*,_found*,_resolutions*,_packages_asked*,_twins*|plain', _init_parse_packages_PackageResolver),
     'urdftool.parse.urdf.UrdfReader': ('path,sources,resolver,expanded=,document=,values!,span!|post_init|plain', _init_parse_urdf_UrdfReader),
