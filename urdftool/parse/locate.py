@@ -120,7 +120,7 @@ class PositionTable:
             if needs_expat(data):  # a DOCTYPE or a lone carriage return: lines lxml counts otherwise
                 return None
             starts = self._line_starts = [0]
-            self._line_scan = (match.end() for match in _LINE_BREAK.finditer(data))
+            self._line_scan = map(_MATCH_END, _LINE_BREAK.finditer(data))  # (in C: no frame per line)
         if line >= len(starts) and self._line_scan is not None:  # scan as far as the line's end
             starts.extend(itertools.islice(self._line_scan, line + 1 - len(starts)))
         if line > len(starts):
@@ -212,6 +212,7 @@ class PositionTable:
 #: What may follow an element's name in its start tag.
 _AFTER_NAME = frozenset({b" ", b"\t", b"\r", b"\n", b"/", b">"})
 _LINE_BREAK = re.compile(b"\n")
+_MATCH_END = re.Match.end
 
 
 def encode_src(path: str, line: int, column: int) -> str:
