@@ -30,7 +30,7 @@ from urdftool.physics import linkmass
 from urdftool.physics.inertia import MIN_MOMENT, assess
 from urdftool.physics.massprops import geometry_properties
 from urdftool.rules.intent_common import on_one_chain
-from urdftool.rules.mirror_names import mirror_names, pairs
+from urdftool.rules.mirror_names import _TOKENS, _swap_token, mirror_names, pairs
 
 WORDS = ["left", "right", "arm", "leg", "link", "joint", "hip", "knee", "wrist", "l", "r", "1", "2"]
 
@@ -223,11 +223,29 @@ def test_home_frames_in_floats_are_the_forward_kinematics() -> None:
             np.testing.assert_allclose(origin, pose[:3, 3], rtol=0, atol=1e-12 * scale, err_msg=name)
 
 
+def _mirror_names_as_written(name: str) -> list[str]:
+    """:func:`mirror_names` as first written: every token's swaps, then every marker swapped
+    (when that changes the name), then each swap one at a time."""
+    parts = _TOKENS.split(name)
+    tokens = [_swap_token(part) if i % 2 == 0 else [] for i, part in enumerate(parts)]
+    if not any(tokens):
+        return []
+    out: list[str] = []
+    every = [(swaps or [part])[0] for part, swaps in zip(parts, tokens, strict=True)]
+    if every != parts:
+        out.append("".join(every))
+    for i, swaps in enumerate(tokens):
+        for swapped in swaps:
+            out.append("".join((*parts[:i], swapped, *parts[i + 1 :])))
+    return out
+
+
 def _pairs_unfiltered(names: list[str]) -> list[tuple[str, str]]:
-    """:func:`pairs` as first written: every name's mirror names, without the letters test."""
+    """:func:`pairs` as first written: every name's mirror names, without the letters test and
+    without skipping a name already paired with all its look-alikes."""
     known, seen, out = set(names), set(), []
     for name in names:
-        for other in mirror_names(name):
+        for other in _mirror_names_as_written(name):
             key = frozenset((name, other))
             if other in known and other != name and key not in seen:
                 seen.add(key)
@@ -244,6 +262,18 @@ def test_mirror_pairs_skip_only_names_without_a_mirror() -> None:
                  for _ in range(rng.randint(2, 30))]
         names += [rng.choice(mirror_names(n) or [n]) for n in names[:8]]
         assert pairs(names) == _pairs_unfiltered(names), names
+        for name in names:
+            assert mirror_names(name) == _mirror_names_as_written(name), name
+
+
+@pytest.mark.skipif(ERD is None, reason="example-robot-data is not installed")
+def test_mirror_names_and_pairs_of_real_robots() -> None:
+    """The mirror names and pairs of every joint and link name of example-robot-data, as first written."""
+    for robot in _robots():
+        for names in ([j.name for j in robot.joints], [k.name for k in robot.links]):
+            assert pairs(names) == _pairs_unfiltered(names), robot.name
+            for name in names:
+                assert mirror_names(name) == _mirror_names_as_written(name), name
 
 
 @pytest.mark.skipif(ERD is None, reason="example-robot-data is not installed")

@@ -34,31 +34,32 @@ def mirror_names(name: str, swaps: dict[str, list[str]] | None = None) -> list[s
     """
     if _SIDE_LETTERS.isdisjoint(name):  # no token of it has a side marker
         return []
-    parts = _TOKENS.split(name)
+    parts = _TOKENS.split(name)  # tokens at the even places, separators between them
     memo = {} if swaps is None else swaps
-    tokens: list[list[str]] = []
-    sided: list[int] = []  # where the parts with a side marker are
+    sided: list[tuple[int, list[str]]] = []  # each token with a side marker: its place, its swaps
     for i in range(0, len(parts), 2):
         part = parts[i]
         found = memo.get(part)
         if found is None:
             found = memo[part] = _swap_token(part)
-        tokens.append(found)
         if found:
-            sided.append(i)
+            sided.append((i, found))
     if not sided:  # letters of "link" or "roll", no side marker: most names of a robot
         return []
-    if len(sided) == 1:  # one marker (``FL_hip``, ``left_knee``): the same list, built directly
-        i = sided[0]
+    if len(sided) == 1:  # one marker (``FL_hip``, ``left_knee``): every swap is a one-at-a-time swap
+        i, found = sided[0]
         head, tail = "".join(parts[:i]), "".join(parts[i + 1 :])
-        first = [head + tokens[i // 2][0] + tail] if tokens[i // 2][0] != parts[i] else []
-        return first + [head + swapped + tail for swapped in tokens[i // 2]]
+        each = [head + swapped + tail for swapped in found]
+        # the name with every marker swapped comes first, as below: here it is the first swap
+        return [each[0], *each] if found[0] != parts[i] else each
     out: list[str] = []
-    every = [(tokens[i // 2] or [p])[0] if i % 2 == 0 else p for i, p in enumerate(parts)]
+    every = parts.copy()
+    for i, found in sided:
+        every[i] = found[0]
     if every != parts:
         out.append("".join(every))
-    for i in range(0, len(parts), 2):
-        for swapped in tokens[i // 2]:
+    for i, found in sided:
+        for swapped in found:
             out.append("".join((*parts[:i], swapped, *parts[i + 1 :])))
     return out
 
@@ -105,17 +106,23 @@ def pairs(names: Sequence[str], swaps: dict[str, list[str]] | None = None) -> li
     alike: dict[str, int] = {}
     for letters in rest.values():
         alike[letters] = alike.get(letters, 0) + 1
-    seen: set[frozenset[str]] = set()
+    seen: set[tuple[str, str]] = set()  # each pair once, its two names in sorted order
     out: list[tuple[str, str]] = []
+    # A name's mirrors are among its look-alikes: a name already paired with every other
+    # look-alike has nothing left to find (the second name of most pairs).
+    partners: dict[str, int] = {}
     swaps = {} if swaps is None else swaps
     for name in names:
-        if alike[rest[name]] < 2:
+        others = alike[rest[name]] - 1
+        if others == 0 or partners.get(name, 0) == others:
             continue
         for other in mirror_names(name, swaps):
             if other not in known or other == name:
                 continue
-            key = frozenset((name, other))
+            key = (name, other) if name < other else (other, name)
             if key not in seen:
                 seen.add(key)
                 out.append((name, other))
+                partners[name] = partners.get(name, 0) + 1
+                partners[other] = partners.get(other, 0) + 1
     return out
