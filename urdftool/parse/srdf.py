@@ -255,12 +255,19 @@ class _Reader:
         srdf.robot_name = root.get("name")
         where = f"robot[{srdf.robot_name or ''}]"
         pairs: list[etree._Element] = []
+        # each pair's link names, two by two: the rules read them, not the attributes again
+        names: list[str] = []
         for element in root:
             tag = element.tag
             if tag in _PAIR_TAGS:  # most of a MoveIt SRDF: asked first, and inline when complete
-                complete = (element.get("link1") or "").strip() and (element.get("link2") or "").strip()
-                if complete or self.names_both_links(element):
+                link1 = (element.get("link1") or "").strip()
+                link2 = (element.get("link2") or "").strip()
+                if link1 and link2:
                     pairs.append(element)
+                    names.append(link1)
+                    names.append(link2)
+                else:
+                    self.names_both_links(element)
                 continue
             if not isinstance(tag, str):
                 continue
@@ -293,8 +300,8 @@ class _Reader:
             else:
                 self.unknown(element, where, SRDF_ELEMENTS)
         if pairs:
-            srdf.collision_pairs = functools.partial(self.collision_pairs, pairs)
-            srdf.collision_names_of = functools.partial(_collision_names, pairs)
+            srdf.collision_pairs = functools.partial(self.collision_pairs, pairs, names)
+            srdf.collision_names_of = functools.partial(_collision_names, pairs, names)
         srdf.diagnostics = self.diagnostics
         return srdf
 
@@ -387,31 +394,27 @@ class _Reader:
             return None
         return VirtualJoint(name, kind, parent, child, self.span(element))
 
-    def names_both_links(self, element: etree._Element) -> bool:
-        """Whether a collision entry names both its links; reports each one it does not."""
-        if (element.get("link1") or "").strip() and (element.get("link2") or "").strip():
-            return True
+    def names_both_links(self, element: etree._Element) -> None:
+        """Reports each link a collision entry does not name (one of them at least)."""
         where = str(element.tag)
         span = self.span(element)
-        named = [self.named(element, name, where, span) for name in ("link1", "link2")]
-        return None not in named
+        for name in ("link1", "link2"):
+            self.named(element, name, where, span)
 
-    def collision_pairs(self, elements: list[etree._Element]) -> list[CollisionPair]:
-        """The pairs of *elements*, each of which names both links (:meth:`names_both_links`)."""
+    def collision_pairs(self, elements: list[etree._Element], names: list[str]) -> list[CollisionPair]:
+        """The pairs of *elements*, each of which names both links, two by two in *names*."""
         pairs = []
-        for element in elements:
+        for element, link1, link2 in zip(elements, names[::2], names[1::2], strict=True):
             span = self.span(element)  # one span for the pair and both its links
-            pairs.append(CollisionPair(Named((element.get("link1") or "").strip(), span),
-                                       Named((element.get("link2") or "").strip(), span),
-                                       element.get("reason"), span,
+            pairs.append(CollisionPair(Named(link1, span), Named(link2, span), element.get("reason"), span,
                                        enable=element.tag == "enable_collisions"))
         return pairs
 
 
-def _collision_names(elements: list[etree._Element]) -> list[PairNames]:
+def _collision_names(elements: list[etree._Element], names: list[str]) -> list[PairNames]:
     """The names of :meth:`_Reader.collision_pairs`, without their spans and records."""
-    return [((e.get("link1") or "").strip(), (e.get("link2") or "").strip(), e.get("reason"),
-             e.tag == "enable_collisions") for e in elements]
+    return [(link1, link2, e.get("reason"), e.tag == "enable_collisions")
+            for e, link1, link2 in zip(elements, names[::2], names[1::2], strict=True)]
 
 
 __all__ = [
