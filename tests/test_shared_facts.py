@@ -48,6 +48,7 @@ def test_closest_is_difflibs_best_match(cutoff: float) -> None:
         word = _name(rng)
         expected = difflib.get_close_matches(word, sorted(set(names)), n=1, cutoff=cutoff)
         assert closest(word, names, cutoff) == (expected[0] if expected else None), (word, names)
+        assert closest(word, set(names), cutoff) == closest(word, names, cutoff)  # a set searched as it is
         # a fixed vocabulary's answers are kept: asked twice, the same answer as for a list
         assert closest(word, frozenset(names), cutoff) == closest(word, frozenset(names), cutoff) \
             == closest(word, names, cutoff)

@@ -45,17 +45,24 @@ def _closest(word: str, candidates: Iterable[str], cutoff: float) -> str | None:
     # without a matcher per name: str.count over the word's distinct letters, in C.
     # A letter the word holds once is in common when the name has it at all: one set
     # intersection for those (most of a name's letters), a count only for the repeated ones.
+    # A name that could hold every repeated letter as often as the word does and still has too
+    # few letters in common (most names of a robot) is dropped before those letters are counted.
     letters = tuple(dict.fromkeys(word))
     once = frozenset(letter for letter in letters if word.count(letter) == 1)
     repeated = tuple(letter for letter in letters if letter not in once)
     counts = tuple(word.count(letter) for letter in repeated)
+    most = sum(counts)  # the repeated letters a name can have in common with the word, at most
     size = len(word)
     bounded: list[tuple[float, str]] = []
-    for candidate in set(candidates):
+    # a set of names is searched as it is (the order does not matter: the bounds are sorted)
+    for candidate in candidates if isinstance(candidates, (set, frozenset)) else set(candidates):
         length = len(candidate) + size
         # _ratio(min(len(candidate), size), length), written out: this runs for every name.
         if not length or 2.0 * min(len(candidate), size) / length >= cutoff:
-            common = len(once.intersection(candidate)) + sum(map(min, map(candidate.count, repeated), counts))
+            single = len(once.intersection(candidate))
+            if _ratio(single + most, length) < cutoff:
+                continue
+            common = single + sum(map(min, map(candidate.count, repeated), counts))
             bound = _ratio(common, length)
             if bound >= cutoff:
                 bounded.append((bound, candidate))
