@@ -138,11 +138,13 @@ def _refuse_size(path: str, size: int, kind: str) -> None:
                                f"raise it with --max-file-size {kind}=SIZE if the file is right")
 
 
-def check_regular(path: str | os.PathLike[str], kind: str = "mesh", check_size: bool = True) -> None:
+def check_regular(path: str | os.PathLike[str], kind: str = "mesh", check_size: bool = True,
+                  status: os.stat_result | None = None) -> None:
     """Raise :class:`UnsafeFile` unless *path* is a regular file within *kind*'s cap
-    (``OSError`` when it does not exist). For readers that open the file themselves."""
+    (``OSError`` when it does not exist). For readers that open the file themselves.
+    *status*: its ``os.stat``, when the caller has it."""
     path = os.fspath(path)
-    info = os.stat(path)
+    info = os.stat(path) if status is None else status
     _refuse_kind(path, info.st_mode, kind)
     if check_size:
         _refuse_size(path, info.st_size, kind)

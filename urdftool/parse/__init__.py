@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import dataclasses
 import os
+import stat
 from collections.abc import Mapping
 from dataclasses import field
 from typing import TYPE_CHECKING
@@ -79,13 +80,15 @@ def read(
     """Read every model in *path*. Raises :class:`InputError` when the file cannot be read."""
     path = os.fspath(path)
     resolver = resolver or PackageResolver.create()
-    if not os.path.exists(path):
-        raise InputError(f"{path}: no such file")
-    if os.path.isdir(path):
+    try:
+        status = os.stat(path)  # one look at the file for the three questions below
+    except (OSError, ValueError):  # as os.path.exists: a broken link, a NUL in the name
+        raise InputError(f"{path}: no such file") from None
+    if stat.S_ISDIR(status.st_mode):
         raise InputError(f"{path}: is a directory")
     try:
         # A device or FIFO would hang the reader; an oversized file is a finding of the reader.
-        check_regular(path, "model", check_size=False)
+        check_regular(path, "model", check_size=False, status=status)
     except UnsafeFile as exc:
         raise InputError(str(exc)) from exc
     except OSError as exc:

@@ -22,7 +22,6 @@ from typing import Any
 from urdftool.facts import gazebo as facts
 from urdftool.model import Robot
 from urdftool.records import record
-from urdftool.source import SRC_ATTRIBUTE
 
 #: Plugin child elements whose text names one joint (or, for ``jointName``, a
 #: comma-separated list of joints).
@@ -215,8 +214,9 @@ def legacy_value_keys(blocks: Iterable[Any]) -> Iterator[tuple[Any, Any]]:
     (:func:`urdftool.facts.gazebo.gazebo_blocks`) written ``<key value="…"/>`` with no text."""
     for block in blocks:
         for child in block:
-            if not isinstance(child.tag, str) or child.tag.startswith("{"):
+            tag = child.tag
+            if not isinstance(tag, str) or tag.startswith("{"):
                 continue
-            attributes = {k for k in child.attrib if k != SRC_ATTRIBUTE}
-            if "value" in attributes and not text_of(child) and not len(child):
+            # a `value` attribute, even an empty one (`value=""`)
+            if child.get("value") is not None and not text_of(child) and not len(child):
                 yield block, child
