@@ -129,18 +129,18 @@ def box_diagonal(lo: Vec3, hi: Vec3) -> float:
 
 #: content hash -> facts, or the error reading those bytes gave
 _FACTS: dict[str, MeshFacts | MeshError] = {}
-#: (path, size, mtime, inode) -> content hash: each file is hashed once per run
+#: (path, size, mtime, inode) -> content hash: each file is hashed once per run. An absolute
+#: path is taken as written: the inode tells the file, and normalising cost more than the lookup.
 _KEYS: dict[tuple[str, int, int, int], str] = {}
 _LOCK = threading.Lock()
 
 
 def content_key(path: str, status: os.stat_result | None = None) -> str:
     """SHA-256 of the file's bytes (the cache key: the same mesh under two names loads once).
-
-    *status*: its ``os.stat``, when the caller has it. Raises ``OSError`` when it cannot be read.
-    """
+    *status*: its ``os.stat``, when the caller has it. Raises ``OSError`` when it cannot be read."""
     stat = os.stat(path) if status is None else status
-    memo = (os.path.abspath(path), stat.st_size, stat.st_mtime_ns, stat.st_ino)
+    where = path if os.path.isabs(path) else os.path.abspath(path)
+    memo = (where, stat.st_size, stat.st_mtime_ns, stat.st_ino)
     with _LOCK:
         if memo in _KEYS:
             return _KEYS[memo]

@@ -58,11 +58,13 @@ def preserved_fixed_joints(ctx: CheckContext) -> frozenset[str]:
         kept: set[str] = set()
         for block in gazebo_blocks(ctx):
             reference = block.get("reference")
-            for child in block:
-                if child.tag in ("preserveFixedJoint", "disableFixedJointLumping") and reference:
-                    value = (child.get("value") or (child.text or "").strip()).lower()
-                    if value in ("true", "yes", "1"):
-                        kept.add(reference)
+            if not reference:
+                continue
+            # lxml's tag filter: the block's other children (most of them) are not built
+            for child in block.iterchildren("preserveFixedJoint", "disableFixedJointLumping"):
+                value = (child.get("value") or (child.text or "").strip()).lower()
+                if value in ("true", "yes", "1"):
+                    kept.add(reference)
         ctx.cache[key] = frozenset(kept)
     return ctx.cache[key]  # type: ignore[no-any-return]
 
@@ -72,8 +74,8 @@ def defined_joints(ctx: CheckContext) -> frozenset[str]:
     key = ("gazebo-defined-joints",)
     if key not in ctx.cache:
         ctx.cache[key] = frozenset(
-            name for block in gazebo_blocks(ctx) for child in block
-            if child.tag == "joint" and (name := child.get("name"))
+            name for block in gazebo_blocks(ctx) for child in block.iterchildren("joint")
+            if (name := child.get("name"))
         )
     return ctx.cache[key]  # type: ignore[no-any-return]
 

@@ -324,21 +324,23 @@ class _Reader:
         joints: list[Named] = []
         chains: list[Chain] = []
         subgroups: list[Named] = []
+        members = {"link": links, "joint": joints, "group": subgroups}
         for child in element:
-            if not isinstance(child.tag, str):
+            tag = child.tag
+            if not isinstance(tag, str):
                 continue
-            if child.tag == "chain":
+            if tag == "chain":
                 base = self.named(child, "base_link", where)
                 tip = self.named(child, "tip_link", where)
                 if base and tip:
                     chains.append(Chain(base, tip, self.span(child)))
                 continue
-            if child.tag not in GROUP_CHILDREN:
+            if tag not in GROUP_CHILDREN:
                 self.unknown(child, where, GROUP_CHILDREN)
                 continue
             ref = self.named(child, "name", where)
             if ref is not None:
-                {"link": links, "joint": joints, "group": subgroups}[child.tag].append(ref)
+                members[tag].append(ref)
         return Group(name, tuple(links), tuple(joints), tuple(chains), tuple(subgroups), self.span(element))
 
     def group_state(self, element: etree._Element) -> GroupState | None:
@@ -350,17 +352,19 @@ class _Reader:
         values: list[JointValue] = []
         where = f"group_state[{name}]"
         for child in element:
-            if not isinstance(child.tag, str):
+            tag = child.tag
+            if not isinstance(tag, str):
                 continue
-            if child.tag != "joint":
+            if tag != "joint":
                 self.unknown(child, where, frozenset({"joint"}))
                 continue
             joint = self.attr(child, "name", where)
             raw = self.attr(child, "value", where)
             if joint is None or raw is None:
                 continue
-            numbers = [parse_number(token) for token in raw.split()]
-            if None in numbers or not numbers:
+            tokens = raw.split()
+            numbers = [n for n in map(parse_number, tokens) if n is not None]
+            if len(numbers) != len(tokens) or not numbers:
                 self.diagnostics.append(
                     InvalidNumber.diagnostic(
                         f"group state '{name}': joint '{joint}' has value \"{raw}\", not a number",
@@ -370,7 +374,7 @@ class _Reader:
                 )
                 values.append(JointValue(joint, (), self.span(child)))
                 continue
-            values.append(JointValue(joint, tuple(n for n in numbers if n is not None), self.span(child)))
+            values.append(JointValue(joint, tuple(numbers), self.span(child)))
         return GroupState(name, group, tuple(values), self.span(element))
 
     def end_effector(self, element: etree._Element) -> EndEffector | None:

@@ -119,8 +119,8 @@ class GazeboReferenceMissing(_Gazebo):
             name
             for block in blocks
             if block.get("reference") is None
-            for child in block
-            if isinstance(child.tag, str) and child.tag in ("link", "joint") and (name := child.get("name"))
+            for child in block.iterchildren("link", "joint")  # lxml's tag filter: no other child is built
+            if (name := child.get("name"))
         }
         suggest = suggester(names)
         for block in blocks:

@@ -52,8 +52,9 @@ def _slip_factor(a: tuple[float, ...], b: tuple[float, ...], tol: float) -> int 
 
 
 def _sizes(geometry: Geometry | None) -> tuple[str, tuple[float, ...]] | None:
-    if isinstance(geometry, Mesh):
-        return geometry.filename, tuple(abs(float(s)) for s in geometry.scale)
+    if isinstance(geometry, Mesh):  # most shapes: the scale's three numbers written out
+        x, y, z = geometry.scale
+        return geometry.filename, (abs(float(x)), abs(float(y)), abs(float(z)))
     dims = shape_dims(geometry)
     if dims is None or geometry is None:
         return None
