@@ -57,8 +57,10 @@ def settled(
     clean = {name(m) for a, b, d in results if d is None for m in (a, b)}
     reported: set[str] = set()
     for a, b, diag in results:
+        if diag is None:  # most pairs
+            continue
         names = {name(a), name(b)}
-        if diag is None or names & clean or names & reported:
+        if names & clean or names & reported:
             continue
         reported |= names
         yield diag
@@ -191,12 +193,6 @@ class MirroredPoseMismatch(IntentRule):
             if fa is None or fb is None:
                 return None
             wa, wb = fa[1], fb[1]
-            # two parts set down on one bare frame (a `world` link) mirror through the plane
-            # between them: that frame's origin is where the author put it, not the robot's
-            # middle (xArm's dual arm: bases at y = 0 and y = 1 m)
-            middle = wa[1] + wb[1] if ja.parent == jb.parent and _bare_frame(ctx, ja.parent) else 0.0
-            flipped = _flipped(wb, middle)
-            mirrored_world = _all_close(wa, flipped, ctx)
             written = _abs_match(ja.origin.xyz, jb.origin.xyz, ctx)
             lateral = option(ctx, "mirror_length_tolerance")
             turned = math.radians(option(ctx, "angle_tolerance_deg"))
@@ -217,9 +213,9 @@ class MirroredPoseMismatch(IntentRule):
                 )
             elif (
                 not written
-                and not mirrored_world
+                and not _mirrored_world(ctx, ja, jb, wa, wb)
                 and not (_mount(ctx, ja) or _mount(ctx, jb))
-                and not _named_by_slot(ctx, ja, jb, frames, middle)
+                and not _named_by_slot(ctx, ja, jb, frames, _middle(ctx, ja, jb, wa, wb))
             ):
                 message = (
                     f"joint '{jb.name}' at xyz=\"{_vec(jb.origin.xyz)}\" does not mirror "
@@ -241,6 +237,22 @@ class MirroredPoseMismatch(IntentRule):
                 },
             )
             return _with_other(diag, ja.span, f"the mirrored joint '{ja.name}'")
+
+
+def _middle(ctx: CheckContext, ja: Joint, jb: Joint, wa: Vec3, wb: Vec3) -> float:
+    """Twice the lateral offset (m) of the plane the children at *wa* and *wb* mirror through.
+
+    Two parts set down on one bare frame (a `world` link) mirror through the plane between
+    them: that frame's origin is where the author put it, not the robot's middle (xArm's dual
+    arm: bases at y = 0 and y = 1 m). Otherwise the root's x-z plane (0).
+    """
+    return wa[1] + wb[1] if ja.parent == jb.parent and _bare_frame(ctx, ja.parent) else 0.0
+
+
+def _mirrored_world(ctx: CheckContext, ja: Joint, jb: Joint, wa: Vec3, wb: Vec3) -> bool:
+    """Whether the children at home (*wa*, *wb*, root frame, m) are mirror images; asked only
+    of a pair whose offsets do not mirror as written (most pairs do)."""
+    return _all_close(wa, _flipped(wb, _middle(ctx, ja, jb, wa, wb)), ctx)
 
 
 @register
