@@ -63,7 +63,7 @@ def ros_control_transmissions(ctx: CheckContext) -> Iterator[Any]:
         element = extension.element
         if extension.tag != "transmission" or element is None:
             continue
-        kind = element.find("type")
+        kind = next(element.iterchildren("type"), None)  # find("type") without ElementPath's setup
         if kind is None or not _text(kind).startswith("transmission_interface/"):
             continue
         yield element
@@ -118,9 +118,10 @@ class TransmissionHardwareInterface(Rule):
     def check(self, ctx: CheckContext) -> Iterator[Diagnostic]:
         for transmission in ros_control_transmissions(ctx):
             label = transmission.get("name") or "unnamed"
-            for joint in transmission.findall("joint"):
-                interfaces = joint.findall("hardwareInterface")
-                if not interfaces and joint.get("name"):
+            # lxml's tag filter, as findall() of a bare tag, without ElementPath's setup per call
+            for joint in transmission.iterchildren("joint"):
+                interface = next(joint.iterchildren("hardwareInterface"), None)
+                if interface is None and joint.get("name"):
                     yield self._missing(transmission, label, joint)
             for element in transmission.iter("hardwareInterface"):
                 yield from self._named(label, element)
