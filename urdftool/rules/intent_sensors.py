@@ -38,8 +38,11 @@ def sensors(robot: Robot) -> Iterator[tuple[Any, str]]:
     blocks of a URDF, and under the links, joints and model of an SDF file."""
     seen: set[int] = set()
     for block in gz.gazebo_blocks(robot):
-        owner = f"gazebo[{block.get('reference')}]" if block.get("reference") else "gazebo"
+        owner = None  # written only for a block with a sensor: most blocks hold none
         for sensor in block.iter("sensor"):
+            if owner is None:
+                reference = block.get("reference")
+                owner = f"gazebo[{reference}]" if reference else "gazebo"
             seen.add(id(sensor))
             yield sensor, owner
     holders: list[tuple[str, Any]] = [("link", link) for link in robot.links if link.extensions]
