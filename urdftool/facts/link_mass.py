@@ -11,7 +11,7 @@ facts once per file and scale however many links use it.
 
 from __future__ import annotations
 
-from collections.abc import Iterable, Iterator
+from collections.abc import Iterator, Sequence
 from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:
@@ -23,6 +23,7 @@ else:
 from urdftool.facts.context import CheckContext
 from urdftool.facts.meshes import status
 from urdftool.model import Geometry, Inertial, Link, Mesh
+from urdftool.model.robot import Inertia3
 from urdftool.physics import linkmass
 from urdftool.physics.inertia import (
     RELATIVE_TOLERANCE,
@@ -31,8 +32,9 @@ from urdftool.physics.inertia import (
     principal_moments,
     principal_moments_many,
 )
-from urdftool.physics.linkmass import InertiaComparison, Moments, Prepared
+from urdftool.physics.linkmass import InertiaComparison, Moments
 from urdftool.physics.massprops import SolidProperties, geometry_properties, mesh_properties
+from urdftool.physics.vec3 import Tensor3
 
 
 def declared_verdict(ctx: CheckContext, inertial: Inertial, abs_tol: float = 0.0) -> InertiaVerdict:
@@ -113,50 +115,39 @@ def geometry_sources(ctx: CheckContext, link: Link) -> Iterator[tuple[str, Solid
 
 def comparison(ctx: CheckContext, link: Link) -> InertiaComparison | None:
     """:func:`urdftool.physics.linkmass.compare_with_geometry` of *link*, from the measured solids."""
-    moments = declared_moments(ctx, link.inertial) if link.inertial is not None else None
-    return linkmass.compare_with_geometry(link, geometry_sources(ctx, link), moments)
+    return linkmass.compare_with_geometry(link, geometry_sources(ctx, link))
 
 
-def comparisons(ctx: CheckContext, links: Iterable[Link]) -> Iterator[tuple[Link, InertiaComparison | None]]:
-    """Each of *links* with its :func:`comparison`, in order: the same comparisons, with the
-    geometry's principal moments of all of them decomposed in one call
-    (:func:`~urdftool.physics.inertia.principal_moments_many`) instead of one per link.
+def moment_factors(compared: Sequence[tuple[Link, InertiaComparison]]) -> list[float | None]:
+    """:func:`~urdftool.physics.linkmass.moment_factor` of each link's declared tensor against
+    its comparison's computed one, with the tensors of all of them decomposed in one call
+    (:func:`~urdftool.physics.inertia.principal_moments_many`) instead of two per link.
 
-    An error (from *links* itself or from measuring a link's geometry) is raised after the
-    links before it are yielded, where a loop calling :func:`comparison` would meet it.
+    ``None`` for a link whose tensors cannot be decomposed: LAPACK does not converge on a tensor
+    of subnormal numbers (a box 4.9e-324 m deep, fixtures/fuzz-regressions), and such a
+    geometry cannot be measured, as a missing one.
     """
-    prepared: list[tuple[Link, Prepared | None]] = []
-    failure: Exception | None = None
-    remaining = iter(links)
+    tensors = [tensor for link, found in compared for tensor in (_declared(link), found.computed)]
     try:
-        for link in remaining:
-            prepared.append((link, linkmass.prepare_comparison(link, geometry_sources(ctx, link))))
-    except Exception as exc:  # raised in its turn below
-        failure = exc
-    try:
-        batch: Iterator[Moments] | None = iter(
-            principal_moments_many([found[2] for _, found in prepared if found is not None])
-        )
+        moments: list[Moments | None] = list(principal_moments_many(tensors))
     except np.linalg.LinAlgError:  # one at a time, so that only that link is left unmeasured
-        batch = None
-    for link, found in prepared:
-        if found is None:
-            yield link, None
-            continue
-        declared = declared_verdict(ctx, link.inertial).moments if link.inertial is not None else None
-        if batch is not None:
-            moments = next(batch)
-        else:
-            try:
-                moments = linkmass.moments_of(found[2])
-            except np.linalg.LinAlgError:
-                # LAPACK does not converge on a tensor of subnormal numbers (a box 4.9e-324 m deep,
-                # fixtures/fuzz-regressions): such a geometry cannot be measured, as a missing one
-                yield link, None
-                continue
-        yield link, linkmass.finish_comparison(link, found, declared, moments)
-    if failure is not None:
-        raise failure
+        moments = [_moments_or_none(tensor) for tensor in tensors]
+    return [
+        None if declared is None or computed is None else linkmass.moment_factor(declared, computed)
+        for declared, computed in zip(moments[0::2], moments[1::2], strict=True)
+    ]
+
+
+def _declared(link: Link) -> Inertia3:
+    assert link.inertial is not None  # a comparison is made only for a link with an <inertial>
+    return link.inertial.inertia
+
+
+def _moments_or_none(tensor: Inertia3 | Tensor3) -> Moments | None:
+    try:
+        return linkmass.moments_of(tensor)
+    except np.linalg.LinAlgError:
+        return None
 
 
 class _Sources:
