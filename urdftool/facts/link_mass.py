@@ -28,6 +28,7 @@ from urdftool.physics import linkmass
 from urdftool.physics.inertia import (
     RELATIVE_TOLERANCE,
     InertiaVerdict,
+    clearly_valid,
     judge_moments,
     principal_moments,
     principal_moments_many,
@@ -37,65 +38,69 @@ from urdftool.physics.massprops import SolidProperties, geometry_properties, mes
 from urdftool.physics.vec3 import Tensor3
 
 
-def declared_verdict(ctx: CheckContext, inertial: Inertial, abs_tol: float = 0.0) -> InertiaVerdict:
-    """:func:`~urdftool.physics.inertia.assess` of the tensor as written (inertial frame, kg·m²).
-
-    The first question at a tolerance (``abs_tol``: :data:`~urdftool.physics.inertia.MIN_MOMENT`
-    for the validity rules, 0 for the fit rules) judges every link's tensor at it: four rules ask
-    it of every link. The verdicts are kept by the element's identity, which costs less to look
-    up than its six numbers; the robot holds its elements for the whole check, and the element
-    kept beside each verdict makes sure it is the one asked about.
-    """
-    verdicts: dict[int, tuple[Inertial, InertiaVerdict]] | None
-    verdicts = ctx.cache.get(("declared-verdicts", abs_tol))
-    if verdicts is None:
-        verdicts = ctx.cache["declared-verdicts", abs_tol] = _all_verdicts(ctx, abs_tol)
-    found = verdicts.get(id(inertial))
+def declared_valid(ctx: CheckContext, inertial: Inertial, abs_tol: float = 0.0) -> bool:
+    """Whether the tensor as written is valid (:func:`declared_verdict`'s ``valid``): four rules
+    ask it of every link, and most tensors answer without their eigenvalues
+    (:func:`~urdftool.physics.inertia.clearly_valid`)."""
+    found = _judged(ctx, abs_tol).get(id(inertial))
     if found is not None and found[0] is inertial:
+        return found[1] is None or found[1].valid
+    return declared_verdict(ctx, inertial, abs_tol).valid
+
+
+def declared_verdict(ctx: CheckContext, inertial: Inertial, abs_tol: float = 0.0) -> InertiaVerdict:
+    """:func:`~urdftool.physics.inertia.assess` of the tensor as written (inertial frame, kg·m²)
+    at ``abs_tol`` (:data:`~urdftool.physics.inertia.MIN_MOMENT` for the validity rules, 0 for
+    the fit rules)."""
+    found = _judged(ctx, abs_tol).get(id(inertial))
+    if found is not None and found[0] is inertial and found[1] is not None:
         return found[1]
     return judge_moments(declared_moments(ctx, inertial), RELATIVE_TOLERANCE, abs_tol)
 
 
-def _all_verdicts(ctx: CheckContext, abs_tol: float) -> dict[int, tuple[Inertial, InertiaVerdict]]:
-    verdicts: dict[int, tuple[Inertial, InertiaVerdict]] = {}
+def _judged(ctx: CheckContext, abs_tol: float) -> dict[int, tuple[Inertial, InertiaVerdict | None]]:
+    """Every link's tensor judged at ``abs_tol``, by the element's identity: ``None`` for a tensor
+    clearly valid, else its verdict, all of those decomposed in one call
+    (:func:`~urdftool.physics.inertia.principal_moments_many`).
+
+    Kept by identity, which costs less to look up than six numbers; the robot holds its elements
+    for the whole check, and the element kept beside each answer makes sure it is the one asked
+    about.
+    """
+    key = ("declared-verdicts", abs_tol)
+    if key in ctx.cache:
+        known: dict[int, tuple[Inertial, InertiaVerdict | None]] = ctx.cache[key]
+        return known
+    judged: dict[int, tuple[Inertial, InertiaVerdict | None]] = {}
+    ctx.cache[key] = judged
+    unclear: list[Inertial] = []
     for link in ctx.robot.links:
         inertial = link.inertial
         if inertial is None:
             continue
-        try:
-            moments = declared_moments(ctx, inertial)
-        except np.linalg.LinAlgError:
-            continue  # raised to the rule that asks about this link, as always
-        verdicts[id(inertial)] = (inertial, judge_moments(moments, RELATIVE_TOLERANCE, abs_tol))
-    return verdicts
+        if clearly_valid(inertial.inertia, RELATIVE_TOLERANCE, abs_tol):
+            judged[id(inertial)] = (inertial, None)
+        else:
+            unclear.append(inertial)
+    try:
+        moments = principal_moments_many([inertial.inertia for inertial in unclear])
+    except np.linalg.LinAlgError:
+        # One tensor that LAPACK cannot decompose fails the whole stack; decomposed one at a
+        # time, it fails only the rule that asks for it, as it always did.
+        return judged
+    for inertial, found in zip(unclear, moments, strict=True):
+        judged[id(inertial)] = (inertial, judge_moments(found, RELATIVE_TOLERANCE, abs_tol))
+    return judged
 
 
 def declared_moments(ctx: CheckContext, inertial: Inertial) -> Moments:
-    """Principal moments (kg·m², ascending) of the tensor as written, once per distinct tensor.
-
-    The first call decomposes every link's tensor at once
-    (:func:`~urdftool.physics.inertia.principal_moments_many`): the validity rules judge each
-    of them anyway.
-    """
-    moments: dict[Any, Moments] | None = ctx.cache.get("declared-moments")
-    if moments is None:
-        moments = ctx.cache["declared-moments"] = _all_declared_moments(ctx)
+    """Principal moments (kg·m², ascending) of the tensor as written, once per distinct tensor."""
+    moments: dict[Any, Moments] = ctx.cache.setdefault("declared-moments", {})
     found = moments.get(inertial.inertia)
     if found is None:
         values, _ = principal_moments(inertial.inertia_matrix)
         found = moments[inertial.inertia] = (float(values[0]), float(values[1]), float(values[2]))
     return found
-
-
-def _all_declared_moments(ctx: CheckContext) -> dict[Any, Moments]:
-    inertials = (link.inertial for link in ctx.robot.links if link.inertial is not None)
-    tensors = list(dict.fromkeys(inertial.inertia for inertial in inertials))
-    try:
-        return dict(zip(tensors, principal_moments_many(tensors), strict=True))
-    except np.linalg.LinAlgError:
-        # One tensor that LAPACK cannot decompose fails the whole stack; decomposed one at a
-        # time, it fails only the rule that asks for it, as it always did.
-        return {}
 
 
 def geometry_sources(ctx: CheckContext, link: Link) -> Iterator[tuple[str, SolidProperties]]:

@@ -106,7 +106,7 @@ class InertiaGeometryMismatch(_Inertia):
                 if (
                     inertial is None
                     or inertial.mass <= MIN_VALUE  # as written: a NaN mass is judged
-                    or not link_mass.declared_verdict(ctx, inertial).valid
+                    or not link_mass.declared_valid(ctx, inertial)
                 ):
                     continue
                 comparison = link_mass.comparison(ctx, link)
