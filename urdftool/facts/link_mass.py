@@ -11,6 +11,7 @@ facts once per file and scale however many links use it.
 
 from __future__ import annotations
 
+import os
 from collections.abc import Iterator, Sequence
 from typing import TYPE_CHECKING, Any
 
@@ -58,28 +59,47 @@ def declared_verdict(ctx: CheckContext, inertial: Inertial, abs_tol: float = 0.0
     return judge_moments(declared_moments(ctx, inertial), RELATIVE_TOLERANCE, abs_tol)
 
 
-def _judged(ctx: CheckContext, abs_tol: float) -> dict[int, tuple[Inertial, InertiaVerdict | None]]:
+#: Link tensors judged at one tolerance, by the element's identity (see :func:`_judged`).
+Judged = dict[int, tuple[Inertial, InertiaVerdict | None]]
+
+
+def _judged(ctx: CheckContext, abs_tol: float) -> Judged:
     """Every link's tensor judged at ``abs_tol``, by the element's identity: ``None`` for a tensor
-    clearly valid, else its verdict, all of those decomposed in one call
-    (:func:`~urdftool.physics.inertia.principal_moments_many`).
+    clearly valid, else its verdict.
 
     Kept by identity, which costs less to look up than six numbers; the robot holds its elements
     for the whole check, and the element kept beside each answer makes sure it is the one asked
     about.
     """
-    key = ("declared-verdicts", abs_tol)
-    if key in ctx.cache:
-        known: dict[int, tuple[Inertial, InertiaVerdict | None]] = ctx.cache[key]
-        return known
-    judged: dict[int, tuple[Inertial, InertiaVerdict | None]] = {}
-    ctx.cache[key] = judged
+    by_tolerance: dict[float, Judged] | None = ctx.cache.get("declared-verdicts")
+    if by_tolerance is None:
+        by_tolerance = ctx.cache["declared-verdicts"] = {}
+    judged = by_tolerance.get(abs_tol)
+    if judged is None:
+        judged = by_tolerance[abs_tol] = _judge_all(ctx, abs_tol, by_tolerance)
+    return judged
+
+
+def _judge_all(ctx: CheckContext, abs_tol: float, by_tolerance: dict[float, Judged]) -> Judged:
+    """:func:`_judged` at ``abs_tol``, from what the other tolerances found: a tensor clearly valid
+    at a larger one is clearly valid at this one, and a tensor decomposed for another is judged
+    from the same moments. The rest are decomposed in one call
+    (:func:`~urdftool.physics.inertia.principal_moments_many`)."""
+    stricter = [found for tolerance, found in by_tolerance.items() if tolerance >= abs_tol]
+    judged: Judged = {}
     unclear: list[Inertial] = []
     for link in ctx.robot.links:
         inertial = link.inertial
         if inertial is None:
             continue
-        if clearly_valid(inertial.inertia, RELATIVE_TOLERANCE, abs_tol):
-            judged[id(inertial)] = (inertial, None)
+        key = id(inertial)
+        clear = stricter and _clear_in(stricter, key)
+        if clear or clearly_valid(inertial.inertia, RELATIVE_TOLERANCE, abs_tol):
+            judged[key] = (inertial, None)
+            continue
+        decomposed = _verdict_in(by_tolerance, key)
+        if decomposed is not None:
+            judged[key] = (inertial, judge_moments(decomposed.moments, RELATIVE_TOLERANCE, abs_tol))
         else:
             unclear.append(inertial)
     try:
@@ -91,6 +111,20 @@ def _judged(ctx: CheckContext, abs_tol: float) -> dict[int, tuple[Inertial, Iner
     for inertial, found in zip(unclear, moments, strict=True):
         judged[id(inertial)] = (inertial, judge_moments(found, RELATIVE_TOLERANCE, abs_tol))
     return judged
+
+
+def _clear_in(judged: list[Judged], key: int) -> bool:
+    """Whether one of *judged* found the tensor of element *key* clearly valid."""
+    return any(key in found and found[key][1] is None for found in judged)
+
+
+def _verdict_in(by_tolerance: dict[float, Judged], key: int) -> InertiaVerdict | None:
+    """A verdict on the tensor of element *key* at another tolerance (its moments are known)."""
+    for found in by_tolerance.values():
+        answer = found.get(key)
+        if answer is not None and answer[1] is not None:
+            return answer[1]
+    return None
 
 
 def declared_moments(ctx: CheckContext, inertial: Inertial) -> Moments:
@@ -208,8 +242,33 @@ def _measurer(ctx: CheckContext) -> linkmass.Measure:
         if key not in meshes:
             # the mesh survey's status of the file: one os.stat per file per check
             known = status(ctx, geometry.resolved) if geometry.resolved is not None else None
-            meshes[key] = mesh_properties(geometry, known)
+            meshes[key] = _mesh_solid(geometry, known)
         return meshes[key]
 
     ctx.cache["mesh-measurer"] = measure
     return measure
+
+
+#: Mesh solids by file, scale and the file's identity and version (device, inode, size,
+#: modification time: what the mesh facts' content key is remembered by), kept across the checks
+#: of a process: a workspace's robots share meshes, and the language server checks one robot
+#: again and again. A file written since is another key.
+_MESH_SOLIDS: dict[tuple[Any, ...], SolidProperties | None] = {}
+#: Entries kept at most; beyond, the memo starts again (a long session of many robots).
+_MESH_SOLIDS_KEPT = 4096
+
+
+def _mesh_solid(mesh: Mesh, known: os.stat_result | None) -> SolidProperties | None:
+    """:func:`~urdftool.physics.massprops.mesh_properties` of *mesh*, whose file has the status
+    *known*, from the memo when that version of the file was measured at that scale before."""
+    if known is None:
+        return mesh_properties(mesh, known)
+    key = (mesh.resolved, mesh.filename, mesh.scale, known.st_dev, known.st_ino, known.st_size,
+           known.st_mtime_ns)
+    found = _MESH_SOLIDS.get(key, _UNMEASURED)  # one lookup: safe beside a clear() in another thread
+    if not isinstance(found, _Unmeasured):
+        return found
+    if len(_MESH_SOLIDS) >= _MESH_SOLIDS_KEPT:
+        _MESH_SOLIDS.clear()
+    solid = _MESH_SOLIDS[key] = mesh_properties(mesh, known)
+    return solid
