@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import random
 from pathlib import Path
 
 import numpy as np
@@ -29,8 +30,9 @@ from urdftool.model import (
     Robot,
     Sphere,
 )
+from urdftool.model.pose import rpy_to_matrix
 from urdftool.physics.bodies import mass_role, rigid_bodies
-from urdftool.physics.inertia import MIN_MOMENT, assess
+from urdftool.physics.inertia import MIN_MOMENT, assess, clearly_valid
 from urdftool.physics.massprops import combine, place, rotate_into, shape_properties
 from urdftool.pipeline.check import CheckOptions, check_file, run_rules
 from urdftool.rules import Selection
@@ -101,6 +103,53 @@ def test_assess_absolute_floor_is_optional() -> None:
     tiny = np.diag([4.9e-21, 3.6e-20, 5.4e-20])
     assert assess(tiny).positive_definite  # relative test alone: fine
     assert not assess(tiny, abs_tol=MIN_MOMENT).positive_definite
+
+
+def _tensors(rng: random.Random, count: int) -> list[tuple[tuple[float, float, float], ...]]:
+    """Symmetric tensors of bodies and of no body, rotated at random: rods, plates and discs at
+    the triangle's limit, placeholders, moments off by a little or a lot, tiny and huge
+    scales, products with the wrong sign, zeros, NaN and infinities."""
+    out = []
+    for _ in range(count):
+        kind = rng.random()
+        a, b = rng.uniform(0.0, 1.0), rng.uniform(0.0, 1.0)
+        if kind < 0.2:
+            moments = [a, a + b * 10 ** -rng.randint(0, 14), a + b]  # near the triangle's limit
+        elif kind < 0.3:
+            moments = [10 ** -rng.randint(5, 18), a, a]  # a rod
+        elif kind < 0.4:
+            moments = [a, a, a * rng.choice([1.0, 0.5, 0.1])]  # placeholders, and off by a lot
+        else:
+            moments = [rng.uniform(-0.1, 1.0) for _ in range(3)]
+        scale = 10.0 ** rng.randint(-100, 100) if rng.random() < 0.3 else 10.0 ** rng.randint(-9, 3)
+        turn = rpy_to_matrix(tuple(rng.uniform(-math.pi, math.pi) for _ in range(3)))
+        tensor = turn @ np.diag([m * scale for m in moments]) @ turn.T
+        if rng.random() < 0.3:
+            tensor = np.diag(np.diag(tensor))
+        tensor = 0.5 * (tensor + tensor.T)
+        if rng.random() < 0.05:
+            tensor[0, 1] = tensor[1, 0] = -tensor[0, 1]
+        if rng.random() < 0.02:
+            tensor[rng.randrange(3), rng.randrange(3)] = rng.choice([0.0, -0.0, math.nan, math.inf])
+        out.append(tuple(tuple(row) for row in tensor.tolist()))
+    return out
+
+
+@pytest.mark.parametrize("abs_tol", [0.0, MIN_MOMENT])
+def test_a_clearly_valid_tensor_is_one_assess_finds_valid(abs_tol: float) -> None:
+    """The test without eigenvalues never calls valid a tensor the eigenvalues call invalid, and
+    tells most valid tensors (the others are the triangle's limits, or too close to a floor)."""
+    valid = clear = 0
+    for tensor in _tensors(random.Random(5), 20_000):
+        try:
+            verdict = assess(np.array(tensor), abs_tol=abs_tol).valid
+        except np.linalg.LinAlgError:  # no eigenvalues to be found: nothing is clear either
+            verdict = False
+        if clearly_valid(tensor, abs_tol=abs_tol):  # type: ignore[arg-type]
+            assert verdict, tensor
+            clear += 1
+        valid += verdict
+    assert clear > 0.6 * valid
 
 
 # -- robots built here ---------------------------------------------------------------

@@ -11,7 +11,7 @@ facts once per file and scale however many links use it.
 
 from __future__ import annotations
 
-from collections.abc import Iterable, Iterator
+from collections.abc import Iterator, Sequence
 from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:
@@ -23,77 +23,117 @@ else:
 from urdftool.facts.context import CheckContext
 from urdftool.facts.meshes import status
 from urdftool.model import Geometry, Inertial, Link, Mesh
+from urdftool.model.robot import Inertia3
 from urdftool.physics import linkmass
 from urdftool.physics.inertia import (
     RELATIVE_TOLERANCE,
     InertiaVerdict,
+    clearly_valid,
     judge_moments,
     principal_moments,
     principal_moments_many,
 )
-from urdftool.physics.linkmass import InertiaComparison, Moments, Prepared
+from urdftool.physics.linkmass import InertiaComparison, Moments
 from urdftool.physics.massprops import SolidProperties, geometry_properties, mesh_properties
+from urdftool.physics.vec3 import Tensor3
+
+
+def declared_valid(ctx: CheckContext, inertial: Inertial, abs_tol: float = 0.0) -> bool:
+    """Whether the tensor as written is valid (:func:`declared_verdict`'s ``valid``): four rules
+    ask it of every link, and most tensors answer without their eigenvalues
+    (:func:`~urdftool.physics.inertia.clearly_valid`)."""
+    found = _judged(ctx, abs_tol).get(id(inertial))
+    if found is not None and found[0] is inertial:
+        return found[1] is None or found[1].valid
+    return declared_verdict(ctx, inertial, abs_tol).valid
 
 
 def declared_verdict(ctx: CheckContext, inertial: Inertial, abs_tol: float = 0.0) -> InertiaVerdict:
-    """:func:`~urdftool.physics.inertia.assess` of the tensor as written (inertial frame, kg·m²).
-
-    The first question at a tolerance (``abs_tol``: :data:`~urdftool.physics.inertia.MIN_MOMENT`
-    for the validity rules, 0 for the fit rules) judges every link's tensor at it: four rules ask
-    it of every link. The verdicts are kept by the element's identity, which costs less to look
-    up than its six numbers; the robot holds its elements for the whole check, and the element
-    kept beside each verdict makes sure it is the one asked about.
-    """
-    verdicts: dict[int, tuple[Inertial, InertiaVerdict]] | None
-    verdicts = ctx.cache.get(("declared-verdicts", abs_tol))
-    if verdicts is None:
-        verdicts = ctx.cache["declared-verdicts", abs_tol] = _all_verdicts(ctx, abs_tol)
-    found = verdicts.get(id(inertial))
-    if found is not None and found[0] is inertial:
+    """:func:`~urdftool.physics.inertia.assess` of the tensor as written (inertial frame, kg·m²)
+    at ``abs_tol`` (:data:`~urdftool.physics.inertia.MIN_MOMENT` for the validity rules, 0 for
+    the fit rules)."""
+    found = _judged(ctx, abs_tol).get(id(inertial))
+    if found is not None and found[0] is inertial and found[1] is not None:
         return found[1]
     return judge_moments(declared_moments(ctx, inertial), RELATIVE_TOLERANCE, abs_tol)
 
 
-def _all_verdicts(ctx: CheckContext, abs_tol: float) -> dict[int, tuple[Inertial, InertiaVerdict]]:
-    verdicts: dict[int, tuple[Inertial, InertiaVerdict]] = {}
+#: Link tensors judged at one tolerance, by the element's identity (see :func:`_judged`).
+Judged = dict[int, tuple[Inertial, InertiaVerdict | None]]
+
+
+def _judged(ctx: CheckContext, abs_tol: float) -> Judged:
+    """Every link's tensor judged at ``abs_tol``, by the element's identity: ``None`` for a tensor
+    clearly valid, else its verdict.
+
+    Kept by identity, which costs less to look up than six numbers; the robot holds its elements
+    for the whole check, and the element kept beside each answer makes sure it is the one asked
+    about.
+    """
+    by_tolerance: dict[float, Judged] | None = ctx.cache.get("declared-verdicts")
+    if by_tolerance is None:
+        by_tolerance = ctx.cache["declared-verdicts"] = {}
+    judged = by_tolerance.get(abs_tol)
+    if judged is None:
+        judged = by_tolerance[abs_tol] = _judge_all(ctx, abs_tol, by_tolerance)
+    return judged
+
+
+def _judge_all(ctx: CheckContext, abs_tol: float, by_tolerance: dict[float, Judged]) -> Judged:
+    """:func:`_judged` at ``abs_tol``, from what the other tolerances found: a tensor clearly valid
+    at a larger one is clearly valid at this one, and a tensor decomposed for another is judged
+    from the same moments. The rest are decomposed in one call
+    (:func:`~urdftool.physics.inertia.principal_moments_many`)."""
+    stricter = [found for tolerance, found in by_tolerance.items() if tolerance >= abs_tol]
+    judged: Judged = {}
+    unclear: list[Inertial] = []
     for link in ctx.robot.links:
         inertial = link.inertial
         if inertial is None:
             continue
-        try:
-            moments = declared_moments(ctx, inertial)
-        except np.linalg.LinAlgError:
-            continue  # raised to the rule that asks about this link, as always
-        verdicts[id(inertial)] = (inertial, judge_moments(moments, RELATIVE_TOLERANCE, abs_tol))
-    return verdicts
+        key = id(inertial)
+        clear = stricter and _clear_in(stricter, key)
+        if clear or clearly_valid(inertial.inertia, RELATIVE_TOLERANCE, abs_tol):
+            judged[key] = (inertial, None)
+            continue
+        decomposed = _verdict_in(by_tolerance, key)
+        if decomposed is not None:
+            judged[key] = (inertial, judge_moments(decomposed.moments, RELATIVE_TOLERANCE, abs_tol))
+        else:
+            unclear.append(inertial)
+    try:
+        moments = principal_moments_many([inertial.inertia for inertial in unclear])
+    except np.linalg.LinAlgError:
+        # One tensor that LAPACK cannot decompose fails the whole stack; decomposed one at a
+        # time, it fails only the rule that asks for it, as it always did.
+        return judged
+    for inertial, found in zip(unclear, moments, strict=True):
+        judged[id(inertial)] = (inertial, judge_moments(found, RELATIVE_TOLERANCE, abs_tol))
+    return judged
+
+
+def _clear_in(judged: list[Judged], key: int) -> bool:
+    """Whether one of *judged* found the tensor of element *key* clearly valid."""
+    return any(key in found and found[key][1] is None for found in judged)
+
+
+def _verdict_in(by_tolerance: dict[float, Judged], key: int) -> InertiaVerdict | None:
+    """A verdict on the tensor of element *key* at another tolerance (its moments are known)."""
+    for found in by_tolerance.values():
+        answer = found.get(key)
+        if answer is not None and answer[1] is not None:
+            return answer[1]
+    return None
 
 
 def declared_moments(ctx: CheckContext, inertial: Inertial) -> Moments:
-    """Principal moments (kg·m², ascending) of the tensor as written, once per distinct tensor.
-
-    The first call decomposes every link's tensor at once
-    (:func:`~urdftool.physics.inertia.principal_moments_many`): the validity rules judge each
-    of them anyway.
-    """
-    moments: dict[Any, Moments] | None = ctx.cache.get("declared-moments")
-    if moments is None:
-        moments = ctx.cache["declared-moments"] = _all_declared_moments(ctx)
+    """Principal moments (kg·m², ascending) of the tensor as written, once per distinct tensor."""
+    moments: dict[Any, Moments] = ctx.cache.setdefault("declared-moments", {})
     found = moments.get(inertial.inertia)
     if found is None:
         values, _ = principal_moments(inertial.inertia_matrix)
         found = moments[inertial.inertia] = (float(values[0]), float(values[1]), float(values[2]))
     return found
-
-
-def _all_declared_moments(ctx: CheckContext) -> dict[Any, Moments]:
-    inertials = (link.inertial for link in ctx.robot.links if link.inertial is not None)
-    tensors = list(dict.fromkeys(inertial.inertia for inertial in inertials))
-    try:
-        return dict(zip(tensors, principal_moments_many(tensors), strict=True))
-    except np.linalg.LinAlgError:
-        # One tensor that LAPACK cannot decompose fails the whole stack; decomposed one at a
-        # time, it fails only the rule that asks for it, as it always did.
-        return {}
 
 
 def geometry_sources(ctx: CheckContext, link: Link) -> Iterator[tuple[str, SolidProperties]]:
@@ -113,50 +153,39 @@ def geometry_sources(ctx: CheckContext, link: Link) -> Iterator[tuple[str, Solid
 
 def comparison(ctx: CheckContext, link: Link) -> InertiaComparison | None:
     """:func:`urdftool.physics.linkmass.compare_with_geometry` of *link*, from the measured solids."""
-    moments = declared_moments(ctx, link.inertial) if link.inertial is not None else None
-    return linkmass.compare_with_geometry(link, geometry_sources(ctx, link), moments)
+    return linkmass.compare_with_geometry(link, geometry_sources(ctx, link))
 
 
-def comparisons(ctx: CheckContext, links: Iterable[Link]) -> Iterator[tuple[Link, InertiaComparison | None]]:
-    """Each of *links* with its :func:`comparison`, in order: the same comparisons, with the
-    geometry's principal moments of all of them decomposed in one call
-    (:func:`~urdftool.physics.inertia.principal_moments_many`) instead of one per link.
+def moment_factors(compared: Sequence[tuple[Link, InertiaComparison]]) -> list[float | None]:
+    """:func:`~urdftool.physics.linkmass.moment_factor` of each link's declared tensor against
+    its comparison's computed one, with the tensors of all of them decomposed in one call
+    (:func:`~urdftool.physics.inertia.principal_moments_many`) instead of two per link.
 
-    An error (from *links* itself or from measuring a link's geometry) is raised after the
-    links before it are yielded, where a loop calling :func:`comparison` would meet it.
+    ``None`` for a link whose tensors cannot be decomposed: LAPACK does not converge on a tensor
+    of subnormal numbers (a box 4.9e-324 m deep, fixtures/fuzz-regressions), and such a
+    geometry cannot be measured, as a missing one.
     """
-    prepared: list[tuple[Link, Prepared | None]] = []
-    failure: Exception | None = None
-    remaining = iter(links)
+    tensors = [tensor for link, found in compared for tensor in (_declared(link), found.computed)]
     try:
-        for link in remaining:
-            prepared.append((link, linkmass.prepare_comparison(link, geometry_sources(ctx, link))))
-    except Exception as exc:  # raised in its turn below
-        failure = exc
-    try:
-        batch: Iterator[Moments] | None = iter(
-            principal_moments_many([found[2] for _, found in prepared if found is not None])
-        )
+        moments: list[Moments | None] = list(principal_moments_many(tensors))
     except np.linalg.LinAlgError:  # one at a time, so that only that link is left unmeasured
-        batch = None
-    for link, found in prepared:
-        if found is None:
-            yield link, None
-            continue
-        declared = declared_verdict(ctx, link.inertial).moments if link.inertial is not None else None
-        if batch is not None:
-            moments = next(batch)
-        else:
-            try:
-                moments = linkmass.moments_of(found[2])
-            except np.linalg.LinAlgError:
-                # LAPACK does not converge on a tensor of subnormal numbers (a box 4.9e-324 m deep,
-                # fixtures/fuzz-regressions): such a geometry cannot be measured, as a missing one
-                yield link, None
-                continue
-        yield link, linkmass.finish_comparison(link, found, declared, moments)
-    if failure is not None:
-        raise failure
+        moments = [_moments_or_none(tensor) for tensor in tensors]
+    return [
+        None if declared is None or computed is None else linkmass.moment_factor(declared, computed)
+        for declared, computed in zip(moments[0::2], moments[1::2], strict=True)
+    ]
+
+
+def _declared(link: Link) -> Inertia3:
+    assert link.inertial is not None  # a comparison is made only for a link with an <inertial>
+    return link.inertial.inertia
+
+
+def _moments_or_none(tensor: Inertia3 | Tensor3) -> Moments | None:
+    try:
+        return linkmass.moments_of(tensor)
+    except np.linalg.LinAlgError:
+        return None
 
 
 class _Sources:
@@ -217,3 +246,4 @@ def _measurer(ctx: CheckContext) -> linkmass.Measure:
 
     ctx.cache["mesh-measurer"] = measure
     return measure
+

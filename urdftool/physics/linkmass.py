@@ -98,15 +98,15 @@ class InertiaComparison:
     """The declared tensor against a uniform solid of the declared mass, both in the inertial frame.
 
     ``ratio`` is trace(declared) / trace(computed): how many times larger the
-    declared inertia is overall. ``worst`` is the largest factor between
-    matching principal moments (sorted), ≥ 1.
+    declared inertia is overall. How the principal moments compare
+    (:func:`moment_factor`) is a second question, asked only where the traces agree: it needs
+    both tensors' eigenvalues.
     """
 
     source: str
     solid: SolidProperties
     computed: Tensor3
     ratio: float
-    worst: float
 
     @property
     def factor(self) -> float:
@@ -122,25 +122,8 @@ def geometry_tensor(link: Link, solid: SolidProperties) -> Tensor3 | None:
     return rotate_into(solid.inertia_for_mass(inertial.mass), inertial.origin)
 
 
-def compare_inertia(
-    link: Link, source: str, solid: SolidProperties, declared_moments: Moments | None = None
-) -> InertiaComparison | None:
-    """*link*'s declared inertia against *solid* at its mass; ``None`` if not comparable.
-
-    *declared_moments*: the declared tensor's principal moments (ascending), when already known.
-    """
-    prepared = _prepare(link, source, solid)
-    if prepared is None:
-        return None
-    return finish_comparison(link, prepared, declared_moments, moments_of(prepared[2]))
-
-
-#: A comparison before its principal moments: (source, solid, computed tensor, trace ratio), what
-#: decides whether there is one.
-Prepared = tuple[str, SolidProperties, Tensor3, float]
-
-
-def _prepare(link: Link, source: str, solid: SolidProperties) -> Prepared | None:
+def compare_inertia(link: Link, source: str, solid: SolidProperties) -> InertiaComparison | None:
+    """*link*'s declared inertia against *solid* at its mass; ``None`` if not comparable."""
     computed = geometry_tensor(link, solid)
     if computed is None or link.inertial is None:
         return None
@@ -148,59 +131,44 @@ def _prepare(link: Link, source: str, solid: SolidProperties) -> Prepared | None
     declared_trace = vec3.trace(link.inertial.inertia)
     if computed_trace <= 0 or declared_trace <= 0:
         return None
-    return (source, solid, computed, declared_trace / computed_trace)
+    return InertiaComparison(source, solid, computed, declared_trace / computed_trace)
 
 
-def finish_comparison(
-    link: Link, prepared: Prepared, declared_moments: Moments | None, computed_moments: Moments
-) -> InertiaComparison:
-    """The comparison *prepared* leads to, given both tensors' principal moments (kg·m²,
-    ascending; the declared ones computed here when ``None``)."""
-    if declared_moments is None:
-        assert link.inertial is not None
-        declared_moments = moments_of(link.inertial.inertia_matrix)
+def moment_factor(declared: Moments, computed: Moments) -> float:
+    """The largest factor (≥ 1) between matching principal moments (kg·m², ascending) of the
+    declared tensor and the computed one; ``inf`` when a moment is not positive.
+
+    Never below the comparison's :attr:`~InertiaComparison.factor`: the ratio of the traces is a
+    weighted mean of the moments' ratios.
+    """
     worst = 1.0
-    for d, c in zip(declared_moments, computed_moments, strict=True):
+    for d, c in zip(declared, computed, strict=True):
         if d <= 0 or c <= 0:
-            worst = math.inf
-            break
+            return math.inf
         worst = max(worst, d / c, c / d)
-    source, solid, computed, ratio = prepared
-    return InertiaComparison(source, solid, computed, ratio, worst)
+    return worst
 
 
 #: Diagonal (m) of a shape's bounds below which it stands in for a part instead of shaping it.
 MARKER_SIZE = 0.005
 
 
-def compare_with_geometry(
-    link: Link, sources: Sources | None = None, declared_moments: Moments | None = None
-) -> InertiaComparison | None:
+def compare_with_geometry(link: Link, sources: Sources | None = None) -> InertiaComparison | None:
     """The declared inertia against the collision geometry, or the visual one when the
-    collision geometry cannot be measured (*sources*: the link's, already measured;
-    *declared_moments*: see :func:`compare_inertia`).
+    collision geometry cannot be measured (*sources*: the link's, already measured; read
+    lazily, as far as needed).
 
     One source only, never the better of two: then a link whose inertia is
     accepted is always caught when that inertia is made 10× larger or smaller.
     A shape under MARKER_SIZE across is a marker, not the part (Baxter's 0.55 kg
     head collides as a 1 mm sphere): the next source is used.
     """
-    prepared = prepare_comparison(link, geometry_sources(link) if sources is None else sources)
-    if prepared is None:
-        return None
-    return finish_comparison(link, prepared, declared_moments, moments_of(prepared[2]))
-
-
-def prepare_comparison(link: Link, sources: Sources) -> Prepared | None:
-    """:func:`compare_with_geometry` up to the geometry's principal moments: the source it
-    compares with and what it found (sources read lazily, as far as it reads them). A check
-    prepares every link, then decomposes all their tensors at once (:mod:`urdftool.facts.link_mass`)."""
-    for source, solid in sources:
+    for source, solid in geometry_sources(link) if sources is None else sources:
         if bounds_diagonal(solid) < MARKER_SIZE:
             continue
-        prepared = _prepare(link, source, solid)
-        if prepared is not None:
-            return prepared
+        comparison = compare_inertia(link, source, solid)
+        if comparison is not None:
+            return comparison
     return None
 
 

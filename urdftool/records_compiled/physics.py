@@ -41,13 +41,12 @@ def _init_physics_inertia_InertiaVerdict(__defaults__, __factories__, __sentinel
 
 # urdftool.physics.linkmass.InertiaComparison
 def _init_physics_linkmass_InertiaComparison(__defaults__, __factories__, __sentinel__, __set__, __slot__):
-    (_set_source, _set_solid, _set_computed, _set_ratio, _set_worst,) = map(__slot__, ('source', 'solid', 'computed', 'ratio', 'worst'))
-    def __init__(self, source, solid, computed, ratio, worst):
+    (_set_source, _set_solid, _set_computed, _set_ratio,) = map(__slot__, ('source', 'solid', 'computed', 'ratio'))
+    def __init__(self, source, solid, computed, ratio):
         _set_source(self, source)
         _set_solid(self, solid)
         _set_computed(self, computed)
         _set_ratio(self, ratio)
-        _set_worst(self, worst)
     return __init__
 
 
@@ -79,7 +78,7 @@ COMPILED = {
     'urdftool.physics.bodies.MassRole': ('why,severity,joint,carrier,carrier_mass|slots', _init_physics_bodies_MassRole),
     'urdftool.physics.bodies.RigidBody': ('head,links,joint|frozen', _init_physics_bodies_RigidBody),
     'urdftool.physics.inertia.InertiaVerdict': ('moments,positive_definite,triangle_violation|slots', _init_physics_inertia_InertiaVerdict),
-    'urdftool.physics.linkmass.InertiaComparison': ('source,solid,computed,ratio,worst|slots', _init_physics_linkmass_InertiaComparison),
+    'urdftool.physics.linkmass.InertiaComparison': ('source,solid,computed,ratio|slots', _init_physics_linkmass_InertiaComparison),
     'urdftool.physics.massprops.SolidProperties': ('volume,center,inertia,bounds_min,bounds_max,label,approximate=|slots', _init_physics_massprops_SolidProperties),
     'urdftool.physics.mobility.BasePlan': ('kind,reason,free_joint=|slots', _init_physics_mobility_BasePlan),
 }

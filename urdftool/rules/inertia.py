@@ -302,6 +302,8 @@ class InertiaNotPositiveDefinite(_Inertia):
                 if finding is not None:
                     yield finding
                 continue
+            if link_mass.declared_valid(ctx, inertial, abs_tol=MIN_MOMENT):
+                continue
             verdict = link_mass.declared_verdict(ctx, inertial, abs_tol=MIN_MOMENT)
             if verdict.positive_definite:
                 continue
@@ -396,7 +398,11 @@ class InertiaTriangleInequality(_Inertia):
     def check(self, ctx: CheckContext) -> Iterator[Diagnostic]:
         for link in ctx.robot.links:
             inertial = link.inertial
-            if inertial is None or is_zero_inertia(inertial):
+            if (
+                inertial is None
+                or is_zero_inertia(inertial)
+                or link_mass.declared_valid(ctx, inertial, abs_tol=MIN_MOMENT)
+            ):
                 continue
             verdict = link_mass.declared_verdict(ctx, inertial, abs_tol=MIN_MOMENT)
             if not verdict.positive_definite or verdict.triangle_violation is None:

@@ -106,14 +106,16 @@ class ImplausibleDensity(_Inertia):
             if link.inertial is None or link.inertial.mass <= MIN_VALUE or _trace_in_body(ctx, link):
                 continue
             found: list[tuple[float, str, SolidProperties]] = []
+            plausible = False
             for source, solid in link_mass.geometry_sources(ctx, link):
                 value = density(link, solid)
                 if value is None:
                     continue
-                found.append((value, source, solid))
                 if low <= value <= high:
+                    plausible = True  # one source with a plausible density is enough
                     break
-            if not found or any(low <= value <= high for value, _, _ in found):
+                found.append((value, source, solid))
+            if plausible or not found:
                 continue
             value, source, solid = min(found, key=lambda f: abs(np.log10(f[0] / 1000.0)))
             side = "lighter than foam" if value < low else "denser than any metal"
@@ -171,16 +173,17 @@ class ComOutsideGeometry(_Inertia):
             if link.inertial is None or link.inertial.mass <= MIN_VALUE:
                 continue
             com = link.inertial.origin.xyz
-            found: list[tuple[float, float, str, SolidProperties]] = []
+            found: list[tuple[float, str, SolidProperties]] = []
+            inside = False
             for source, solid in link_mass.geometry_sources(ctx, link):
-                margin = max(COM_MARGIN, COM_MARGIN_FRACTION * bounds_diagonal(solid))
                 outside = distance_outside(com, solid)
-                found.append((outside, margin, source, solid))
-                if outside <= margin:
+                if outside <= max(COM_MARGIN, COM_MARGIN_FRACTION * bounds_diagonal(solid)):
+                    inside = True  # inside one source's bounds (with the margin) is enough
                     break
-            if not found or any(outside <= margin for outside, margin, _, _ in found):
+                found.append((outside, source, solid))
+            if inside or not found:
                 continue
-            outside, _, source, solid = min(found, key=lambda f: f[0])
+            outside, source, solid = min(found, key=lambda f: f[0])
             lo, hi = solid.bounds_min, solid.bounds_max
             yield self.diagnostic(
                 f"link '{link.name}': centre of mass ({fmt_vec(com)}) m is {fmt(outside)} m "

@@ -42,6 +42,8 @@ BOUNDS_MARGIN = 1.0
 #: geometry's, while the moment about some geometric axis is off by the next.
 SAME_MOMENTS = 1.15
 AXIS_FACTOR = 1.4
+#: Room for the rounding of a trace against the sum of the eigenvalues (about 1e-15 of it).
+ROUNDING = 1e-9
 
 
 @register
@@ -95,21 +97,45 @@ class InertiaGeometryMismatch(_Inertia):
     severity = Severity.WARNING
 
     def check(self, ctx: CheckContext) -> Iterator[Diagnostic]:
-        judged = (
-            link
-            for link in ctx.robot.links
-            if link.inertial is not None
-            and not link.inertial.mass <= MIN_VALUE  # as written: a NaN mass is judged
-            and link_mass.declared_verdict(ctx, link.inertial).valid
-        )
-        for link, comparison in link_mass.comparisons(ctx, judged):
-            if comparison is None:
-                continue
-            if comparison.factor >= INERTIA_FACTOR:
-                if not _possible_for_bounds(link, comparison) and not _lost_in_body(
-                    ctx, link, comparison
+        # Whether the moments sit on the wrong axes is asked only where the traces agree, after
+        # the other links: their principal moments are decomposed in one call for all of them.
+        same_traces: list[tuple[Link, InertiaComparison]] = []
+        try:
+            for link in ctx.robot.links:
+                inertial = link.inertial
+                if (
+                    inertial is None
+                    or inertial.mass <= MIN_VALUE  # as written: a NaN mass is judged
+                    or not link_mass.declared_valid(ctx, inertial)
                 ):
-                    yield self._scale_finding(link, comparison)
+                    continue
+                comparison = link_mass.comparison(ctx, link)
+                if comparison is None:
+                    continue
+                factor = comparison.factor
+                if factor >= INERTIA_FACTOR:
+                    if not _possible_for_bounds(link, comparison) and not _lost_in_body(
+                        ctx, link, comparison
+                    ):
+                        yield self._scale_finding(link, comparison)
+                elif factor <= SAME_MOMENTS * (1 + ROUNDING):
+                    # the ratio of the traces is a weighted mean of the moments' ratios: beyond
+                    # SAME_MOMENTS, some moment is too, and the moments are not the geometry's
+                    same_traces.append((link, comparison))
+        except Exception:
+            # a link that fails to measure: the links before it are reported, then the error
+            yield from self._axes_findings(ctx, same_traces)
+            raise
+        yield from self._axes_findings(ctx, same_traces)
+
+    def _axes_findings(
+        self, ctx: CheckContext, same_traces: list[tuple[Link, InertiaComparison]]
+    ) -> Iterator[Diagnostic]:
+        """Right moments on the wrong axes, among links whose traces agree with the geometry's."""
+        for (link, comparison), worst in zip(
+            same_traces, link_mass.moment_factors(same_traces), strict=True
+        ):
+            if worst is None or worst > SAME_MOMENTS:
                 continue
             factor = _wrong_axes(link, comparison)
             if factor is not None:
@@ -223,10 +249,9 @@ def _lost_in_body(ctx: CheckContext, link: Link, comparison: InertiaComparison) 
 
 
 def _wrong_axes(link: Link, comparison: InertiaComparison) -> float | None:
-    """The off-axis factor when the principal moments match the geometry's but their axes do not."""
+    """The off-axis factor when the principal moments, which match the geometry's, sit on other
+    axes than its."""
     assert link.inertial is not None
-    if comparison.worst > SAME_MOMENTS:
-        return None
     computed = comparison.computed
     if not (computed[0][1] or computed[0][2] or computed[1][2] or computed[1][0] or computed[2][0]
             or computed[2][1]):
