@@ -27,7 +27,7 @@ class JointParts:
     def _report(self, diagnostic: Diagnostic) -> None:
         raise NotImplementedError
 
-    def _check_attributes(self, element: etree._Element, where: str) -> None:
+    def _check_attributes(self, element: etree._Element, tag: str, where: str) -> None:
         raise NotImplementedError
 
     def _joint_type(self, element: etree._Element, where: str) -> JointType:
@@ -65,7 +65,7 @@ class JointParts:
         items = groups.get(tag)
         if not items:
             return None
-        self._check_attributes(items[0], f"{where}/{tag}")
+        self._check_attributes(items[0], tag, f"{where}/{tag}")
         return items[0]
 
     def _limit(self, groups: dict[str, list[etree._Element]], where: str) -> Limit | None:
@@ -74,10 +74,11 @@ class JointParts:
             return None
         here = f"{where}/limit"
         n = self.values.number
-        lower = self.values.attr_span(el, "lower") if el.get("lower") is not None else None
-        upper = self.values.attr_span(el, "upper") if el.get("upper") is not None else None
+        span = self.span(el)
+        lower = self.values.attr_span(el, "lower", span) if el.get("lower") is not None else None
+        upper = self.values.attr_span(el, "upper", span) if el.get("upper") is not None else None
         return Limit(n(el, "lower", here), n(el, "upper", here), n(el, "effort", here),
-                     n(el, "velocity", here), self.span(el), lower, upper)
+                     n(el, "velocity", here), span, lower, upper)
 
     def _dynamics(self, groups: dict[str, list[etree._Element]], where: str) -> Dynamics | None:
         el = self._single(groups, "dynamics", where)

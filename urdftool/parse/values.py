@@ -116,18 +116,25 @@ class ValueReader:
     #: where an element's start tag was written (``XmlDocument.span`` for a document whose
     #: positions are in a table)
     locate: Callable[[etree._Element], Span | None] = span_of
+    _attribute_lookup: Callable[[tuple[Span, str]], Span] = field(init=False)
+
+    def __post_init__(self) -> None:
+        # The lookup holds the sources, not this reader: a finding in the reader's own list holding
+        # the reader would make a cycle, which keeps the document until the collector runs. One
+        # lookup per reader, not one per attribute span (every joint limit has two).
+        self._attribute_lookup = functools.partial(_attribute_span, self.sources)
 
     def span(self, element: etree._Element) -> Span | None:
         return self.locate(element)
 
-    def attr_span(self, element: etree._Element, attribute: str) -> Span | None:
-        """Where ``attribute=`` is written in *element*'s start tag (looked up when first read)."""
-        span = self.locate(element)
+    def attr_span(self, element: etree._Element, attribute: str, span: Span | None = None) -> Span | None:
+        """Where ``attribute=`` is written in *element*'s start tag (looked up when first read);
+        *span* is the element's own, when the caller has it already."""
         if span is None:
-            return None
-        # The lookup holds the sources, not this reader: a finding in the reader's own list holding
-        # the reader would make a cycle, which keeps the document until the collector runs.
-        return deferred_span(span.path, functools.partial(_attribute_span, self.sources), (span, attribute))
+            span = self.locate(element)
+            if span is None:
+                return None
+        return deferred_span(span.path, self._attribute_lookup, (span, attribute))
 
     def text(self, element: etree._Element, attribute: str, where: str, required: bool = False) -> str | None:
         value: str | None = element.get(attribute)
