@@ -26,12 +26,14 @@ from urdftool.catalogue.units import ONE_TURN, AngleLooksLikeDegrees
 from urdftool.diagnostics import Diagnostic, Severity
 from urdftool.model import (
     IDENTITY,
+    Collision,
     Extension,
     Joint,
     Link,
     Material,
     Pose,
     Robot,
+    Visual,
 )
 from urdftool.parse.angles import degree_poses
 from urdftool.parse.locate import span_of
@@ -153,7 +155,10 @@ class UrdfReader(JointParts, LinkParts):
         allowed = CHILDREN.get(parent, {})
         groups: dict[str, list[etree._Element]] = {}
         repeated = False
-        for child in element:  # faster than iterchildren(etree.Element), which builds its filter each time
+        # element[:] is the list of children built in C: iterating the element instead costs an
+        # iterator and a tag matcher per element and a step per child (iterchildren(etree.Element)
+        # more, with its filter)
+        for child in element[:]:
             tag = child.tag
             if tag in groups:
                 groups[tag].append(child)
@@ -325,8 +330,16 @@ class UrdfReader(JointParts, LinkParts):
         self._check_attributes(element, "link", where)
         groups = self._children(element, "link", where)
         inertial = self._inertial(groups["inertial"][0], where) if "inertial" in groups else None
-        visuals = tuple(self._visual(v, f"{where}/visual") for v in groups.get("visual", []))
-        collisions = tuple(self._collision(c, f"{where}/collision") for c in groups.get("collision", []))
+        # (lists, not generators, into the tuples: a generator costs more than the one or two
+        # parts most links have)
+        visuals: tuple[Visual, ...] = ()
+        if "visual" in groups:
+            here = f"{where}/visual"
+            visuals = tuple([self._visual(v, here) for v in groups["visual"]])
+        collisions: tuple[Collision, ...] = ()
+        if "collision" in groups:
+            here = f"{where}/collision"
+            collisions = tuple([self._collision(c, here) for c in groups["collision"]])
         extras = () if groups.keys() <= CHILDREN["link"].keys() else tuple(
             self._extension(item)
             for tag, items in groups.items()

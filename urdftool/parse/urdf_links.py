@@ -59,15 +59,16 @@ class LinkParts:
         here = f"{where}/inertial"
         groups = self._children(element, "inertial", here)
         origin = self._origin(groups, here)
-        mass_el = groups.get("mass", [None])[0]
-        inertia_el = groups.get("inertia", [None])[0]
-        for tag, el in (("mass", mass_el), ("inertia", inertia_el)):
-            if el is None:
-                self._report(
-                    MissingElement.diagnostic(
-                        f"{here}: <inertial> has no <{tag}>", self.span(element), element=here
+        mass_el = groups["mass"][0] if "mass" in groups else None
+        inertia_el = groups["inertia"][0] if "inertia" in groups else None
+        if mass_el is None or inertia_el is None:
+            for tag, el in (("mass", mass_el), ("inertia", inertia_el)):
+                if el is None:
+                    self._report(
+                        MissingElement.diagnostic(
+                            f"{here}: <inertial> has no <{tag}>", self.span(element), element=here
+                        )
                     )
-                )
         mass = 0.0
         if mass_el is not None:
             self._check_attributes(mass_el, "mass", f"{here}/mass")
@@ -131,7 +132,7 @@ class LinkParts:
         here = f"{where}/geometry"
         known: list[tuple[str, etree._Element]] = []  # the shapes, each with its tag
         others = False
-        for child in geometry:
+        for child in geometry[:]:  # (the children listed in C, as UrdfReader._children does)
             name = child.tag
             if name in _SHAPES:
                 known.append((name, child))
