@@ -17,6 +17,9 @@ from urdftool.parse.urdf_schema import SPHERICAL_NAMES, URDF_TYPES
 from urdftool.parse.values import ValueReader
 from urdftool.source import Span
 
+#: URDF's joint types by name (a dict lookup: calling the enum costs a Python call of its metaclass)
+_JOINT_TYPES = {name: JointType(name) for name in URDF_TYPES}
+
 
 class JointParts:
     """Reads the optional parts of a joint; the reader supplies what these methods use."""
@@ -35,7 +38,7 @@ class JointParts:
         if raw is None:
             return JointType.FIXED
         if raw in URDF_TYPES:
-            return JointType(raw)
+            return _JOINT_TYPES[raw]
         if raw in SPHERICAL_NAMES:
             self._report(
                 UnknownJointType.diagnostic(

@@ -83,13 +83,13 @@ class LinkParts:
                 if value is not None:
                     components[index] = value
         tensor = Inertial.tensor(*components)
-        return Inertial(
-            mass=mass,
-            inertia=tensor,
-            origin=origin,
-            span=self.span(element),
-            mass_span=self.span(mass_el) if mass_el is not None else None,
-            inertia_span=self.span(inertia_el) if inertia_el is not None else None,
+        return Inertial(  # mass, inertia, origin, span, mass_span, inertia_span
+            mass,
+            tensor,
+            origin,
+            self.span(element),
+            self.span(mass_el) if mass_el is not None else None,
+            self.span(inertia_el) if inertia_el is not None else None,
         )
 
     def _visual(self, element: etree._Element, where: str) -> Visual:
@@ -98,22 +98,24 @@ class LinkParts:
         material = None
         if "material" in groups:
             material = self._material(groups["material"][0], f"{where}/material")
+        # (geometry, origin, name, material, span: by position, as the parts below are built; a call
+        # by keywords builds a dict of them)
         return Visual(
-            geometry=self._geometry("visual", element, groups, where),
-            origin=self._origin(groups, where),
-            name=element.get("name"),
-            material=material,
-            span=self.span(element),
+            self._geometry("visual", element, groups, where),
+            self._origin(groups, where),
+            element.get("name"),
+            material,
+            self.span(element),
         )
 
     def _collision(self, element: etree._Element, where: str) -> Collision:
         self._check_attributes(element, "collision", where)
         groups = self._children(element, "collision", where)
-        return Collision(
-            geometry=self._geometry("collision", element, groups, where),
-            origin=self._origin(groups, where),
-            name=element.get("name"),
-            span=self.span(element),
+        return Collision(  # geometry, origin, name, span
+            self._geometry("collision", element, groups, where),
+            self._origin(groups, where),
+            element.get("name"),
+            self.span(element),
         )
 
     def _geometry(
