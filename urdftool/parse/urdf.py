@@ -65,6 +65,10 @@ _ZERO = (0.0, 0.0, 0.0)
 _CLEAN_LAYOUTS: dict[str, list[list[str]]] = {tag: [] for tag in ATTRIBUTES}
 #: Layouts remembered per tag; any other layout is judged by the set test each time.
 _LAYOUTS_KEPT = 8
+#: The child tags each parent allows, as sets: ``issuperset`` of a dict of groups looks up each
+#: group's tag, where comparing two dicts' key views builds both views and an iterator first.
+_CHILD_TAGS = {parent: frozenset(children) for parent, children in CHILDREN.items()}
+_NO_CHILDREN: frozenset[str] = frozenset()
 
 
 @record(frozen=False, eq=False)  # one run's state, equal only to itself
@@ -152,7 +156,6 @@ class UrdfReader(JointParts, LinkParts):
     def _children(self, element: etree._Element, parent: str, where: str) -> dict[str, list[etree._Element]]:
         """Group the child elements of *element* (a ``<parent>``) by tag, reporting unknown and
         repeated ones."""
-        allowed = CHILDREN.get(parent, {})
         groups: dict[str, list[etree._Element]] = {}
         repeated = False
         # element[:] is the list of children built in C: iterating the element instead costs an
@@ -165,8 +168,9 @@ class UrdfReader(JointParts, LinkParts):
                 repeated = True
             elif isinstance(tag, str):  # an element, not a comment kept by xacro
                 groups[tag] = [child]
-        if not repeated and allowed.keys() >= groups.keys():  # the common case, decided in C
+        if not repeated and _CHILD_TAGS.get(parent, _NO_CHILDREN).issuperset(groups):  # the common case
             return groups
+        allowed = CHILDREN.get(parent, {})
         for tag, items in groups.items():
             if tag in allowed:
                 if not allowed[tag] and len(items) > 1:
@@ -209,7 +213,7 @@ class UrdfReader(JointParts, LinkParts):
     def _extension(self, element: etree._Element) -> Extension:
         """*element* kept in the model as written; marked, since rules and exporters locate
         its children with ``span_of`` after the reading."""
-        attributes = dict(element.attrib)  # (copied in C, before the mark adds its attribute)
+        attributes = dict(element.items())  # (copied in C, before the mark adds its attribute)
         attributes.pop(SRC_ATTRIBUTE, None)  # a stamp (xacro output) is no attribute of the block
         if self.document is not None:
             self.document.mark(element)
@@ -284,7 +288,9 @@ class UrdfReader(JointParts, LinkParts):
         joints: list[Joint] = []
         materials: list[Material] = []
         extensions: list[Extension] = []
-        for child in root:
+        #: whether the document holds a <pose> at all (looked for at the first <gazebo> block)
+        poses: bool | None = None
+        for child in root[:]:  # (the children listed in C, as _children does)
             tag = child.tag
             if not isinstance(tag, str):
                 continue
@@ -310,7 +316,12 @@ class UrdfReader(JointParts, LinkParts):
                     )
                 extensions.append(self._extension(child))
                 if tag == "gazebo":  # SDF inside: a sensor's or plugin's <pose> in degrees
-                    self.diagnostics.extend(degree_poses(child, self.span))
+                    if poses is None:
+                        # One walk of the document in C settles most files, which have no <pose>:
+                        # example-robot-data has 1,143 <gazebo> blocks, each a walk of its own.
+                        poses = next(root.iter("pose"), None) is not None
+                    if poses:
+                        self.diagnostics.extend(degree_poses(child, self.span))
         self._report_vendor()
         return Robot(
             name=name,
@@ -341,7 +352,7 @@ class UrdfReader(JointParts, LinkParts):
         if "collision" in groups:
             here = f"{where}/collision"
             collisions = tuple([self._collision(c, here) for c in groups["collision"]])
-        extras = () if groups.keys() <= CHILDREN["link"].keys() else tuple(
+        extras = () if _CHILD_TAGS["link"].issuperset(groups) else tuple(
             self._extension(item)
             for tag, items in groups.items()
             if tag not in CHILDREN["link"]
@@ -399,7 +410,7 @@ class UrdfReader(JointParts, LinkParts):
             axis_span,
             None,  # axis2 and limit2: SDF's universal and revolute2 joints
             None,
-            () if groups.keys() <= CHILDREN["joint"].keys() else tuple(
+            () if _CHILD_TAGS["joint"].issuperset(groups) else tuple(
                 self._extension(item)
                 for tag, items in groups.items()
                 if tag not in CHILDREN["joint"]
