@@ -117,6 +117,10 @@ class _DeferredSpan(Span):
     def __class__(self) -> type:  # the class docstring says why
         return Span
 
+    # Built empty by :func:`deferred_span` (a call of the class costs less than
+    # ``object.__new__``), not by Span's ``__init__``.
+    __init__ = object.__init__
+
     def _resolve(self) -> None:
         found = self._locate(self._key)
         for name in _POSITION_FIELDS:
@@ -129,7 +133,6 @@ class _DeferredSpan(Span):
         return Span, tuple(getattr(self, name) for name in ("path", *_POSITION_FIELDS))
 
 
-_new_span = object.__new__
 _set_path = _SPAN_SLOT["path"].__set__
 _set_locate = vars(_DeferredSpan)["_locate"].__set__
 _set_key = vars(_DeferredSpan)["_key"].__set__
@@ -139,7 +142,7 @@ def deferred_span(path: str, locate: Callable[[Any], Span | None], key: Any) -> 
     """A span in *path* whose position is ``locate(key)``, called when a position field is first
     read (a ``None`` result leaves them ``None``). *locate* must give the same answer whenever it
     is called: the span is a value, compared and hashed by its fields."""
-    span = _new_span(_DeferredSpan)
+    span: Span = _DeferredSpan()
     _set_path(span, path)
     _set_locate(span, locate)
     _set_key(span, key)

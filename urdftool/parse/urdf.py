@@ -26,12 +26,14 @@ from urdftool.catalogue.units import ONE_TURN, AngleLooksLikeDegrees
 from urdftool.diagnostics import Diagnostic, Severity
 from urdftool.model import (
     IDENTITY,
+    Collision,
     Extension,
     Joint,
     Link,
     Material,
     Pose,
     Robot,
+    Visual,
 )
 from urdftool.parse.angles import degree_poses
 from urdftool.parse.locate import span_of
@@ -63,6 +65,10 @@ _ZERO = (0.0, 0.0, 0.0)
 _CLEAN_LAYOUTS: dict[str, list[list[str]]] = {tag: [] for tag in ATTRIBUTES}
 #: Layouts remembered per tag; any other layout is judged by the set test each time.
 _LAYOUTS_KEPT = 8
+#: The child tags each parent allows, as sets: ``issuperset`` of a dict of groups looks up each
+#: group's tag, where comparing two dicts' key views builds both views and an iterator first.
+_CHILD_TAGS = {parent: frozenset(children) for parent, children in CHILDREN.items()}
+_NO_CHILDREN: frozenset[str] = frozenset()
 
 
 @record(frozen=False, eq=False)  # one run's state, equal only to itself
@@ -84,6 +90,12 @@ class UrdfReader(JointParts, LinkParts):
         self.values = ValueReader(self.sources, check_substitutions=not self.expanded, locate=self.span)
         #: (element, who reads it) -> (where first seen, elements carrying it, the names seen)
         self.vendor: dict[tuple[str, str], tuple[Span | None, int, list[str]]] = {}
+        #: the poses read from ``<origin>``s that had nothing to report, by their ``xyz`` and ``rpy``
+        #: texts (``None``: not written). example-robot-data's files write 2,800 distinct origins
+        #: 6,800 times (``xyz="0 0 0" rpy="0 0 0"``); a pose is a value, so one read serves every
+        #: element of the document that writes the same texts. A text with a finding is not kept:
+        #: each element that writes it is read, and reported, on its own.
+        self.poses: dict[tuple[str | None, str | None], Pose] = {}
 
     def _vendor(self, tag: str, names: list[str], span: Span | None, reader: str) -> None:
         first, count, seen = self.vendor.get((tag, reader), (span, 0, []))
@@ -108,8 +120,9 @@ class UrdfReader(JointParts, LinkParts):
     def _report(self, diagnostic: Diagnostic) -> None:
         self.values.diagnostics.append(diagnostic)
 
-    def _check_attributes(self, element: etree._Element, where: str) -> None:
-        tag = element.tag
+    def _check_attributes(self, element: etree._Element, tag: str, where: str) -> None:
+        """Report the attributes of *element* (a ``<tag>``: the caller has its tag already, and
+        lxml builds a new string each time it is asked) that its tag does not have."""
         layouts = _CLEAN_LAYOUTS.get(tag)
         if layouts is None:  # a tag the schema gives no attribute list: nothing to judge
             return
@@ -140,20 +153,24 @@ class UrdfReader(JointParts, LinkParts):
         for reader, names in vendor:
             self._vendor(tag, list(names), self.values.attr_span(element, names[0]), reader)
 
-    def _children(self, element: etree._Element, where: str) -> dict[str, list[etree._Element]]:
-        """Group child elements by tag, reporting unknown and repeated ones."""
-        allowed = CHILDREN.get(element.tag, {})
+    def _children(self, element: etree._Element, parent: str, where: str) -> dict[str, list[etree._Element]]:
+        """Group the child elements of *element* (a ``<parent>``) by tag, reporting unknown and
+        repeated ones."""
         groups: dict[str, list[etree._Element]] = {}
         repeated = False
-        for child in element:  # faster than iterchildren(etree.Element), which builds its filter each time
+        # element[:] is the list of children built in C: iterating the element instead costs an
+        # iterator and a tag matcher per element and a step per child (iterchildren(etree.Element)
+        # more, with its filter)
+        for child in element[:]:
             tag = child.tag
             if tag in groups:
                 groups[tag].append(child)
                 repeated = True
             elif isinstance(tag, str):  # an element, not a comment kept by xacro
                 groups[tag] = [child]
-        if not repeated and allowed.keys() >= groups.keys():  # the common case, decided in C
+        if not repeated and _CHILD_TAGS.get(parent, _NO_CHILDREN).issuperset(groups):  # the common case
             return groups
+        allowed = CHILDREN.get(parent, {})
         for tag, items in groups.items():
             if tag in allowed:
                 if not allowed[tag] and len(items) > 1:
@@ -177,15 +194,15 @@ class UrdfReader(JointParts, LinkParts):
                                 if copy or tag in COSMETIC_REPEATS else None,
                             )
                         )
-            elif (element.tag, tag) in VENDOR_ELEMENTS:
-                reader = VENDOR_ELEMENTS[element.tag, tag]
+            elif (parent, tag) in VENDOR_ELEMENTS:
+                reader = VENDOR_ELEMENTS[parent, tag]
                 for item in items:
-                    self._vendor(f"<{element.tag}>", [f"<{tag}>"], self.span(item), reader)
-            elif not self._tolerated(element.tag, tag):
+                    self._vendor(f"<{parent}>", [f"<{tag}>"], self.span(item), reader)
+            elif not self._tolerated(parent, tag):
                 for item in items:
                     self._report(
                         UnknownElement.diagnostic(
-                            f"{where}: <{element.tag}> has no child <{tag}>"
+                            f"{where}: <{parent}> has no child <{tag}>"
                             + did_you_mean(tag, allowed),
                             self.span(item),
                             element=f"{where}/{tag}",
@@ -196,15 +213,16 @@ class UrdfReader(JointParts, LinkParts):
     def _extension(self, element: etree._Element) -> Extension:
         """*element* kept in the model as written; marked, since rules and exporters locate
         its children with ``span_of`` after the reading."""
-        attributes = dict(element.attrib)  # (copied in C, before the mark adds its attribute)
+        attributes = dict(element.items())  # (copied in C, before the mark adds its attribute)
         attributes.pop(SRC_ATTRIBUTE, None)  # a stamp (xacro output) is no attribute of the block
         if self.document is not None:
             self.document.mark(element)
-        return Extension(
-            tag=element.tag if isinstance(element.tag, str) else str(element.tag),
-            attributes=attributes,
-            element=element,
-            span=self.span(element),
+        tag = element.tag
+        return Extension(  # tag, attributes, element, span (by position: no dict of keywords)
+            tag if isinstance(tag, str) else str(tag),
+            attributes,
+            element,
+            self.span(element),
         )
 
     @staticmethod
@@ -221,17 +239,26 @@ class UrdfReader(JointParts, LinkParts):
             return IDENTITY
         origin = items[0]
         here = f"{where}/origin"
-        self._check_attributes(origin, here)
+        self._check_attributes(origin, "origin", here)
+        written = (origin.get("xyz"), origin.get("rpy"))
+        pose = self.poses.get(written)
+        if pose is not None:  # read before from the same texts, with nothing to report
+            return pose
+        diagnostics = self.values.diagnostics
+        reported = len(diagnostics)
         xyz = self.values.vector(origin, "xyz", here) or _ZERO
         rpy = self.values.vector(origin, "rpy", here) or _ZERO
         # (the numbers are finite: three comparisons say what max() of their sizes would)
         if not (-ONE_TURN <= rpy[0] <= ONE_TURN and -ONE_TURN <= rpy[1] <= ONE_TURN
                 and -ONE_TURN <= rpy[2] <= ONE_TURN):  # rare: judged off the hot path
-            written = f'<origin rpy="{origin.get("rpy", "").strip()}">'
-            found = AngleLooksLikeDegrees.judge(rpy, self.values.attr_span(origin, "rpy"), here, written)
+            text = f'<origin rpy="{origin.get("rpy", "").strip()}">'
+            found = AngleLooksLikeDegrees.judge(rpy, self.values.attr_span(origin, "rpy"), here, text)
             if found is not None:
                 self._report(found)
-        return Pose(xyz, rpy)
+        pose = Pose(xyz, rpy)
+        if len(diagnostics) == reported:
+            self.poses[written] = pose
+        return pose
 
     # -- document ----------------------------------------------------------------
 
@@ -246,7 +273,7 @@ class UrdfReader(JointParts, LinkParts):
                 )
             )
             return None
-        self._check_attributes(root, "robot")
+        self._check_attributes(root, "robot", "robot")
         name = root.get("name")
         if not name or not name.strip():
             self._report(
@@ -261,10 +288,12 @@ class UrdfReader(JointParts, LinkParts):
         joints: list[Joint] = []
         materials: list[Material] = []
         extensions: list[Extension] = []
-        for child in root:
-            if not isinstance(child.tag, str):
-                continue
+        #: whether the document holds a <pose> at all (looked for at the first <gazebo> block)
+        poses: bool | None = None
+        for child in root[:]:  # (the children listed in C, as _children does)
             tag = child.tag
+            if not isinstance(tag, str):
+                continue
             if tag == "link":
                 links.append(self._link(child))
             elif tag == "joint":
@@ -287,7 +316,12 @@ class UrdfReader(JointParts, LinkParts):
                     )
                 extensions.append(self._extension(child))
                 if tag == "gazebo":  # SDF inside: a sensor's or plugin's <pose> in degrees
-                    self.diagnostics.extend(degree_poses(child, self.span))
+                    if poses is None:
+                        # One walk of the document in C settles most files, which have no <pose>:
+                        # example-robot-data has 1,143 <gazebo> blocks, each a walk of its own.
+                        poses = next(root.iter("pose"), None) is not None
+                    if poses:
+                        self.diagnostics.extend(degree_poses(child, self.span))
         self._report_vendor()
         return Robot(
             name=name,
@@ -305,12 +339,20 @@ class UrdfReader(JointParts, LinkParts):
     def _link(self, element: etree._Element) -> Link:
         name = self.values.text(element, "name", "link", required=True) or ""
         where = f"link[{name}]"
-        self._check_attributes(element, where)
-        groups = self._children(element, where)
+        self._check_attributes(element, "link", where)
+        groups = self._children(element, "link", where)
         inertial = self._inertial(groups["inertial"][0], where) if "inertial" in groups else None
-        visuals = tuple(self._visual(v, f"{where}/visual") for v in groups.get("visual", []))
-        collisions = tuple(self._collision(c, f"{where}/collision") for c in groups.get("collision", []))
-        extras = () if groups.keys() <= CHILDREN["link"].keys() else tuple(
+        # (lists, not generators, into the tuples: a generator costs more than the one or two
+        # parts most links have)
+        visuals: tuple[Visual, ...] = ()
+        if "visual" in groups:
+            here = f"{where}/visual"
+            visuals = tuple([self._visual(v, here) for v in groups["visual"]])
+        collisions: tuple[Collision, ...] = ()
+        if "collision" in groups:
+            here = f"{where}/collision"
+            collisions = tuple([self._collision(c, here) for c in groups["collision"]])
+        extras = () if _CHILD_TAGS["link"].issuperset(groups) else tuple(
             self._extension(item)
             for tag, items in groups.items()
             if tag not in CHILDREN["link"]
@@ -322,15 +364,15 @@ class UrdfReader(JointParts, LinkParts):
         v = self.values
         name = v.text(element, "name", "joint", required=True) or ""
         where = f"joint[{name}]"
-        self._check_attributes(element, where)
-        groups = self._children(element, where)
+        self._check_attributes(element, "joint", where)
+        groups = self._children(element, "joint", where)
         jtype = self._joint_type(element, where)
         ends: dict[str, str] = {}
         for role in ("parent", "child"):
             items = groups.get(role)
             link = None
             if items:
-                self._check_attributes(items[0], f"{where}/{role}")
+                self._check_attributes(items[0], role, f"{where}/{role}")
                 link = v.text(items[0], "link", f"{where}/{role}")
             if not link:
                 self._report(
@@ -343,26 +385,32 @@ class UrdfReader(JointParts, LinkParts):
         axis_span = None
         if "axis" in groups:
             axis_el = groups["axis"][0]
-            self._check_attributes(axis_el, f"{where}/axis")
-            value = v.vector(axis_el, "xyz", f"{where}/axis")
+            here = f"{where}/axis"
+            self._check_attributes(axis_el, "axis", here)
+            value = v.vector(axis_el, "xyz", here)
             if value is not None:
                 axis = value
             axis_span = self.span(axis_el)
+        # The fields in Joint's order, not by keyword: a call by keywords builds a dict of them
+        # (about 6,000 instructions a joint). Most joints have few of the optional parts: an absent
+        # one costs a dict test, not a call.
         return Joint(
-            name=name,
-            type=jtype,
-            parent=ends["parent"],
-            child=ends["child"],
-            origin=self._origin(groups, where),
-            axis=axis,
-            limit=self._limit(groups, where),
-            dynamics=self._dynamics(groups, where),
-            mimic=self._mimic(groups, where),
-            safety_controller=self._safety(groups, where),
-            calibration=self._calibration(groups, where),
-            span=self.span(element),
-            axis_span=axis_span,
-            extensions=() if groups.keys() <= CHILDREN["joint"].keys() else tuple(
+            name,
+            jtype,
+            ends["parent"],
+            ends["child"],
+            self._origin(groups, where),
+            axis,
+            self._limit(groups, where) if "limit" in groups else None,
+            self._dynamics(groups, where) if "dynamics" in groups else None,
+            self._mimic(groups, where) if "mimic" in groups else None,
+            self._safety(groups, where) if "safety_controller" in groups else None,
+            self._calibration(groups, where) if "calibration" in groups else None,
+            self.span(element),
+            axis_span,
+            None,  # axis2 and limit2: SDF's universal and revolute2 joints
+            None,
+            () if _CHILD_TAGS["joint"].issuperset(groups) else tuple(
                 self._extension(item)
                 for tag, items in groups.items()
                 if tag not in CHILDREN["joint"]

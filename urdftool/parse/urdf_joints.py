@@ -17,6 +17,9 @@ from urdftool.parse.urdf_schema import SPHERICAL_NAMES, URDF_TYPES
 from urdftool.parse.values import ValueReader
 from urdftool.source import Span
 
+#: URDF's joint types by name (a dict lookup: calling the enum costs a Python call of its metaclass)
+_JOINT_TYPES = {name: JointType(name) for name in URDF_TYPES}
+
 
 class JointParts:
     """Reads the optional parts of a joint; the reader supplies what these methods use."""
@@ -27,7 +30,7 @@ class JointParts:
     def _report(self, diagnostic: Diagnostic) -> None:
         raise NotImplementedError
 
-    def _check_attributes(self, element: etree._Element, where: str) -> None:
+    def _check_attributes(self, element: etree._Element, tag: str, where: str) -> None:
         raise NotImplementedError
 
     def _joint_type(self, element: etree._Element, where: str) -> JointType:
@@ -35,7 +38,7 @@ class JointParts:
         if raw is None:
             return JointType.FIXED
         if raw in URDF_TYPES:
-            return JointType(raw)
+            return _JOINT_TYPES[raw]
         if raw in SPHERICAL_NAMES:
             self._report(
                 UnknownJointType.diagnostic(
@@ -65,7 +68,7 @@ class JointParts:
         items = groups.get(tag)
         if not items:
             return None
-        self._check_attributes(items[0], f"{where}/{tag}")
+        self._check_attributes(items[0], tag, f"{where}/{tag}")
         return items[0]
 
     def _limit(self, groups: dict[str, list[etree._Element]], where: str) -> Limit | None:
@@ -74,10 +77,11 @@ class JointParts:
             return None
         here = f"{where}/limit"
         n = self.values.number
-        lower = self.values.attr_span(el, "lower") if el.get("lower") is not None else None
-        upper = self.values.attr_span(el, "upper") if el.get("upper") is not None else None
+        span = self.span(el)
+        lower = self.values.attr_span(el, "lower", span) if el.get("lower") is not None else None
+        upper = self.values.attr_span(el, "upper", span) if el.get("upper") is not None else None
         return Limit(n(el, "lower", here), n(el, "upper", here), n(el, "effort", here),
-                     n(el, "velocity", here), self.span(el), lower, upper)
+                     n(el, "velocity", here), span, lower, upper)
 
     def _dynamics(self, groups: dict[str, list[etree._Element]], where: str) -> Dynamics | None:
         el = self._single(groups, "dynamics", where)

@@ -68,6 +68,13 @@ def _parse(text: str) -> float | None:
 
 _parse_cached = functools.lru_cache(maxsize=16384)(_parse)
 
+#: Number texts of attributes read so far, and what they read as (``None``: not a number): what
+#: :meth:`ValueReader.number` looks up first. A dict's lookup costs half a call of the bounded
+#: cache above, and a reader asks ~20,000 times a pass over example-robot-data.
+_NUMBER_TEXTS: dict[str, float | None] = {}
+#: Texts kept at most; past it, a new text is read each time.
+_NUMBER_TEXTS_KEPT = 16384
+
 
 @functools.lru_cache(maxsize=16384)
 def _numbers(raw: str) -> tuple[tuple[float | None, ...], str | None]:
@@ -116,18 +123,25 @@ class ValueReader:
     #: where an element's start tag was written (``XmlDocument.span`` for a document whose
     #: positions are in a table)
     locate: Callable[[etree._Element], Span | None] = span_of
+    _attribute_lookup: Callable[[tuple[Span, str]], Span] = field(init=False)
+
+    def __post_init__(self) -> None:
+        # The lookup holds the sources, not this reader: a finding in the reader's own list holding
+        # the reader would make a cycle, which keeps the document until the collector runs. One
+        # lookup per reader, not one per attribute span (every joint limit has two).
+        self._attribute_lookup = functools.partial(_attribute_span, self.sources)
 
     def span(self, element: etree._Element) -> Span | None:
         return self.locate(element)
 
-    def attr_span(self, element: etree._Element, attribute: str) -> Span | None:
-        """Where ``attribute=`` is written in *element*'s start tag (looked up when first read)."""
-        span = self.locate(element)
+    def attr_span(self, element: etree._Element, attribute: str, span: Span | None = None) -> Span | None:
+        """Where ``attribute=`` is written in *element*'s start tag (looked up when first read);
+        *span* is the element's own, when the caller has it already."""
         if span is None:
-            return None
-        # The lookup holds the sources, not this reader: a finding in the reader's own list holding
-        # the reader would make a cycle, which keeps the document until the collector runs.
-        return deferred_span(span.path, functools.partial(_attribute_span, self.sources), (span, attribute))
+            span = self.locate(element)
+            if span is None:
+                return None
+        return deferred_span(span.path, self._attribute_lookup, (span, attribute))
 
     def text(self, element: etree._Element, attribute: str, where: str, required: bool = False) -> str | None:
         value: str | None = element.get(attribute)
@@ -167,7 +181,12 @@ class ValueReader:
             raw = self.text(element, attribute, where, required)
             if raw is None:
                 return None
-        value = _parse_cached(raw) if len(raw) <= _CACHED_CHARS else _parse(raw)  # parse_number, inlined
+        if raw in _NUMBER_TEXTS:
+            value = _NUMBER_TEXTS[raw]
+        else:
+            value = _parse(raw)
+            if len(raw) <= _CACHED_CHARS and len(_NUMBER_TEXTS) < _NUMBER_TEXTS_KEPT:
+                _NUMBER_TEXTS[raw] = value
         if value is None:
             self._invalid(element, attribute, where, raw)
         return value

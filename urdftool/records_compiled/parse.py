@@ -124,6 +124,7 @@ def _init_parse_values_ValueReader(__defaults__, __factories__, __sentinel__, __
         self.diagnostics = __factories__['diagnostics']() if diagnostics is __sentinel__ else diagnostics
         self.check_substitutions = check_substitutions
         self.locate = locate
+        self.__post_init__()
     return __init__
 
 
@@ -183,7 +184,7 @@ COMPILED = {
     'urdftool.parse.packages.Lookup': ('path,tried*,package=,package_missing=,package_dir=|plain', _init_parse_packages_Lookup),
     'urdftool.parse.packages.PackageResolver': ('packages*,package_paths*,environ*,_scanned*,_found*,_resolutions*,_packages_asked*,_twins*|plain', _init_parse_packages_PackageResolver),
     'urdftool.parse.urdf.UrdfReader': ('path,sources,resolver,expanded=,document=,values!,span!|post_init|plain', _init_parse_urdf_UrdfReader),
-    'urdftool.parse.values.ValueReader': ('sources,diagnostics*,check_substitutions=,locate=|plain', _init_parse_values_ValueReader),
+    'urdftool.parse.values.ValueReader': ('sources,diagnostics*,check_substitutions=,locate=,_attribute_lookup!|post_init|plain', _init_parse_values_ValueReader),
     'urdftool.parse.xacro.XacroResult': ('document,diagnostics*,files*,macro_library=|plain', _init_parse_xacro_XacroResult),
     'urdftool.parse.xacro._Session': ('resolver,top,diagnostics*,files*,found_packages*,syntax_failed=,macros*,top_builds_robot=,top_macros*,arguments*|plain', _init_parse_xacro__Session),
     'urdftool.parse.xacro_args.KnownArgument': ('span,default|slots', _init_parse_xacro_args_KnownArgument),
