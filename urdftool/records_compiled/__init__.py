@@ -11,6 +11,7 @@ MODULES = {
     'urdftool.export.mjcf_classes': 'export_mjcf',
     'urdftool.export.mjcf_keyframe': 'export_mjcf',
     'urdftool.export.mjcf_verify': 'export_mjcf',
+    'urdftool.parse.sdf_build': 'parse_sdf',
     'urdftool.parse.sdf_elements': 'parse_sdf',
     'urdftool.parse.sdf_frames': 'parse_sdf',
     'urdftool.parse.sdf_include': 'parse_sdf',

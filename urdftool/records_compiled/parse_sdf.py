@@ -8,6 +8,37 @@ entry maps a record to the shape of its fields and a function that builds its ``
 # mypy: ignore-errors
 
 
+# urdftool.parse.sdf_build.RawFrame
+def _init_parse_sdf_build_RawFrame(__defaults__, __factories__, __sentinel__, __set__, __slot__):
+    def __init__(self, name, element):
+        self.name = name
+        self.element = element
+    return __init__
+
+
+# urdftool.parse.sdf_build.RawJoint
+def _init_parse_sdf_build_RawJoint(__defaults__, __factories__, __sentinel__, __set__, __slot__):
+    def __init__(self, name, element, parent, child, scope, version, key=__defaults__['key'], model_frame=__defaults__['model_frame']):
+        self.name = name
+        self.element = element
+        self.parent = parent
+        self.child = child
+        self.scope = scope
+        self.version = version
+        self.key = key
+        self.model_frame = model_frame
+    return __init__
+
+
+# urdftool.parse.sdf_build.RawLink
+def _init_parse_sdf_build_RawLink(__defaults__, __factories__, __sentinel__, __set__, __slot__):
+    def __init__(self, name, element, version):
+        self.name = name
+        self.element = element
+        self.version = version
+    return __init__
+
+
 # urdftool.parse.sdf_elements.JointDetails
 def _init_parse_sdf_elements_JointDetails(__defaults__, __factories__, __sentinel__, __set__, __slot__):
     def __init__(self, type, axis, axis_frame, limit, dynamics, axis_span, axis2=__defaults__['axis2'], axis2_frame=__defaults__['axis2_frame'], limit2=__defaults__['limit2']):
@@ -93,37 +124,6 @@ def _init_parse_sdf_model_SdfModelReader(__defaults__, __factories__, __sentinel
     return __init__
 
 
-# urdftool.parse.sdf_model._RawFrame
-def _init_parse_sdf_model__RawFrame(__defaults__, __factories__, __sentinel__, __set__, __slot__):
-    def __init__(self, name, element):
-        self.name = name
-        self.element = element
-    return __init__
-
-
-# urdftool.parse.sdf_model._RawJoint
-def _init_parse_sdf_model__RawJoint(__defaults__, __factories__, __sentinel__, __set__, __slot__):
-    def __init__(self, name, element, parent, child, scope, version, key=__defaults__['key'], model_frame=__defaults__['model_frame']):
-        self.name = name
-        self.element = element
-        self.parent = parent
-        self.child = child
-        self.scope = scope
-        self.version = version
-        self.key = key
-        self.model_frame = model_frame
-    return __init__
-
-
-# urdftool.parse.sdf_model._RawLink
-def _init_parse_sdf_model__RawLink(__defaults__, __factories__, __sentinel__, __set__, __slot__):
-    def __init__(self, name, element, version):
-        self.name = name
-        self.element = element
-        self.version = version
-    return __init__
-
-
 # urdftool.parse.sdf_semantics.SdfSemantics
 def _init_parse_sdf_semantics_SdfSemantics(__defaults__, __factories__, __sentinel__, __set__, __slot__):
     def __init__(self, version, values=__sentinel__, out=__sentinel__, include_names=__sentinel__):
@@ -144,6 +144,9 @@ def _init_parse_sdf_semantics__Scope(__defaults__, __factories__, __sentinel__, 
 
 
 COMPILED = {
+    'urdftool.parse.sdf_build.RawFrame': ('name,element|plain', _init_parse_sdf_build_RawFrame),
+    'urdftool.parse.sdf_build.RawJoint': ('name,element,parent,child,scope,version,key=,model_frame=|plain', _init_parse_sdf_build_RawJoint),
+    'urdftool.parse.sdf_build.RawLink': ('name,element,version|plain', _init_parse_sdf_build_RawLink),
     'urdftool.parse.sdf_elements.JointDetails': ('type,axis,axis_frame,limit,dynamics,axis_span,axis2=,axis2_frame=,limit2=|plain', _init_parse_sdf_elements_JointDetails),
     'urdftool.parse.sdf_elements.LinkBodyReader': ('values,resolver,path|plain', _init_parse_sdf_elements_LinkBodyReader),
     'urdftool.parse.sdf_elements.PlacedElement': ('item,relative_to,pose_span|plain', _init_parse_sdf_elements_PlacedElement),
@@ -151,9 +154,6 @@ COMPILED = {
     'urdftool.parse.sdf_frames.FrameNode': ('name,kind,pose,relative_to,attached_to,span=,attached_span=|plain', _init_parse_sdf_frames_FrameNode),
     'urdftool.parse.sdf_include.IncludedFile': ('uri,path,document,diagnostics*,standard=|plain', _init_parse_sdf_include_IncludedFile),
     'urdftool.parse.sdf_model.SdfModelReader': ('path,resolver,values*,graph*,files*,links*,joints*,frames*,extensions*,merged_frames*|plain', _init_parse_sdf_model_SdfModelReader),
-    'urdftool.parse.sdf_model._RawFrame': ('name,element|plain', _init_parse_sdf_model__RawFrame),
-    'urdftool.parse.sdf_model._RawJoint': ('name,element,parent,child,scope,version,key=,model_frame=|plain', _init_parse_sdf_model__RawJoint),
-    'urdftool.parse.sdf_model._RawLink': ('name,element,version|plain', _init_parse_sdf_model__RawLink),
     'urdftool.parse.sdf_semantics.SdfSemantics': ('version,values*,out*,include_names*|plain', _init_parse_sdf_semantics_SdfSemantics),
     'urdftool.parse.sdf_semantics._Scope': ('names*,opaque*,canonical*|plain', _init_parse_sdf_semantics__Scope),
 }
