@@ -3,18 +3,24 @@ naming the budget and how to raise it; valid files are read exactly as before.""
 
 from __future__ import annotations
 
+import gc
+import os
 import signal
+import sys
 import time
 from pathlib import Path
+from types import FrameType
 
 import pytest
 from click.testing import CliRunner
 
+import urdftool
 from tests.conftest import FIXTURES
 from urdftool.budgets import BudgetError, budget, parse_budgets, stage_budgets
 from urdftool.cli import main
 from urdftool.parse.packages import PackageResolver
 from urdftool.parse.xacro import expand
+from urdftool.parse.xacro_guard import expansion_code_folders, interrupts_safely
 from urdftool.pipeline.check import CheckOptions, check_file
 
 HEAD = '<robot name="r" xmlns:xacro="http://www.ros.org/wiki/xacro">'
@@ -56,6 +62,61 @@ def test_an_expansion_stops_at_the_time_budget(tmp_path: Path) -> None:
     assert time.process_time() - start < 10
     assert [code for code, _ in found] == ["X001"]
     assert "more than 1 s of CPU time" in found[0][1] and "--budget xacro-seconds=N" in found[0][1]
+
+
+@pytest.mark.skipif(not hasattr(signal, "setitimer"), reason="no CPU-time timer on this platform")
+def test_the_time_alarm_does_not_ring_inside_another_librarys_callback(tmp_path: Path) -> None:
+    """A garbage-collector callback of another library (hypothesis installs one) that takes most
+    of the CPU time: raised there, the alarm would be printed as "Exception ignored in
+    gc_callback" and lost. It rings again in the expansion's own code, and the expansion stops
+    with its one finding, with nothing unraisable on the way."""
+    unraisable: list[object] = []
+    spent = {"callback": 0.0}
+
+    def busy_callback(phase: str, info: dict[str, int]) -> None:
+        if phase == "start":
+            begin = time.process_time()
+            for _ in range(500_000):  # user CPU time, which the alarm's timer counts
+                pass
+            spent["callback"] += time.process_time() - begin
+
+    previous_hook = sys.unraisablehook
+    sys.unraisablehook = unraisable.append
+    gc.callbacks.append(busy_callback)
+    thresholds = gc.get_threshold()
+    gc.set_threshold(50)  # a collection every 50 new containers: most CPU time in the callback
+    try:
+        start = time.process_time()
+        with stage_budgets({"xacro-seconds": 0.5}):
+            found = _expand(tmp_path, _bomb(40))
+        total = time.process_time() - start
+    finally:
+        gc.set_threshold(*thresholds)
+        gc.callbacks.remove(busy_callback)
+        sys.unraisablehook = previous_hook
+    assert spent["callback"] > total / 2  # the alarm was likely to land in the callback
+    assert unraisable == []
+    assert [code for code, _ in found] == ["X001"]
+    assert "more than 0.5 s of CPU time" in found[0][1]
+    assert total < 10
+
+
+def test_the_alarm_raises_only_in_the_expansions_code() -> None:
+    import xacro
+
+    folders = expansion_code_folders(xacro)
+
+    def frame_in(filename: str) -> FrameType:
+        frame: FrameType = eval(compile("__import__('sys')._getframe(0)", filename, "eval"))
+        return frame
+
+    assert interrupts_safely(frame_in("<expression>"), folders)
+    assert interrupts_safely(frame_in(os.path.join(os.path.dirname(xacro.__file__), "x.py")), folders)
+    assert interrupts_safely(frame_in(os.path.join(os.path.dirname(urdftool.__file__), "x.py")),
+                             folders)
+    # this test module, a gc callback's module: another library's code, as far as xacro knows
+    assert not interrupts_safely(sys._getframe(0), folders)
+    assert not interrupts_safely(None, folders)
 
 
 @pytest.mark.skipif(not hasattr(signal, "setitimer"), reason="no CPU-time timer on this platform")

@@ -25,8 +25,10 @@ from __future__ import annotations
 import ast
 import contextlib
 import functools
+import os
 import re
 import signal
+import sys
 import threading
 import time
 import types
@@ -176,7 +178,7 @@ def guarded(xacro: Any) -> Iterator[None]:
 
     xacro.eval_all, xacro.safe_eval = eval_all, functools.partial(guarded_eval, xacro.XacroException)
     try:
-        with _cpu_alarm(seconds):
+        with _cpu_alarm(seconds, expansion_code_folders(xacro)):
             yield
     finally:
         xacro.eval_all, xacro.safe_eval = original_eval_all, original_eval
@@ -185,22 +187,47 @@ def guarded(xacro: Any) -> Iterator[None]:
 #: after the first alarm, how often it rings again (s of CPU): an ``except Exception`` inside
 #: xacro that swallows one alarm does not let the expansion run on unbounded
 _ALARM_REPEAT = 0.5
+#: how soon the alarm rings again when it found the process outside the expansion's code (s of CPU)
+_ALARM_RETRY = 0.01
+
+
+def expansion_code_folders(xacro: Any) -> tuple[str, ...]:
+    """The folders of the code an expansion runs: xacro's and urdftool's."""
+    return tuple(os.path.dirname(module.__file__ or "") + os.sep
+                 for module in (xacro, sys.modules["urdftool"]))
+
+
+def interrupts_safely(frame: types.FrameType | None, folders: tuple[str, ...]) -> bool:
+    """Whether an exception raised in *frame* reaches the expansion: the frame runs an expression,
+    or code of xacro or urdftool. Python runs a signal handler in whatever frame is current,
+    which may be a garbage-collector callback, a finaliser or a weak-reference callback of
+    another library; an exception raised there is printed as "Exception ignored" and lost."""
+    if frame is None:
+        return False
+    filename = frame.f_code.co_filename
+    return filename == "<expression>" or filename.startswith(folders)
 
 
 @contextlib.contextmanager
-def _cpu_alarm(seconds: float) -> Iterator[None]:
+def _cpu_alarm(seconds: float, folders: tuple[str, ...]) -> Iterator[None]:
     """Raise :class:`BudgetSpent` wherever the block is when it has used *seconds* of CPU time,
     inside one expression too. Python runs signal handlers in the main thread only, and Windows has
-    no CPU-time timer: elsewhere the check between elements (:func:`guarded`) is the bound."""
+    no CPU-time timer: elsewhere the check between elements (:func:`guarded`) is the bound. When
+    the alarm finds another library's code running (:func:`interrupts_safely`), it rings again
+    after :data:`_ALARM_RETRY` instead of raising there."""
     if (not hasattr(signal, "setitimer") or threading.current_thread() is not threading.main_thread()
             or signal.getsignal(signal.SIGVTALRM) not in (signal.SIG_DFL, None)):
         yield  # (the last: a program that embeds urdftool uses this alarm itself; it is left alone)
         return
     armed = True
 
-    def ring(signum: int, frame: Any) -> None:
-        if armed:  # a signal already on its way when the block ends is dropped
-            raise BudgetSpent("xacro-seconds", f"more than {seconds:g} s of CPU time")
+    def ring(signum: int, frame: types.FrameType | None) -> None:
+        if not armed:  # a signal already on its way when the block ends is dropped
+            return
+        if not interrupts_safely(frame, folders):
+            signal.setitimer(signal.ITIMER_VIRTUAL, _ALARM_RETRY, _ALARM_REPEAT)
+            return
+        raise BudgetSpent("xacro-seconds", f"more than {seconds:g} s of CPU time")
 
     previous = signal.signal(signal.SIGVTALRM, ring)
     signal.setitimer(signal.ITIMER_VIRTUAL, seconds, _ALARM_REPEAT)
