@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from tests.conftest import ERD, SEEDS
-from urdftool.backends import collada, meshes
+from urdftool.backends import collada, collada_trimesh, meshes
 
 
 def _dae_files() -> list[str]:
@@ -36,7 +36,7 @@ def test_lean_reader_matches_trimesh(batch: int) -> None:
     assert len(FILES) > 250
     problems = []
     for path in FILES[batch::BATCHES]:
-        assert meshes.lean_collada(path) is not None, f"the lean reader falls back on {path}"
+        assert collada_trimesh.lean_collada(path) is not None, f"the lean reader falls back on {path}"
         lean = meshes.read_facts(path, lean=True)
         full = meshes.read_facts(path, lean=False)
         if (lean.vertices, lean.faces, lean.watertight, lean.unit) != (

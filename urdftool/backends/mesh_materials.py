@@ -26,12 +26,8 @@ else:  # NumPy loads on first use
     from urdftool.lazy import numpy as np
 
 from urdftool.backends import mesh_files
-from urdftool.backends.meshes import (
-    _quiet_trimesh_log,
-    collada_declares_entities,
-    collada_unit,
-    quiet_numerics,
-)
+from urdftool.backends.collada_trimesh import collada_declares_entities, collada_unit
+from urdftool.backends.meshes import _quiet_trimesh_log, quiet_numerics
 from urdftool.records import record
 from urdftool.safe_files import check_regular
 
