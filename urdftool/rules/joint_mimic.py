@@ -12,16 +12,12 @@ from urdftool.facts.context import CheckContext
 from urdftool.model import Joint
 
 
-class _Mimic(Rule):
-    family = Family.JOINTS
-
-
 def _where(joint: Joint) -> str:
     return f"joint[{joint.name}]/mimic"
 
 
 @register
-class MimicTargetMissing(_Mimic):
+class MimicTargetMissing(Rule):
     """A `<mimic>` names a joint that does not exist.
 
     ## What it does
@@ -42,6 +38,7 @@ class MimicTargetMissing(_Mimic):
     Name an existing joint, e.g. `<mimic joint="finger_1_joint"/>`.
     """
 
+    family = Family.JOINTS
     code = "J008"
     name = "mimic-target-missing"
     severity = Severity.ERROR
@@ -62,7 +59,7 @@ class MimicTargetMissing(_Mimic):
 
 
 @register
-class MimicCycle(_Mimic):
+class MimicCycle(Rule):
     """Mimic joints follow each other in a cycle.
 
     ## What it does
@@ -87,6 +84,7 @@ class MimicCycle(_Mimic):
     there.
     """
 
+    family = Family.JOINTS
     code = "J009"
     name = "mimic-cycle"
     severity = Severity.ERROR
