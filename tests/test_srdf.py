@@ -197,3 +197,72 @@ def test_collision_pairs_are_built_when_first_read_and_pickle_built(tmp_path: Pa
     copied = pickle.loads(pickle.dumps(read_srdf(str(path))))
     assert copied.collisions == srdf.collisions and copied.collision_pairs is None
     assert copied.collision_names == names and copied.collision_names_of is None
+
+
+@pytest.mark.parametrize("virtual, expected", [
+    # MoveIt skips a fixed virtual joint on another link and fixes the root in place: a warning
+    ('type="fixed" parent_frame="world" child_link="link1"', [("P010", "warning")]),
+    # a planar base that MoveIt skips is planned as fixed: an error
+    ('type="planar" parent_frame="odom" child_link="link1"', [("P010", "error")]),
+    # a fixed virtual joint's parent frame is not used: a robot link is fine there
+    ('type="fixed" parent_frame="base_link" child_link="base_link"', []),
+    ('type="floating" parent_frame="hand" child_link="base_link"', [("P010", "error")]),
+    ('type="fixed" parent_frame="world" child_link="base_link"', []),
+])
+def test_a_virtual_joint_is_judged_as_moveit_builds_it(tmp_path: Path, virtual: str,
+                                                       expected: list[tuple[str, str]]) -> None:
+    rules = Path(__file__).parent.parent / "fixtures" / "rules" / "P010"
+    model = tmp_path / "arm.urdf"
+    shutil.copy(rules / "good.urdf", model)
+    (tmp_path / "arm.srdf").write_text(
+        f'<robot name="mini_arm"><virtual_joint name="v" {virtual}/></robot>')
+    found = [(d.code, d.severity.value) for d in srdf_findings(str(model)) if d.code == "P010"]
+    assert found == expected
+
+
+def test_the_gazebo_world_joint_and_the_setup_assistants_virtual_joint_agree(tmp_path: Path) -> None:
+    """schunk_lwa4d's pattern (good_world_root.*): a URDF that starts at "world" and fixes base_link
+    to it, and an SRDF whose fixed virtual joint says the same. A virtual joint on a link the URDF
+    does not fix to its root is still reported."""
+    rules = Path(__file__).parent.parent / "fixtures" / "rules" / "P010"
+    assert [d.code for d in srdf_findings(str(rules / "good_world_root.urdf")) if d.code == "P010"] == []
+    model = tmp_path / "arm.urdf"
+    shutil.copy(rules / "good_world_root.urdf", model)
+    (tmp_path / "arm.srdf").write_text(
+        '<robot name="mini_arm"><virtual_joint name="v" type="fixed" parent_frame="world" '
+        'child_link="link1"/></robot>')
+    assert [(d.code, d.severity.value) for d in srdf_findings(str(model))] == [("P010", "warning")]
+
+
+@pytest.mark.parametrize("gripper, expected", [
+    # the flange's fixed joint in both groups, as the Setup Assistant writes the Panda's hand
+    ('<joint name="hand_joint"/><joint name="finger_l_joint"/>', []),
+    # a moving joint in both: two groups command it
+    ('<joint name="j3"/><joint name="finger_l_joint"/>', [("P009", "warning")]),
+])
+def test_an_end_effector_may_share_fixed_joints_with_its_arm(tmp_path: Path, gripper: str,
+                                                            expected: list[tuple[str, str]]) -> None:
+    model = tmp_path / "arm.urdf"
+    shutil.copy(Path(__file__).parent.parent / "fixtures" / "rules" / "P009" / "good.urdf", model)
+    (tmp_path / "arm.srdf").write_text(
+        '<robot name="mini_arm"><group name="arm"><chain base_link="base_link" tip_link="hand"/></group>'
+        f'<group name="gripper">{gripper}</group>'
+        '<end_effector name="eef" parent_link="link3" group="gripper" parent_group="arm"/></robot>')
+    found = [(d.code, d.severity.value) for d in srdf_findings(str(model)) if d.code == "P009"]
+    assert found == expected
+
+
+def test_a_top_level_element_inside_a_group_is_named_as_misplaced(tmp_path: Path) -> None:
+    """turtlebot3_manipulation's SRDF writes its gripper's <passive_joint> inside the <group>: an
+    SRDF element, in a place MoveIt does not read it."""
+    model = tmp_path / "arm.urdf"
+    shutil.copy(Path(__file__).parent.parent / "fixtures" / "rules" / "P009" / "good.urdf", model)
+    (tmp_path / "arm.srdf").write_text(
+        '<robot name="mini_arm"><group name="gripper"><joint name="finger_l_joint"/>'
+        '<passive_joint name="finger_r_joint"/><linkk name="hand"/></group></robot>')
+    found = [(d.code, d.message, d.help) for d in srdf_findings(str(model)) if d.code == "S008"]
+    assert found == [
+        ("S008", "<passive_joint> is an SRDF element of <robot>, not of <group>; MoveIt ignores it here",
+         "move <passive_joint> out of <group>, to the top level"),
+        ("S008", "<linkk> is not an SRDF element; MoveIt ignores it; did you mean 'link'?", None),
+    ]

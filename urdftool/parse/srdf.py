@@ -306,13 +306,18 @@ class _Reader:
         return srdf
 
     def unknown(self, element: etree._Element, where: str, known: frozenset[str]) -> None:
+        tag, parent = str(element.tag), element.getparent()
+        if tag in SRDF_ELEMENTS and parent is not None and parent.tag != "robot":
+            # a real element in the wrong place (a <passive_joint> inside a <group>)
+            message = (f"<{tag}> is an SRDF element of <robot>, not of <{parent.tag}>; MoveIt "
+                       "ignores it here")
+            help_text: str | None = f"move <{tag}> out of <{parent.tag}>, to the top level"
+        else:
+            message = f"<{tag}> is not an SRDF element; MoveIt ignores it" + did_you_mean(tag, known)
+            help_text = None
         self.diagnostics.append(
-            UnknownElement.diagnostic(
-                f"<{element.tag}> is not an SRDF element; MoveIt ignores it"
-                + did_you_mean(str(element.tag), known),
-                self.span(element),
-                element=f"{where}/{element.tag}",
-            )
+            UnknownElement.diagnostic(message, self.span(element), element=f"{where}/{tag}",
+                                      help=help_text)
         )
 
     def group(self, element: etree._Element) -> Group | None:

@@ -9,6 +9,7 @@ from urdftool.catalogue.suggest import did_you_mean
 from urdftool.diagnostics import Diagnostic, Severity
 from urdftool.facts import srdf as facts
 from urdftool.facts.context import CheckContext
+from urdftool.model import JointType
 from urdftool.parse.srdf import KNOWN_REASONS, VIRTUAL_JOINT_TYPES
 from urdftool.rules.srdf import _Srdf
 
@@ -21,7 +22,8 @@ class SrdfEndEffectorInvalid(_Srdf):
     For each `<end_effector>` with a `parent_group` whose names exist: the
     parent group must hold `parent_link` (the link the effector hangs from)
     and must not be the effector's own `group`. A parent group that shares
-    joints with the effector's group is reported as a warning.
+    moving joints with the effector's group is reported as a warning (fixed
+    joints have no variable, and both groups often hold the flange's).
 
     ## Why it matters
     MoveIt logs an error ("was specified as parent group for end-effector
@@ -47,6 +49,8 @@ class SrdfEndEffectorInvalid(_Srdf):
         found = facts.srdf(ctx)
         if found is None:
             return
+        fixed = {j.name for j in ctx.robot.joints if j.type is JointType.FIXED}
+        fixed.update(v.name for v in found.virtual_joints if v.type == "fixed")
         for effector in found.end_effectors:
             group = found.group(effector.group.name)
             parent = found.group(effector.parent_group.name) if effector.parent_group else None
@@ -71,7 +75,9 @@ class SrdfEndEffectorInvalid(_Srdf):
                     help="pick the group whose last link carries the effector as parent_group",
                     data={"end_effector": effector.name, "parent_group": parent.name},
                 )
-            shared = sorted(held.joints & parent_held.joints)
+            # a fixed joint has no variable to fight over (the Setup Assistant puts a flange's
+            # fixed joint in both groups, as in the Panda's and KUKA's official configurations)
+            shared = sorted(name for name in held.joints & parent_held.joints if name not in fixed)
             if shared:
                 yield self.diagnostic(
                     f"end effector '{effector.name}': groups '{group.name}' and '{parent.name}' share "
@@ -88,12 +94,23 @@ class SrdfVirtualJointInvalid(_Srdf):
 
     ## What it does
     Checks that `<virtual_joint type>` is `fixed`, `floating` or `planar`,
-    that `child_link` is the URDF's root link, and that `parent_frame` is not
-    one of the robot's own links.
+    that `child_link` is the URDF's root link, and that a floating or planar
+    virtual joint's `parent_frame` is not one of the robot's own links.
+
+    A fixed virtual joint on another link is a warning: MoveIt skips it ("does
+    not match the URDF frame") and fixes the root link in place, which is what
+    a fixed virtual joint asks for. It is not reported at all when the URDF
+    itself starts at the virtual joint's parent frame and fixes `child_link`
+    to it (`world` → `base_link`, as Gazebo needs to pin an arm): MoveIt 2.11
+    silences its warning for that setup. A fixed virtual joint's parent frame
+    is not used (MoveIt keeps the root link as the model frame), so it may be
+    a robot link.
 
     ## Why it matters
-    MoveIt refuses any other type, and only a virtual joint on the root link
-    places the robot in the world; a parent frame inside the robot makes a loop.
+    MoveIt refuses any other type. A floating or planar virtual joint that
+    MoveIt skips leaves the base fixed: a mobile robot is planned as if it
+    could not move. A floating or planar parent frame inside the robot
+    becomes the model frame, and the robot moves relative to itself.
 
     ## Example
     ```xml
@@ -124,13 +141,18 @@ class SrdfVirtualJointInvalid(_Srdf):
                     data={"type": virtual.type},
                 )
             child = virtual.child_link.name
-            if root is not None and child in links and child != root:
+            fixed = virtual.type == "fixed"
+            if (root is not None and child in links and child != root
+                    and not (fixed and _pinned_by_the_urdf(ctx, child, root, virtual.parent_frame))):
                 yield self.diagnostic(
-                    f"virtual joint '{virtual.name}' attaches link '{child}', not the root link '{root}'",
+                    f"virtual joint '{virtual.name}' attaches link '{child}', not the root link '{root}'"
+                    + ("; MoveIt skips it and fixes the root in place" if fixed else
+                       f"; MoveIt skips it, and the robot's base cannot move ({virtual.type} is lost)"),
                     virtual.span, element=where, help=f"write child_link=\"{root}\"",
+                    severity=Severity.WARNING if fixed else Severity.ERROR,
                     data={"child_link": child, "root": root},
                 )
-            if virtual.parent_frame in links:
+            if not fixed and virtual.parent_frame in links:
                 yield self.diagnostic(
                     f"virtual joint '{virtual.name}' hangs the robot from its own link "
                     f"'{virtual.parent_frame}'",
@@ -138,6 +160,14 @@ class SrdfVirtualJointInvalid(_Srdf):
                     help="name a frame outside the robot (\"world\", \"odom\") as parent_frame",
                     data={"parent_frame": virtual.parent_frame},
                 )
+
+
+def _pinned_by_the_urdf(ctx: CheckContext, child: str, root: str, parent_frame: str) -> bool:
+    """The URDF starts at *parent_frame* and fixes *child* to it: the virtual joint repeats the
+    URDF's own first joint (Gazebo's fixed ``world`` joint)."""
+    joint = ctx.tree.parent_joint.get(child)
+    return (root == parent_frame and joint is not None and joint.parent == root
+            and joint.type is JointType.FIXED)
 
 
 @register
