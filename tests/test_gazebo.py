@@ -84,3 +84,20 @@ def test_pose_in_a_link_is_a_warning_with_its_value(tmp_path: Path) -> None:
     found = robot(tmp_path, '<link name="arm"><pose>0 0 1 0 0 0</pose></link>')
     assert [d.code for d in found] == ["G005"]
     assert found[0].severity.value == "warning" and "0 0 1" in found[0].message
+
+
+@pytest.mark.parametrize("block, severity", [
+    # schunk_description's lwa4p: a colour and Gazebo's defaults; only the colour is lost
+    ("<gravity>true</gravity><self_collide>false</self_collide><material value='Schunk/Blue'/>", "warning"),
+    ("<material>Gazebo/FlatBlack</material>", "warning"),  # champ_velodyne's hokuyo_frame
+    # anything else is lost behaviour: a link that should float, collide, carry a sensor
+    ("<gravity>false</gravity><material>Gazebo/Red</material>", "error"),
+    ("<self_collide>true</self_collide>", "error"),
+    ("<mu1>0.2</mu1>", "error"),
+    ("<sensor type='ray' name='laser'/>", "error"),
+    ("", "error"),
+])
+def test_a_stale_reference_that_only_sets_a_colour_is_a_warning(tmp_path: Path, block: str,
+                                                               severity: str) -> None:
+    found = robot(tmp_path, f'<link name="base_link"/><gazebo reference="hokuyo_frame">{block}</gazebo>')
+    assert [(d.code, d.severity.value) for d in found if d.code == "G001"] == [("G001", severity)]

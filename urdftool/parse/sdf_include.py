@@ -24,6 +24,7 @@ from urdftool.parse.locate import span_of
 from urdftool.parse.packages import PackageResolver
 from urdftool.parse.xmlio import XmlDocument, read_file
 from urdftool.records import record
+from urdftool.targets.gazebo_classic_models import database_model, read_by_classic
 
 #: Gazebo's bundled models, recognised by name without their files
 STANDARD_MODELS = frozenset({"sun", "ground_plane"})
@@ -54,6 +55,12 @@ def standard_model(uri: str) -> str | None:
     return None
 
 
+def _read_by_classic(element: etree._Element) -> bool:
+    """Whether the SDF file holding *element* is one Gazebo Classic reads (:func:`read_by_classic`)."""
+    root = element.getroottree().getroot()
+    return read_by_classic(root.get("version"), [p.get("filename") or "" for p in root.iter("plugin")])
+
+
 def read_include(include: etree._Element, resolver: PackageResolver, base: str) -> IncludedFile:
     """Resolve and parse the SDF file that *include* names; report what cannot be found."""
     uri = include_uri(include)
@@ -79,6 +86,20 @@ def read_include(include: etree._Element, resolver: PackageResolver, base: str) 
                     severity=Severity.INFO,
                     help="to check it too, download the model and include it by model:// with "
                     "--package-path or GZ_SIM_RESOURCE_PATH",
+                    data={"uri": uri, "remote": True},
+                )
+            ])
+        if database_model(uri) and _read_by_classic(include):
+            # Gazebo Classic downloads a model of its online database on first load
+            return IncludedFile(uri, None, None, [
+                ModelIncludeNotFound.diagnostic(
+                    f"included model '{uri}' is not on this machine; Gazebo Classic downloads it "
+                    "from its model database on first load, so it is not checked",
+                    span_of(include.find("uri")) or where,
+                    element="include",
+                    severity=Severity.INFO,
+                    help="to check it too, download the model (osrf/gazebo_models) and pass its "
+                    "folder's parent with --package-path or GAZEBO_MODEL_PATH",
                     data={"uri": uri, "remote": True},
                 )
             ])

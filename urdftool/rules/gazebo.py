@@ -95,6 +95,9 @@ class GazeboReferenceMissing(_Gazebo):
     Gazebo silently ignores a block whose reference matches nothing: the
     sensor it declares never exists, the friction or colour never applies.
     Renaming a link without renaming its `<gazebo>` block is the usual cause.
+    A block that sets only a `<material>` (and Gazebo's defaults, such as
+    `<gravity>true</gravity>` or `<self_collide>false</self_collide>`) is a
+    warning: the robot behaves the same, only its colour is lost.
 
     ## Example
     ```xml
@@ -127,14 +130,35 @@ class GazeboReferenceMissing(_Gazebo):
             reference = block.get("reference")
             if reference is None or reference in names or "$" in reference:
                 continue
+            looks = _only_looks(block)
             yield self.diagnostic(
                 f'<gazebo reference="{reference}"> names no link or joint'
                 + suggest(reference),
                 span_of(block),
                 element=f"gazebo[{reference}]",
-                help="Gazebo ignores the whole block; use the exact name of a link or joint",
+                help="Gazebo ignores the whole block; use the exact name of a link or joint"
+                + ("; the block sets only a colour and Gazebo's defaults, so nothing but the colour "
+                   "is lost" if looks else ""),
                 data={"reference": reference},
+                severity=Severity.WARNING if looks else None,
             )
+
+
+#: what a ``<gazebo reference>`` block may set and still change nothing but the link's looks: its
+#: colour, and Gazebo's own defaults written out (values as Gazebo Classic's URDF reader takes them)
+_LOOKS = frozenset({"material"})
+_DEFAULTS = {"gravity": ("true", "1"), "self_collide": ("false", "0"), "turnGravityOff": ("false", "0")}
+
+
+def _only_looks(block: Any) -> bool:
+    """Whether a ``<gazebo>`` block sets only a colour and Gazebo's defaults: ignored, it leaves
+    the robot behaving as written, only coloured otherwise."""
+    children = [child for child in block if isinstance(child.tag, str)]
+    return bool(children) and all(
+        child.tag in _LOOKS
+        or (child.tag in _DEFAULTS and (child.text or "").strip().lower() in _DEFAULTS[child.tag])
+        for child in children
+    )
 
 
 @register

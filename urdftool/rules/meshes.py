@@ -26,6 +26,7 @@ from urdftool.facts import meshes as survey
 from urdftool.facts.context import CheckContext
 from urdftool.facts.meshes import ENGINE_NAMES, MeshError, describe_path, engines_refusing, read_head
 from urdftool.targets import TARGETS
+from urdftool.targets.gazebo_classic_models import database_model, read_by_classic
 
 
 class _Meshes(Rule):
@@ -34,6 +35,15 @@ class _Meshes(Rule):
 
 def _fmt(value: float) -> str:
     return f"{value:.3g}"
+
+
+def _read_by_classic(ctx: CheckContext) -> bool:
+    """Whether the model is in a world Gazebo Classic reads (:func:`read_by_classic`)."""
+    world = ctx.robot.world
+    if world is None:
+        return False
+    version = world.getroottree().getroot().get("version")
+    return read_by_classic(version, [p.get("filename") or "" for p in world.iter("plugin")])
 
 
 def _tried(tried: Sequence[str], limit: int = 6) -> str:
@@ -78,6 +88,11 @@ class UnresolvedPackage(_Meshes):
     (Gazebo classic), where the simulator looks too. When several models of
     one world use the missing package, each reports it and the help is given
     once, at the first.
+
+    A `model://` URI into Gazebo Classic's online model database
+    (`construction_cone`, `suv`, …) in a world Classic reads (SDFormat 1.7 or
+    older, no gz-sim systems) is not missing: Classic downloads the model on
+    first load. It is reported as an info, since urdftool cannot check it.
     """
 
     code = "M001"
@@ -92,10 +107,22 @@ class UnresolvedPackage(_Meshes):
             found = survey.lookup(ctx, use)
             if found.package_missing:
                 groups.setdefault(found.package or "", []).append(use)
+        classic = bool(groups) and _read_by_classic(ctx)
         for package, uses in groups.items():
             first = uses[0]
             found = survey.lookup(ctx, first)
             count = f" (and {len(uses) - 1} more mesh element(s))" if len(uses) > 1 else ""
+            if classic and database_model(first.mesh.filename):
+                yield self.diagnostic(
+                    f"{first.describe}: model '{package}' is not on this machine{count}; Gazebo "
+                    "Classic downloads it from its model database on first load, so it is not checked",
+                    first.location, element=first.element, severity=Severity.INFO,
+                    help="to check it too, download the model (osrf/gazebo_models) and pass its "
+                    "folder's parent with --package-path or GAZEBO_MODEL_PATH",
+                    data={"package": package, "uri": first.mesh.filename, "uses": len(uses),
+                          "remote": True},
+                )
+                continue
             # PyBullet loads the robot only when it finds every one of the package's meshes: one
             # it misses (a file named in another case, say) fails the whole loadURDF
             where = [_where_pybullet_finds(use, ctx.robot.path) for use in uses]
