@@ -45,8 +45,8 @@ GENUINE = {
     # the stadium OBJ parts have degenerate faces the mesh reader cannot load
     "stadium.sdf": {"M003"},
     "stadium_no_collision.sdf": {"M003"},
-    # suv, fire_hydrant, pine_tree and radio_tower come from Gazebo's online model database
-    "UdacityOffice.world": {"M001"},
+    # (UdacityOffice.world's suv, fire_hydrant, pine_tree and radio_tower come from Gazebo Classic's
+    # online model database, which Classic downloads: an M001 info, not an error)
 }
 
 
