@@ -3,10 +3,12 @@ deep chains, and outputs that would harm inputs (docs/robustness.md)."""
 
 from __future__ import annotations
 
+import contextlib
 import dataclasses
 import math
 import os
 import re
+import tempfile
 from pathlib import Path
 from typing import Any
 
@@ -308,15 +310,22 @@ def test_output_to_a_device_is_refused(tmp_path: Path, command: str) -> None:
 
 
 def test_fuzz_regressions_check_without_an_exception() -> None:
-    """Every input a fuzz run crashed on (fixtures/fuzz-regressions/) now gets a report."""
+    """Every input a fuzz run crashed on (fixtures/fuzz-regressions/) now gets a report, and
+    converts or is refused with a reason, as the fuzz harness asks."""
     import urdftool
     from tests.conftest import FIXTURES
+    from urdftool.api import ConversionRefused, LoadError
 
     cases = sorted((FIXTURES / "fuzz-regressions").iterdir())
     assert cases
     for case in cases:
         report = urdftool.check(case)
         assert not [d for d in report.diagnostics if d.code == "S000"], case
+        with tempfile.TemporaryDirectory() as out:
+            for convert, name in ((urdftool.to_mjcf, "out.xml"), (urdftool.to_urdf, "out.urdf")):
+                # refused with a reason is what the harness accepts; anything else fails the test
+                with contextlib.suppress(ConversionRefused, LoadError):
+                    convert(case, str(Path(out) / name))
 
 
 def test_json_and_sarif_reports_hold_no_infinity() -> None:

@@ -127,7 +127,13 @@ def close_loops(root: etree._Element, out_dir: Path | None, files: dict[str, byt
     steps = 0
     while steps < MAX_STEPS and residual.size and np.max(np.abs(residual)) > TOLERANCE:
         weighted = jac * weights
-        step = -weighted.T @ np.linalg.solve(weighted @ jac.T + DAMPING * np.eye(len(residual)), residual)
+        system = weighted @ jac.T + DAMPING * np.eye(len(residual))
+        if not (np.isfinite(system).all() and np.isfinite(residual).all()):
+            break  # a loop of links far beyond any real size (1e16 m): the keyframe stays as read
+        try:
+            step = -weighted.T @ np.linalg.solve(system, residual)
+        except np.linalg.LinAlgError:  # rounding at such sizes leaves the system singular
+            break
         mujoco.mj_integratePos(model, data.qpos, step, 1.0)
         residual, jac = _residual(model, data)
         steps += 1
@@ -141,7 +147,8 @@ def close_loops(root: etree._Element, out_dir: Path | None, files: dict[str, byt
         key.set("ctrl", vec(ctrl))
     after = float(np.max(np.abs(residual), initial=0.0))
     placed = f"; root then at z = {lifted:.6g} m, 1 mm above the floor" if lifted is not None else ""
-    key.addprevious(etree.Comment(f" home solved for the loop closures: largest residual {before:.3g} "
+    solved = "solved" if after <= TOLERANCE else "not solved (the projection stopped short)"
+    key.addprevious(etree.Comment(f" home {solved} for the loop closures: largest residual {before:.3g} "
                                   f"before, {after:.3g} after {steps} projection steps{placed} "))
     return LoopSolve(before, after, steps)
 

@@ -147,7 +147,8 @@ class SrdfVirtualJointInvalid(_Srdf):
                 yield self.diagnostic(
                     f"virtual joint '{virtual.name}' attaches link '{child}', not the root link '{root}'"
                     + ("; MoveIt skips it and fixes the root in place" if fixed else
-                       f"; MoveIt skips it, and the robot's base cannot move ({virtual.type} is lost)"),
+                       f"; MoveIt skips it, and the robot's base cannot move ({virtual.type} is lost)"
+                       if virtual.type in VIRTUAL_JOINT_TYPES else ""),
                     virtual.span, element=where, help=f"write child_link=\"{root}\"",
                     severity=Severity.WARNING if fixed else Severity.ERROR,
                     data={"child_link": child, "root": root},
