@@ -282,3 +282,16 @@ def test_exports_write_sdformats_default_inertial_for_a_link_without_one(tmp_pat
     notes = convert_robot(urdftool.load(source), "pybullet", tmp_path / "r.urdf", ExportOptions()).diagnostics
     defaulted = [(d.code, d.severity.value) for d in notes if "SDFormat's default" in d.message]
     assert defaulted == [("C007", "info")]
+
+
+def test_an_included_light_or_actor_is_not_a_missing_model() -> None:
+    """Gazebo Classic worlds add their sun by including model://sun, whose file holds a <light>;
+    an <actor> may be included the same way. libsdformat reads both: no error, found or not."""
+    folder = FIXTURES / "sdf_light_include"
+    world = str(folder / "world.world")
+    found = check_file(world, CheckOptions(package_paths=(str(folder / "models"),)))
+    assert [d.code for r in found for d in r.diagnostics] == []
+    for name, article in (("sun", "a <light>"), ("walker", "an <actor>")):
+        (alone,) = check_file(str(folder / "models" / name / "model.sdf"), CheckOptions())
+        assert [(d.code, d.severity.value, d.message) for d in alone.diagnostics] == [
+            ("S105", "info", f"the SDF file holds {article}, which has no links or joints to check")]

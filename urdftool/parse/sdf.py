@@ -16,7 +16,7 @@ from lxml import etree
 
 from urdftool.catalogue.sdf import SdfModelMissing, SdfVersion
 from urdftool.catalogue.syntax import NotARobot
-from urdftool.diagnostics import Diagnostic
+from urdftool.diagnostics import Diagnostic, Severity
 from urdftool.parse import Loaded
 from urdftool.parse.locate import span_of
 from urdftool.parse.packages import PackageResolver
@@ -57,8 +57,12 @@ def read_sdf(path: str, resolver: PackageResolver) -> list[Loaded]:
     names = {id(e): m.robot.name for e, m in owners if e.tag == "include" and m.robot and m.robot.name}
     problems.extend(check_document(root, version, names))
     if not models and not _has_world(root):
+        others = _lights_and_actors(root)
         problems.append(
             SdfModelMissing.diagnostic(
+                f"the SDF file holds {'an' if others[0] == 'actor' else 'a'} <{others[0]}>, which has no "
+                "links or joints to check", span_of(root), element="sdf", severity=Severity.INFO,
+            ) if others else SdfModelMissing.diagnostic(
                 "the SDF file holds no <model> and no <world>", span_of(root), element="sdf"
             )
         )
@@ -179,6 +183,12 @@ def _model(element: etree._Element, version: tuple[int, int], path: str, resolve
     return Loaded(path, "sdf", robot, diagnostics, [path, *reader.files])
 
 
+def _lights_and_actors(root: etree._Element) -> list[str]:
+    """The tags of the ``<light>`` and ``<actor>`` children of ``<sdf>``: besides ``<model>`` and
+    ``<world>``, what an SDF file or an included one may hold (libsdformat reads all four)."""
+    return [child.tag for child in root if child.tag in ("light", "actor")]
+
+
 def _included(include: etree._Element, path: str, resolver: PackageResolver) -> Loaded | None:
     """A world-level ``<include>`` as a model (``None`` for the standard sun and ground plane)."""
     found = read_include(include, resolver, path)
@@ -189,7 +199,8 @@ def _included(include: etree._Element, path: str, resolver: PackageResolver) -> 
     root = found.document.root
     model = root.find("model") if root.tag == "sdf" else None
     if model is None:
-        if root.tag == "sdf" and root.find("world") is None:
+        # a <light> or <actor> is as valid an include as a <model> (Gazebo's own model://sun)
+        if root.tag == "sdf" and root.find("world") is None and not _lights_and_actors(root):
             found.diagnostics.append(
                 SdfModelMissing.diagnostic(f"'{found.uri}' holds no <model>", span_of(root), element="sdf")
             )
