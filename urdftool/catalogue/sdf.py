@@ -135,17 +135,21 @@ class SdfModelMissing(_Sdf):
     """An SDF file holds neither a model nor a world, or an included file holds no model.
 
     ## What it does
-    Reports an `<sdf>` file with no `<model>` and no `<world>`, and an
-    `<include>` whose file holds no `<model>`. (A world with only lights and
-    Gazebo's standard models is fine: it has nothing to check.)
+    Reports an `<sdf>` file with no `<model>`, `<world>`, `<light>` or
+    `<actor>`, and an `<include>` whose file holds none of `<model>`,
+    `<light>` and `<actor>`. A file that holds only a light or an actor is
+    valid SDFormat (Gazebo's own `model://sun` is one) with nothing to check:
+    an info. (A world with only lights and Gazebo's standard models is fine.)
 
     ## Why it matters
     There is nothing to check or convert; usually the wrong file was given
     (a `model.config`, a launch file) or the model is written elsewhere.
+    libsdformat refuses such an include ("Failed to find top level <model> /
+    <actor> / <light> for <include>").
 
     ## Example
     ```xml
-    <sdf version="1.7"> <light name="sun" type="directional"/> </sdf>
+    <sdf version="1.7"> <!-- the model moved to model_v2.sdf --> </sdf>
     ```
 
     ## Fix

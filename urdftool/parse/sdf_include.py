@@ -74,35 +74,17 @@ def read_include(include: etree._Element, resolver: PackageResolver, base: str) 
     if sdf_path is None:
         if standard_model(uri):
             return IncludedFile(uri, None, None, standard=True)
+        # Fetched by the simulator on first load, so not missing: a Gazebo Fuel URL (gz-sim), or a
+        # model of Gazebo Classic's online database in a world Classic reads. urdftool reads no
+        # network, so the model goes unchecked, which is worth saying.
         if uri.startswith(("http://", "https://")):
-            # A Gazebo Fuel URL: gz-sim downloads it on first load, so it is not missing;
-            # urdftool reads no network, so the model goes unchecked, which is worth saying.
-            return IncludedFile(uri, None, None, [
-                ModelIncludeNotFound.diagnostic(
-                    f"included model '{uri}' is fetched from the web by Gazebo; urdftool does not "
-                    "download it, so it is not checked",
-                    span_of(include.find("uri")) or where,
-                    element="include",
-                    severity=Severity.INFO,
-                    help="to check it too, download the model and include it by model:// with "
-                    "--package-path or GZ_SIM_RESOURCE_PATH",
-                    data={"uri": uri, "remote": True},
-                )
-            ])
+            return _fetched(include, uri, "is fetched from the web by Gazebo; urdftool does not download "
+                            "it", "download the model and include it by model:// with --package-path "
+                            "or GZ_SIM_RESOURCE_PATH")
         if database_model(uri) and _read_by_classic(include):
-            # Gazebo Classic downloads a model of its online database on first load
-            return IncludedFile(uri, None, None, [
-                ModelIncludeNotFound.diagnostic(
-                    f"included model '{uri}' is not on this machine; Gazebo Classic downloads it "
-                    "from its model database on first load, so it is not checked",
-                    span_of(include.find("uri")) or where,
-                    element="include",
-                    severity=Severity.INFO,
-                    help="to check it too, download the model (osrf/gazebo_models) and pass its "
-                    "folder's parent with --package-path or GAZEBO_MODEL_PATH",
-                    data={"uri": uri, "remote": True},
-                )
-            ])
+            return _fetched(include, uri, "is not on this machine; Gazebo Classic downloads it from its "
+                            "model database on first load", "download the model (osrf/gazebo_models) "
+                            "and pass its folder's parent with --package-path or GAZEBO_MODEL_PATH")
         lookup = resolver.resolve_uri(uri, base)
         tried = "; ".join(lookup.tried[:6]) or "nowhere"
         return IncludedFile(uri, None, None, [
@@ -117,6 +99,17 @@ def read_include(include: etree._Element, resolver: PackageResolver, base: str) 
         ])
     document, problems = read_file(sdf_path)
     return IncludedFile(uri, sdf_path, document, problems)
+
+
+def _fetched(include: etree._Element, uri: str, how: str, check_it: str) -> IncludedFile:
+    """An include the simulator downloads: one info saying it is not checked, and how to check it."""
+    return IncludedFile(uri, None, None, [
+        ModelIncludeNotFound.diagnostic(
+            f"included model '{uri}' {how}, so it is not checked",
+            span_of(include.find("uri")) or span_of(include), element="include", severity=Severity.INFO,
+            help=f"to check it too, {check_it}", data={"uri": uri, "remote": True},
+        )
+    ])
 
 
 def _locate(uri: str, resolver: PackageResolver, base: str) -> str | None:
