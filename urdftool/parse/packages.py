@@ -255,16 +255,39 @@ class PackageResolver:
                 found = finder(pkg, base)
                 if found.path is None:
                     return found
-                target = os.path.join(found.path, rel)
+                # 'model://ocean//media/x': the simulators join the two parts as text, and a
+                # doubled slash is still one folder; os.path.join would start again at the root
+                target = os.path.join(found.path, rel.lstrip("/"))
                 found.tried.append(target)
                 return Lookup(target, found.tried, pkg, package_dir=found.path)
         if uri.startswith("file://"):
             path = uri[len("file://") :]
-            return Lookup(path, [path])
+            return Lookup(path, [path]) if os.path.isabs(path) else self._relative_file(path, base)
         # os.path, not pathlib.resolve(): no symlink walk or object churn per mesh
         # (a robot names thousands of them)
         target = uri if os.path.isabs(uri) else os.path.join(os.path.dirname(os.path.abspath(base)), uri)
         return Lookup(target, [target])
+
+    def _relative_file(self, path: str, base: str | os.PathLike[str]) -> Lookup:
+        """A relative ``file://`` path, found as gz-common's ``FindFileURI`` and Gazebo Classic's
+        ``FindFile`` find it: in the resource paths (``GZ_SIM_RESOURCE_PATH``,
+        ``IGN_GAZEBO_RESOURCE_PATH``, ``GAZEBO_RESOURCE_PATH``, ``GAZEBO_MODEL_PATH``, and
+        ``--package-path``), and in the describing file's folder and the folders above it, where a
+        project's models folder usually sits; the working directory last, as the simulators try it
+        too. Where it is found nowhere, the first place tried is returned."""
+        folder = Path(os.path.abspath(base)).parent
+        roots = (
+            self.package_paths
+            + _env_paths("GZ_SIM_RESOURCE_PATH", self.environ)
+            + _env_paths("IGN_GAZEBO_RESOURCE_PATH", self.environ)
+            + _env_paths("GAZEBO_RESOURCE_PATH", self.environ)
+            + _env_paths("GAZEBO_MODEL_PATH", self.environ)
+            + [folder, *folder.parents][: ANCESTOR_LEVELS + 1]
+            + [Path.cwd()]
+        )
+        tried = [os.path.join(root, path) for root in roots]
+        found = next((target for target in tried if os.path.isfile(target)), None)
+        return Lookup(found or tried[0], tried)
 
     def resolution(self, uri: str, base: str) -> Resolution:
         """:meth:`resolve_uri` as the model records it on a mesh, once per URI and file: a robot
@@ -286,5 +309,5 @@ class PackageResolver:
             package = self._packages_asked[(name, base)] = self.find_package(name, base).recorded()
         if package.path is None:
             return package
-        target = os.path.join(package.path, rel)
+        target = os.path.join(package.path, rel.lstrip("/"))
         return Resolution(target, (*package.tried, target), name, False, package.path)
