@@ -23,9 +23,15 @@ from urdftool.model.robot import Inertia3
 from urdftool.physics.vec3 import Tensor3
 from urdftool.records import record
 
-#: Relative tolerance (to the trace) below which a moment counts as zero or an
-#: inequality as met; absorbs rounding in tensors written with a few digits.
+#: Relative tolerance (to the trace) within which the triangle inequality counts as met; absorbs
+#: rounding in tensors written with a few digits (a flat plate's A + B = C).
 RELATIVE_TOLERANCE = 1e-6
+
+#: The fraction of the trace below which a principal moment counts as zero. Real bodies go far
+#: below 1e-6: a 1 m rod of 1 mm diameter has 1.5e-6, a wire less, and every engine takes them
+#: (MuJoCo's floor is absolute, :data:`MIN_MOMENT`). 1e-9 still reads a rank-deficient tensor as
+#: singular, whose smallest moment is the eigenvalue routine's rounding (about 1e-16 of the trace).
+ZERO_MOMENT = 1e-9
 
 #: The smallest principal moment (kg·m²) MuJoCo accepts in a full tensor
 #: (``mjEPS``); below it, a tensor is numerically zero in any engine.
@@ -74,8 +80,9 @@ def assess(
 ) -> InertiaVerdict:
     """Positive-definiteness and triangle inequalities, with a tolerance relative to the trace.
 
-    A principal moment counts as positive when it exceeds both ``rel_tol``
-    times the trace and ``abs_tol`` (kg·m²; :data:`MIN_MOMENT` is MuJoCo's floor).
+    A principal moment counts as positive when it exceeds both :data:`ZERO_MOMENT`
+    times the trace and ``abs_tol`` (kg·m²; :data:`MIN_MOMENT` is MuJoCo's floor); the triangle
+    inequality holds within ``rel_tol`` of the trace.
     """
     values, _ = principal_moments(tensor)
     return judge_moments((float(values[0]), float(values[1]), float(values[2])), rel_tol, abs_tol)
@@ -89,7 +96,7 @@ def judge_moments(
     a, b, c = moments
     scale = max(abs(a) + abs(b) + abs(c), 1e-300)
     tol = rel_tol * scale
-    positive = a > tol and a > abs_tol
+    positive = a > ZERO_MOMENT * scale and a > abs_tol
     violation = None
     if a + b < c - tol:  # c is the largest, so this is the only inequality that can fail
         violation = (a, b, c)
@@ -107,8 +114,8 @@ def clearly_valid(tensor: Inertia3, rel_tol: float = RELATIVE_TOLERANCE, abs_tol
     told without its eigenvalues; False when it is invalid or too close to a limit to tell
     without them (then ask :func:`assess`).
 
-    Sylvester's criterion, on two matrices: the tensor less its floor (``rel_tol`` of the trace,
-    or ``abs_tol``) is positive definite when every principal moment is above the floor; and
+    Sylvester's criterion, on two matrices: the tensor less its floor (:data:`ZERO_MOMENT` of the
+    trace, or ``abs_tol``) is positive definite when every principal moment is above the floor; and
     ``trace/2 − I``, the second moments of the mass (∫x² dm ...), is positive definite when the
     largest moment is below half the trace, that is below the sum of the two others (the
     triangle inequality). Both are asked with ROOM to spare, so that no rounding of the minors
@@ -123,7 +130,7 @@ def clearly_valid(tensor: Inertia3, rel_tol: float = RELATIVE_TOLERANCE, abs_tol
         return False
     trace = xx + yy + zz
     room = ROOM * size
-    floor = max(rel_tol * (trace + room), abs_tol) + room
+    floor = max(ZERO_MOMENT * (trace + room), abs_tol) + room
     half = trace / 2 - room
     return _clearly_positive_definite(xx - floor, xy, xz, yy - floor, yz, zz - floor, size) and (
         _clearly_positive_definite(half - xx, -xy, -xz, half - yy, -yz, half - zz, size)

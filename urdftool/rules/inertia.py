@@ -263,7 +263,8 @@ class InertiaNotPositiveDefinite(_Inertia):
 
     ## What it does
     Computes the principal moments (eigenvalues) of every `<inertia>` and
-    reports a tensor whose smallest moment is at or below 1e-6 of the trace:
+    reports a tensor whose smallest moment is at or below 1e-9 of the trace
+    (numerically zero; a 1 m rod of 1 mm diameter has 1.5e-6, and is fine):
     negative diagonal entries, products of inertia larger than the moments,
     a tensor filled with one placeholder value. A tensor of all zeros is
     reported when the link has mass and heads a moving body whose welded
