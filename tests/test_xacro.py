@@ -488,3 +488,26 @@ def test_turtlebot3_urdf_files_are_xacro_and_are_expanded(robot: str, no_ros_env
     loaded = urdftool.load(path)
     assert loaded.format == "xacro" and loaded.name == f"turtlebot3_{robot}"
     assert loaded.link("base_link") is not None
+
+
+def test_a_urdf_with_a_stray_macro_call_is_checked_as_loaders_read_it(tmp_path: Path) -> None:
+    """NASA's valkyrie_sim.urdf: a plain URDF with one macro call left from an old include. xacro
+    fails on it; urdfdom, PyBullet and MuJoCo read the .urdf directly and skip the element. It is
+    checked as they read it, the xacro failure a warning. With a ${…} in it, nothing reads it
+    directly, and the failure stays an error."""
+    body = ('<link name="base"><inertial><mass value="1"/><inertia ixx="0.01" ixy="0" ixz="0" '
+            'iyy="0.01" iyz="0" izz="0.01"/></inertial></link>'
+            '<joint name="j" type="fixed"><parent link="base"/><child link="arm"/></joint>'
+            '<link name="arm"/>')
+    stray = tmp_path / "stray.urdf"
+    stray.write_text('<robot name="r" xmlns:xacro="http://www.ros.org/wiki/xacro">'
+                     f'{body}<xacro:pelvis_sensors port="none"/></robot>')
+    assert [link.name for link in urdftool.load(stray).links] == ["base", "arm"]
+    report = urdftool.check(stray, select=["S", "X"])
+    found = {(d.code, d.severity.value) for d in report.diagnostics}
+    assert ("X001", "warning") in found and ("X006", "warning") in found
+    assert not [d for d in report.diagnostics if d.severity.value == "error"]
+    substituted = tmp_path / "substituted.urdf"
+    substituted.write_text('<robot name="r" xmlns:xacro="http://www.ros.org/wiki/xacro">'
+                           f'{body.replace("0.01", "${i}", 1)}<xacro:pelvis_sensors/></robot>')
+    assert ("X001", "error") in {(d.code, d.severity.value) for d in urdftool.check(substituted).diagnostics}

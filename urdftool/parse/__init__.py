@@ -9,7 +9,7 @@ from collections.abc import Mapping
 from dataclasses import field
 from typing import TYPE_CHECKING
 
-from urdftool.diagnostics import Diagnostic
+from urdftool.diagnostics import Diagnostic, Severity
 from urdftool.model import Robot
 from urdftool.parse.packages import PackageResolver
 from urdftool.records import record
@@ -130,15 +130,32 @@ def _read_urdf(path: str, resolver: PackageResolver, args: Mapping[str, str]) ->
     # on it: nobody is misled into reading it as plain URDF. Such a file may use xacro only through
     # substitutions (`$(find pkg)` in a plugin's <parameters>), which xacro expands too.
     named = ".xacro." in os.path.basename(path)
-    if needs_xacro is not None or (named and uses_substitution(document.root)):
+    substituted = (needs_xacro is not None or named) and uses_substitution(document.root)
+    if needs_xacro is not None or (named and substituted):
         # a xacro file under a .urdf name: read it as xacro does
         loaded = _read_xacro(path, args, resolver)
         found = [*problems, *([needs_xacro] if needs_xacro and not named else []), *loaded.diagnostics]
-        return _finish(path, "xacro", loaded.robot, found, loaded.files)
+        if loaded.robot is not None or named or substituted:
+            return _finish(path, "xacro", loaded.robot, found, loaded.files)
+        # xacro cannot expand it, and nothing in it needs xacro but stray elements (a macro call
+        # left from an old include: NASA's Valkyrie). urdfdom, PyBullet and MuJoCo read the .urdf
+        # directly and skip elements they do not know: check it as they read it.
+        problems = [_as_read_directly(d) for d in found]
     reader = UrdfReader(path, SourceIndex(), resolver, document=document)
     robot = reader.read(document.root)
     return _finish(path, "urdf", robot, problems + reader.diagnostics, [path],
                    () if document.may_hold_suppressions else (path,))
+
+
+def _as_read_directly(finding: Diagnostic) -> Diagnostic:
+    """A xacro failure on a ``.urdf`` file that loaders read without xacro: a warning."""
+    if finding.code != "X001" or finding.severity is not Severity.ERROR:
+        return finding
+    return dataclasses.replace(
+        finding, severity=Severity.WARNING,
+        message=f"{finding.message}; urdfdom, PyBullet and MuJoCo read this .urdf without xacro and "
+        "skip its xacro elements, and it is checked as they read it",
+    )
 
 
 def _read_xacro(path: str, args: Mapping[str, str], resolver: PackageResolver) -> Loaded:

@@ -508,8 +508,9 @@ def xacro_in_urdf(
         element = found[0]
         tag = etree.QName(element).localname
         return XacroInUrdf.diagnostic(
-            f"this .urdf file uses xacro (<xacro:{tag}>); it was expanded with xacro, but "
-            "URDF loaders that read it directly will fail",
+            f"this .urdf file uses xacro (<xacro:{tag}>): xacro and the loaders that read it "
+            "directly (urdfdom, PyBullet, MuJoCo, which skip xacro elements and read ${…} as text) "
+            "can read it differently",
             locate(element),
             help="rename it to .urdf.xacro, or ship the expanded URDF",
             data={"element": f"xacro:{tag}"},
