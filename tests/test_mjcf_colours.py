@@ -163,7 +163,7 @@ def test_cache_entry_packs_and_unpacks() -> None:
     parts = ((None, b"abc", ".stl"), ((1, 2, 3, 255), b"", ".obj"), ((9, 9, 9, 9), b"xyz\n", ".stl"))
     assert mjcf_assets._unpack_parts(mjcf_assets._pack_parts(parts)) == parts
     assert mjcf_assets._unpack_parts(mjcf_assets._pack_parts(())) == ()
-    assert mesh_cache.SCHEMA == 4  # a new kind of entry, not a new meaning for the old ones
+    assert mesh_cache.SCHEMA == 5  # a new kind of entry was not a new meaning for the old ones (5: comments)
 
 
 def test_obj_visual_split_by_its_mtl_colours(tmp_path: Path, fresh_cache: Path) -> None:

@@ -516,3 +516,21 @@ def test_package_less_mesh_uri_with_one_file_pybullet_misses_stays_an_error(tmp_
     assert [d.severity for d in found] == [Severity.ERROR]
     assert "PyBullet finds 1 of these 2 meshes but not 'package://meshes/arm.STL'" in (found[0].help or "")
     assert _loads_in_pybullet(model) in (False, None)
+
+
+def test_a_collada_file_with_a_comment_among_its_primitives_is_read(tmp_path: Path,
+                                                                     monkeypatch: pytest.MonkeyPatch) -> None:
+    """aws-robomaker-hospital-world's aws_BookshelfB_01_visual.DAE: the lean reader refuses its
+    reused id, and pycollada took the comment in its <mesh> for a primitive and found no triangles
+    (M003, a false error: assimp and gz-common skip comments). Read without a warm cache."""
+    monkeypatch.setenv("URDFTOOL_NO_CACHE", "1")
+    from urdftool.backends import meshes
+
+    mesh = FIXTURES / "precision" / "collada_comment_in_mesh.dae"
+    facts = meshes.read_facts(str(mesh))
+    assert facts.faces == 4 and facts.watertight
+    robot = tmp_path / "robot.urdf"
+    robot.write_text('<robot name="r"><link name="base"><visual><geometry>'
+                     f'<mesh filename="{mesh}"/></geometry></visual></link></robot>')
+    found = urdftool.check(robot).diagnostics
+    assert [d.code for d in found if d.code == "M003" or d.severity is Severity.ERROR] == []

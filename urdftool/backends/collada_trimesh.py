@@ -128,12 +128,12 @@ def collada_before_nul(path: str) -> Any:
 
 
 def collada_geometry_only(path: str) -> Any:
-    """The COLLADA file read again without its materials, or ``None``.
+    """The COLLADA file read again without its materials and comments, or ``None``.
 
     pycollada drops a whole node when one of its materials has a broken
-    reference (a missing texture surface); assimp, which RViz, Gazebo and
-    Pinocchio use, keeps the geometry. Removing the materials lets trimesh
-    keep it too.
+    reference (a missing texture surface), and refuses a comment among a
+    mesh's primitives; assimp, which RViz, Gazebo and Pinocchio use, keeps the
+    geometry. Removing the materials and comments lets trimesh keep it too.
     """
     import io
 
@@ -151,6 +151,9 @@ def collada_geometry_only(path: str) -> Any:
     for tag in ("library_effects", "library_materials", "library_images", "bind_material"):
         for element in list(root.iter(f"{{{namespace}}}{tag}" if namespace else tag)):
             element.getparent().remove(element)
+    # pycollada takes an XML comment inside <mesh> for a geometry it does not know ("Unknown
+    # geometry tag"); assimp and gz-common read the children by name and skip comments
+    etree.strip_tags(root, etree.Comment)
     try:
         return trimesh.load(
             io.BytesIO(etree.tostring(root)), file_type="dae", force="mesh", process=True

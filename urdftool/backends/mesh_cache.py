@@ -33,9 +33,10 @@ from pathlib import Path
 from typing import Any
 
 #: Bump when the stored facts change shape or meaning.
-SCHEMA = 4  # 2: a COLLADA file is read up to its first NUL byte, as Assimp reads it;
+SCHEMA = 5  # 2: a COLLADA file is read up to its first NUL byte, as Assimp reads it;
 #            3: a closed mesh with some triangles reversed is measured with its winding fixed;
-#            4: a COLLADA attribute value holding "<" is read, as Assimp and tinyxml2 read it
+#            4: a COLLADA attribute value holding "<" is read, as Assimp and tinyxml2 read it;
+#            5: a COLLADA file with a comment among a mesh's primitives is read, as Assimp reads it
 
 
 @lru_cache(maxsize=1)
