@@ -534,3 +534,25 @@ def test_a_collada_file_with_a_comment_among_its_primitives_is_read(tmp_path: Pa
                      f'<mesh filename="{mesh}"/></geometry></visual></link></robot>')
     found = urdftool.check(robot).diagnostics
     assert [d.code for d in found if d.code == "M003" or d.severity is Severity.ERROR] == []
+
+
+_FLAT_STL = ("solid flat\n" + "".join(
+    "facet normal 0 1 0\nouter loop\n" + "".join(f"vertex {v}\n" for v in face) + "endloop\nendfacet\n"
+    for face in (("0 0 0", "1 0 0", "1 0 1"), ("0 0 0", "1 0 1", "0 0 1"))) + "endsolid flat\n")
+
+
+@pytest.mark.parametrize("fmt, severity", [("sdf", Severity.WARNING), ("urdf", Severity.ERROR)])
+def test_a_flat_collision_mesh_is_an_error_only_where_a_convex_hull_is_built(
+        tmp_path: Path, fmt: str, severity: Severity) -> None:
+    """aws-robomaker-hospital-world's hospital sign: a static SDF model whose collision mesh is one
+    plane. Gazebo, which reads SDF, collides with its triangles; MuJoCo and PyBullet, which read
+    URDF, need the convex hull of a solid."""
+    (tmp_path / "sign.stl").write_text(_FLAT_STL)
+    path = tmp_path / f"sign.{fmt}"
+    mesh = "<mesh><uri>sign.stl</uri></mesh>" if fmt == "sdf" else '<mesh filename="sign.stl"/>'
+    collision = f'<collision name="c"><geometry>{mesh}</geometry></collision>'
+    path.write_text(
+        f'<sdf version="1.9"><model name="sign"><static>true</static><link name="l">{collision}</link>'
+        '</model></sdf>' if fmt == "sdf" else f'<robot name="sign"><link name="l">{collision}</link></robot>')
+    found = [d.severity for d in urdftool.check(path).diagnostics if d.code == "M008"]
+    assert found == [severity]

@@ -338,7 +338,9 @@ class DegenerateGeometry(_Meshes):
     ## Fix
     Give every dimension its real positive size in metres; a scale of
     `1 1 1` leaves a mesh as it is. (Degenerate visual shapes are reported
-    as warnings: an invisible marker is odd but harmless.)
+    as warnings: an invisible marker is odd but harmless. A flat collision
+    mesh in an SDF model is a warning too: Gazebo, which reads SDF, collides
+    with its triangles as they are.)
     """
 
     code = "M008"
@@ -369,6 +371,10 @@ class DegenerateGeometry(_Meshes):
             return
 
         contents = survey.contents(ctx)
+        # An SDF model is read by Gazebo, whose ODE, Bullet and DART collide with a triangle
+        # mesh as it is (a sign, a wall panel); only the convex hull MuJoCo and PyBullet build
+        # needs a volume, and they read URDF
+        sdf = ctx.robot.format == "sdf"
         for path, uses in survey.by_file(ctx, role="collision").items():
             facts = contents.get(path)
             if facts is None or isinstance(facts, MeshError) or not _is_flat(facts):
@@ -379,9 +385,12 @@ class DegenerateGeometry(_Meshes):
                 f"{' × '.join(_fmt(e) for e in _extents(facts))} m)",
                 first.location,
                 element=first.element,
-                help="collision engines need a solid: use a thin box, or give the mesh thickness"
-                + survey.other_places(uses),
+                help=("collision engines need a solid: use a thin box, or give the mesh thickness"
+                      if not sdf else "Gazebo collides with its triangles as they are; MuJoCo and "
+                      "PyBullet (after convert) need a solid: use a thin box, or give the mesh "
+                      "thickness") + survey.other_places(uses),
                 data={"uri": first.mesh.filename, "extents_m": list(_extents(facts))},
+                severity=Severity.WARNING if sdf else None,
             )
 
 
