@@ -556,3 +556,18 @@ def test_a_flat_collision_mesh_is_an_error_only_where_a_convex_hull_is_built(
         '</model></sdf>' if fmt == "sdf" else f'<robot name="sign"><link name="l">{collision}</link></robot>')
     found = [d.severity for d in urdftool.check(path).diagnostics if d.code == "M008"]
     assert found == [severity]
+
+
+def test_scenery_sizes_are_no_evidence_of_a_unit_slip(tmp_path: Path) -> None:
+    """ardupilot_gazebo's runway: a static SDF model whose airfield mesh is 14 km across and whose
+    links sit 546 m apart. Scenery is no robot; the same model, not static, is still judged."""
+    (tmp_path / "field.stl").write_text(_FLAT_STL.replace("1 0 1", "14000 0 14000")
+                                        .replace("1 0 0", "14000 0 0").replace("0 0 1", "0 0 14000"))
+    links = "".join(f'<link name="l{i}"><pose>{546 * i} 0 0 0 0 0</pose>'
+                    '<visual name="v"><geometry><mesh><uri>field.stl</uri></mesh></geometry></visual></link>'
+                    for i in range(2))
+    links += '<joint name="j" type="fixed"><parent>l0</parent><child>l1</child></joint>'
+    for static, expected in (("<static>true</static>", []), ("", ["M005"])):
+        path = tmp_path / f"runway{len(static)}.sdf"
+        path.write_text(f'<sdf version="1.9"><model name="runway">{static}{links}</model></sdf>')
+        assert [d.code for d in urdftool.check(path, select=["M005"]).diagnostics] == expected

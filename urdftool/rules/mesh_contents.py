@@ -48,7 +48,9 @@ class MeshUnitsSuspect(_Meshes):
     link of a large robot) is also reported when it is at least 60 times the
     distance from its link frame to the farthest joint of that link, and,
     read in centimetres, inches or millimetres, would be 0.3 to 5 times that
-    distance: the evidence of a unit slip on one part.
+    distance: the evidence of a unit slip on one part. Static SDF models
+    (scenery: a runway, a building and its signs) are not judged: they are
+    no robot, and their parts span orders of magnitude on purpose.
 
     ## Why it matters
     CAD tools export in millimetres; URDF is in metres. A millimetre mesh
@@ -73,7 +75,10 @@ class MeshUnitsSuspect(_Meshes):
     severity = Severity.WARNING
 
     def check(self, ctx: CheckContext) -> Iterator[Diagnostic]:
-
+        if ctx.robot.static_span is not None:
+            # scenery (an SDF model marked static: a runway, a building with its signs) is no
+            # robot, and its parts span orders of magnitude on purpose; sizes are no evidence there
+            return
         contents = survey.contents(ctx)
         reference = robot_size(ctx)
         if reference is None:
