@@ -571,3 +571,19 @@ def test_scenery_sizes_are_no_evidence_of_a_unit_slip(tmp_path: Path) -> None:
         path = tmp_path / f"runway{len(static)}.sdf"
         path.write_text(f'<sdf version="1.9"><model name="runway">{static}{links}</model></sdf>')
         assert [d.code for d in urdftool.check(path, select=["M005"]).diagnostics] == expected
+
+
+@pytest.mark.parametrize("mass, expected", [("1e-15", []), ("1e-16", ["I002"])])
+def test_a_mass_at_mujocos_floor_is_a_mass(tmp_path: Path, mass: str, expected: list[str]) -> None:
+    """PX4's typhoon_h480 sonar weighs exactly 1e-15 kg on a revolute joint: MuJoCo refuses a moving
+    body below mjMINVAL (1e-15) and compiles this one, so it is no zero mass."""
+    path = tmp_path / "sonar.urdf"
+    path.write_text(
+        '<robot name="r"><link name="base"><inertial><mass value="1"/><inertia ixx="0.01" ixy="0" '
+        'ixz="0" iyy="0.01" iyz="0" izz="0.01"/></inertial></link>'
+        f'<link name="sonar"><inertial><mass value="{mass}"/><inertia ixx="1e-5" ixy="0" ixz="0" '
+        'iyy="1e-5" iyz="0" izz="1e-5"/></inertial></link>'
+        '<joint name="j" type="revolute"><parent link="base"/><child link="sonar"/><axis xyz="0 0 1"/>'
+        '<limit lower="-1" upper="1" effort="1" velocity="1"/></joint></robot>')
+    found = [d.code for d in urdftool.check(path, select=["I002"]).diagnostics]
+    assert found == expected

@@ -18,8 +18,9 @@ from urdftool.physics import vec3
 from urdftool.physics.vec3 import Tensor3
 from urdftool.records import record
 
-#: Masses (kg) and principal moments (kg·m²) at or below this count as zero:
-#: MuJoCo's ``mjMINVAL``, the smallest value its compiler accepts for a moving body.
+#: MuJoCo's ``mjMINVAL`` (kg, kg·m²): its compiler refuses a moving body whose mass is below it,
+#: and takes 1e-15 kg itself (measured with MuJoCo 4.0; PX4's Typhoon sonar weighs exactly that).
+#: The mass rules count a mass below it as zero; the fitting rules leave masses at it out too.
 MIN_VALUE = 1e-15
 
 
@@ -189,7 +190,7 @@ def mass_role(link: Link, body: RigidBody | None) -> MassRole | None:
     if body is None:
         return None
     collides = any(c.geometry is not None for c in link.collisions)
-    if body.moves and body.mass <= MIN_VALUE and (link.name == body.head or collides):
+    if body.moves and body.mass < MIN_VALUE and (link.name == body.head or collides):
         return MassRole(
             f"moves with joint '{body.joint}' and nothing welded to it has mass",
             "error",
@@ -197,7 +198,7 @@ def mass_role(link: Link, body: RigidBody | None) -> MassRole | None:
             None,
             None,
         )
-    if collides and body.mass > MIN_VALUE:
+    if collides and body.mass >= MIN_VALUE:
         carrier = heaviest(body)
         return MassRole(
             f"has collision geometry; it is welded to '{carrier}' ({body.mass:.3g} kg in all), "

@@ -189,7 +189,7 @@ class ZeroMass(_Inertia):
     def check(self, ctx: CheckContext) -> Iterator[Diagnostic]:
         for link in ctx.robot.links:
             inertial = link.inertial
-            if inertial is None or not 0 <= inertial.mass <= MIN_VALUE:
+            if inertial is None or not 0 <= inertial.mass < MIN_VALUE:
                 continue
             role = _role(ctx, link)
             if role is None:
