@@ -10,6 +10,7 @@ import collections
 from pathlib import Path
 
 import pytest
+from lxml import etree
 
 from tests.conftest import FIXTURES
 from urdftool.pipeline.check import CheckOptions, check_file
@@ -65,8 +66,14 @@ def test_the_table() -> None:
     assert database_model("model://suv") == "suv"
     assert database_model("model://my_robot/meshes/base.stl") is None
     assert database_model("package://suv/meshes/suv.dae") is None
-    assert read_by_classic("1.6", ["libgazebo_ros_diff_drive.so"])
-    assert read_by_classic("1.7", [])
-    assert not read_by_classic("1.8", [])
-    assert not read_by_classic("1.6", ["ignition-gazebo-physics-system"])
-    assert not read_by_classic(None, []) and not read_by_classic("one", [])
+
+    def world(version: str | None, plugin: str = "") -> etree._Element:
+        written = f' version="{version}"' if version is not None else ""
+        inside = f'<plugin filename="{plugin}" name="p"/>' if plugin else ""
+        return etree.fromstring(f"<sdf{written}><world name='w'>{inside}</world></sdf>")[0]
+
+    assert read_by_classic(world("1.6", "libgazebo_ros_diff_drive.so"))
+    assert read_by_classic(world("1.7"))
+    assert not read_by_classic(world("1.8"))
+    assert not read_by_classic(world("1.6", "ignition-gazebo-physics-system"))
+    assert not read_by_classic(world(None)) and not read_by_classic(world("one"))

@@ -99,6 +99,11 @@ def _search_environ() -> dict[str, str]:
     return {name: os.environ[name] for name in SEARCH_VARIABLES if name in os.environ}
 
 
+def _ancestors(folder: Path) -> list[Path]:
+    """*folder* and the folders above it, :data:`ANCESTOR_LEVELS` of them at most."""
+    return [folder, *folder.parents][: ANCESTOR_LEVELS + 1]
+
+
 def _env_paths(name: str, environ: Mapping[str, str]) -> list[Path]:
     return [Path(p) for p in environ.get(name, "").split(os.pathsep) if p]
 
@@ -200,8 +205,7 @@ class PackageResolver:
         return Lookup(None, tried, name, package_missing=True)
 
     def _find_near(self, name: str, start: Path, tried: list[str]) -> Path | None:
-        folder = start if start.is_dir() else start.parent
-        ancestors = [folder, *folder.parents][: ANCESTOR_LEVELS + 1]
+        ancestors = _ancestors(start if start.is_dir() else start.parent)
         for ancestor in ancestors:
             xml = ancestor / "package.xml"
             if ancestor.name == name or (xml.exists() and package_name(xml) == name):
@@ -218,16 +222,10 @@ class PackageResolver:
         tried: list[str] = []
         if name in self.packages:
             return Lookup(str(self.packages[name]), tried, name)
-        roots = (
-            self.package_paths
-            + _env_paths("GZ_SIM_RESOURCE_PATH", self.environ)
-            + _env_paths("IGN_GAZEBO_RESOURCE_PATH", self.environ)
-            + _env_paths("GAZEBO_MODEL_PATH", self.environ)
-        )
+        roots = self._gazebo_paths()
         if near is not None:
             folder = Path(near).resolve()
-            folder = folder if folder.is_dir() else folder.parent
-            roots += [folder, *folder.parents][: ANCESTOR_LEVELS + 1]
+            roots += _ancestors(folder if folder.is_dir() else folder.parent)
         for root in roots:
             candidate = root / name
             if (candidate / "model.config").exists() or (candidate / "model.sdf").exists():
@@ -268,6 +266,13 @@ class PackageResolver:
         target = uri if os.path.isabs(uri) else os.path.join(os.path.dirname(os.path.abspath(base)), uri)
         return Lookup(target, [target])
 
+    def _gazebo_paths(self, *more: str) -> list[Path]:
+        """``--package-path`` and the folders Gazebo looks in for a ``model://`` (gz-sim's
+        ``GZ_SIM_RESOURCE_PATH`` and ``IGN_GAZEBO_RESOURCE_PATH``, Classic's ``GAZEBO_MODEL_PATH``),
+        then those of the variables *more*."""
+        names = ("GZ_SIM_RESOURCE_PATH", "IGN_GAZEBO_RESOURCE_PATH", *more, "GAZEBO_MODEL_PATH")
+        return self.package_paths + [path for name in names for path in _env_paths(name, self.environ)]
+
     def _relative_file(self, path: str, base: str | os.PathLike[str]) -> Lookup:
         """A relative ``file://`` path, found as gz-common's ``FindFileURI`` and Gazebo Classic's
         ``FindFile`` find it: in the resource paths (``GZ_SIM_RESOURCE_PATH``,
@@ -275,14 +280,9 @@ class PackageResolver:
         ``--package-path``), and in the describing file's folder and the folders above it, where a
         project's models folder usually sits; the working directory last, as the simulators try it
         too. Where it is found nowhere, the first place tried is returned."""
-        folder = Path(os.path.abspath(base)).parent
         roots = (
-            self.package_paths
-            + _env_paths("GZ_SIM_RESOURCE_PATH", self.environ)
-            + _env_paths("IGN_GAZEBO_RESOURCE_PATH", self.environ)
-            + _env_paths("GAZEBO_RESOURCE_PATH", self.environ)
-            + _env_paths("GAZEBO_MODEL_PATH", self.environ)
-            + [folder, *folder.parents][: ANCESTOR_LEVELS + 1]
+            self._gazebo_paths("GAZEBO_RESOURCE_PATH")
+            + _ancestors(Path(os.path.abspath(base)).parent)
             + [Path.cwd()]
         )
         tried = [os.path.join(root, path) for root in roots]

@@ -55,12 +55,6 @@ def standard_model(uri: str) -> str | None:
     return None
 
 
-def _read_by_classic(element: etree._Element) -> bool:
-    """Whether the SDF file holding *element* is one Gazebo Classic reads (:func:`read_by_classic`)."""
-    root = element.getroottree().getroot()
-    return read_by_classic(root.get("version"), [p.get("filename") or "" for p in root.iter("plugin")])
-
-
 def read_include(include: etree._Element, resolver: PackageResolver, base: str) -> IncludedFile:
     """Resolve and parse the SDF file that *include* names; report what cannot be found."""
     uri = include_uri(include)
@@ -81,7 +75,7 @@ def read_include(include: etree._Element, resolver: PackageResolver, base: str) 
             return _fetched(include, uri, "is fetched from the web by Gazebo; urdftool does not download "
                             "it", "download the model and include it by model:// with --package-path "
                             "or GZ_SIM_RESOURCE_PATH")
-        if database_model(uri) and _read_by_classic(include):
+        if database_model(uri) and read_by_classic(include):
             return _fetched(include, uri, "is not on this machine; Gazebo Classic downloads it from its "
                             "model database on first load", "download the model (osrf/gazebo_models) "
                             "and pass its folder's parent with --package-path or GAZEBO_MODEL_PATH")

@@ -51,7 +51,9 @@ def parse_number(text: str) -> float | None:
     readers and treated as unwritten, so no model object holds a non-finite value.
     """
     # Robot descriptions repeat a few hundred number texts ("0", "1", "0.05") many times over.
-    return _parse_cached(text) if len(text) <= _CACHED_CHARS else _parse(text)
+    if text in _NUMBER_TEXTS:
+        return _NUMBER_TEXTS[text]
+    return _remember(text)
 
 
 #: Number texts up to this length are memoised (longer ones are rare, or hostile).
@@ -66,14 +68,20 @@ def _parse(text: str) -> float | None:
     return value if abs(value) <= MAX_MAGNITUDE else None
 
 
-_parse_cached = functools.lru_cache(maxsize=16384)(_parse)
-
-#: Number texts of attributes read so far, and what they read as (``None``: not a number): what
-#: :meth:`ValueReader.number` looks up first. A dict's lookup costs half a call of the bounded
-#: cache above, and a reader asks ~20,000 times a pass over example-robot-data.
+#: Number texts read so far, and what they read as (``None``: not a number), for
+#: :func:`parse_number` and :meth:`ValueReader.number`: a dict's lookup costs half a call of an
+#: ``lru_cache``, and a reader asks ~20,000 times a pass over example-robot-data.
 _NUMBER_TEXTS: dict[str, float | None] = {}
 #: Texts kept at most; past it, a new text is read each time.
 _NUMBER_TEXTS_KEPT = 16384
+
+
+def _remember(text: str) -> float | None:
+    """:func:`_parse` of a text not in :data:`_NUMBER_TEXTS`, kept there while there is room."""
+    value = _parse(text)
+    if len(text) <= _CACHED_CHARS and len(_NUMBER_TEXTS) < _NUMBER_TEXTS_KEPT:
+        _NUMBER_TEXTS[text] = value
+    return value
 
 
 @functools.lru_cache(maxsize=16384)
@@ -181,12 +189,7 @@ class ValueReader:
             raw = self.text(element, attribute, where, required)
             if raw is None:
                 return None
-        if raw in _NUMBER_TEXTS:
-            value = _NUMBER_TEXTS[raw]
-        else:
-            value = _parse(raw)
-            if len(raw) <= _CACHED_CHARS and len(_NUMBER_TEXTS) < _NUMBER_TEXTS_KEPT:
-                _NUMBER_TEXTS[raw] = value
+        value = _NUMBER_TEXTS[raw] if raw in _NUMBER_TEXTS else _remember(raw)  # parse_number, inlined
         if value is None:
             self._invalid(element, attribute, where, raw)
         return value

@@ -144,9 +144,8 @@ class GazeboReferenceMissing(_Gazebo):
             )
 
 
-#: what a ``<gazebo reference>`` block may set and still change nothing but the link's looks: its
-#: colour, and Gazebo's own defaults written out (values as Gazebo Classic's URDF reader takes them)
-_LOOKS = frozenset({"material"})
+#: what a ``<gazebo reference>`` block may set, besides its ``<material>``, and still change nothing
+#: but the link's looks: Gazebo's own defaults written out (values as Classic's URDF reader takes them)
 _DEFAULTS = {"gravity": ("true", "1"), "self_collide": ("false", "0"), "turnGravityOff": ("false", "0")}
 
 
@@ -155,7 +154,7 @@ def _only_looks(block: Any) -> bool:
     the robot behaving as written, only coloured otherwise."""
     children = [child for child in block if isinstance(child.tag, str)]
     return bool(children) and all(
-        child.tag in _LOOKS
+        child.tag == "material"
         or (child.tag in _DEFAULTS and (child.text or "").strip().lower() in _DEFAULTS[child.tag])
         for child in children
     )

@@ -37,15 +37,6 @@ def _fmt(value: float) -> str:
     return f"{value:.3g}"
 
 
-def _read_by_classic(ctx: CheckContext) -> bool:
-    """Whether the model is in a world Gazebo Classic reads (:func:`read_by_classic`)."""
-    world = ctx.robot.world
-    if world is None:
-        return False
-    version = world.getroottree().getroot().get("version")
-    return read_by_classic(version, [p.get("filename") or "" for p in world.iter("plugin")])
-
-
 def _tried(tried: Sequence[str], limit: int = 6) -> str:
     unique = list(dict.fromkeys(tried))
     shown = "; ".join(unique[:limit])
@@ -107,7 +98,8 @@ class UnresolvedPackage(_Meshes):
             found = survey.lookup(ctx, use)
             if found.package_missing:
                 groups.setdefault(found.package or "", []).append(use)
-        classic = bool(groups) and _read_by_classic(ctx)
+        # a model of a world Gazebo Classic reads (a model read alone is no world's)
+        classic = bool(groups) and ctx.robot.world is not None and read_by_classic(ctx.robot.world)
         for package, uses in groups.items():
             first = uses[0]
             found = survey.lookup(ctx, first)

@@ -12,10 +12,13 @@ it is fetched, and urdftool, which reads no network, cannot check it. The names 
 folders of osrf/gazebo_models at commit 8163eb4b5e7e21985c6591d1c0bfb56468c0093f (2023-07-15),
 the database's last state.
 
-Nothing here imports anything: the table is data.
+Nothing here imports anything: the table is data, and the judgement reads an lxml element
+handed to it.
 """
 
 from __future__ import annotations
+
+from typing import Any
 
 #: every model of Gazebo Classic's online database (osrf/gazebo_models, 256 models)
 MODEL_DATABASE: frozenset[str] = frozenset({
@@ -88,14 +91,16 @@ def database_model(uri: str) -> str | None:
     return name if name in MODEL_DATABASE else None
 
 
-def read_by_classic(version: str | None, plugin_files: list[str]) -> bool:
-    """Whether an SDF file of *version* (its ``<sdf version>``) whose world loads the plugin
-    libraries *plugin_files* is one Gazebo Classic reads: SDFormat 1.7 or older, and no gz-sim
-    system among its world's plugins (``gz-sim-…-system``, ``ignition-gazebo-…-system``)."""
+def read_by_classic(element: Any) -> bool:
+    """Whether the SDF document holding *element* (any lxml element of it) is one Gazebo Classic
+    reads: ``<sdf version>`` 1.7 or older, and no gz-sim system among its plugins
+    (``gz-sim-…-system``, ``ignition-gazebo-…-system``)."""
+    root = element.getroottree().getroot()
     try:
-        parsed = tuple(int(part) for part in (version or "").strip().split("."))
+        parsed = tuple(int(part) for part in (root.get("version") or "").strip().split("."))
     except ValueError:
         return False
     if not parsed or parsed > NEWEST_CLASSIC_SDF:
         return False
-    return not any("gz-sim" in name or "ignition-gazebo" in name for name in plugin_files)
+    return not any("gz-sim" in name or "ignition-gazebo" in name
+                   for name in (plugin.get("filename") or "" for plugin in root.iter("plugin")))
